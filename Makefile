@@ -1,0 +1,53 @@
+# The two commands: `make demo` and `make test`. Each installs what is missing
+# (Debian packages, through apt-get), makes .venv on Debian's Python, builds,
+# then renders or tests. Afterwards `.venv/bin/python -m mbao ...` works.
+
+PYTHON := /usr/bin/python3
+VENV := .venv
+BUILD := build
+JOBS := $(shell nproc)
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+# The C++ core and benchmark need only the first line; the rest is for the
+# Python module, the tests and image files.
+APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers libglm-dev libtinygltf-dev nlohmann-json3-dev \
+  pocl-opencl-icd pybind11-dev python3-pybind11 python3-dev python3-venv python3-pip python3-numpy python3-pytest \
+  python3-pyopencl python3-openimageio python3-skbuild libgtest-dev
+
+.PHONY: demo test bench deps build clean
+
+demo: build
+	mkdir -p out
+	$(VENV)/bin/python -m mbao render --bounces 1 -o out/cornell_b1.png
+	$(VENV)/bin/python -m mbao render --bounces 2 -o out/cornell_b2.png
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure
+	$(VENV)/bin/python -m pytest tests
+
+# The seed paper's Table 1 workload on the Cornell box and every shared scene.
+SCENES := ../shared/scenes
+bench: build
+	$(BUILD)/bench/mbao_bench --scenes $(SCENES) --json bench/results/latest.json
+
+deps:
+	@missing=$$(for p in $(APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "Installing missing Debian packages:" $$missing; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+
+$(VENV)/bin/python: | deps
+	$(PYTHON) -m venv --system-site-packages $(VENV)
+
+# The extension is built next to the Python sources and a .pth file puts
+# python/ on the venv's path: an editable install that needs no rebuild of
+# anything but what changed.
+build: deps $(VENV)/bin/python
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=$(PYTHON)
+	cmake --build $(BUILD) -j$(JOBS)
+	echo "$(CURDIR)/python" > "$$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/mbao-dev.pth"
+
+clean:
+	rm -rf $(BUILD) _skbuild python/mbao/_core*.so out

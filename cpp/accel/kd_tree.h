@@ -1,0 +1,46 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "mbao/kd_node.h"
+#include "scene/bounds.h"
+#include "scene/triangle_mesh.h"
+
+namespace mbao {
+
+// The surface area heuristic's constants (Wald and Havran 2006, section 3).
+struct KdBuildOptions {
+  double traversal_cost = 1.0;     // K_T: one traversal step
+  double intersection_cost = 1.5;  // K_I: one ray/triangle test
+  double empty_bonus = 0.2;        // cost discount of a split that cuts off empty space
+  int max_depth = 0;               // 0: 8 + 1.3 log2(N), as pbrt
+};
+
+struct KdTreeStats {
+  std::size_t nodes = 0;
+  std::size_t leaves = 0;
+  std::size_t empty_leaves = 0;
+  int max_depth = 0;
+  double mean_triangles_per_leaf = 0.0;  // over non-empty leaves
+  std::size_t leaf_references = 0;       // entries in the leaf triangle list
+  double sah_cost = 0.0;                 // expected cost of a random ray, in K units
+  double build_ms = 0.0;
+  std::size_t memory_bytes = 0;  // nodes and leaf lists
+};
+
+// A kd-tree in the device's layout: nodes depth first, each interior node's
+// "below" child right after it. Every leaf lists every triangle that touches
+// its closed cell, so a point on a cell boundary is found from either side.
+struct KdTree {
+  std::vector<KdNode> nodes;
+  std::vector<std::uint32_t> leaf_triangles;
+  Bounds3 bounds;
+  KdTreeStats stats;
+};
+
+// Builds the tree in O(N log N) with sorted split events (Wald and Havran 2006).
+KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {});
+
+}  // namespace mbao

@@ -1,0 +1,110 @@
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "bindings/bindings.h"
+#include "render/renderer.h"
+
+namespace py = pybind11;
+
+namespace mbao::bindings {
+namespace {
+
+// Hands a vector to numpy without copying: the array owns it.
+template <typename T>
+py::array_t<T> adopt(std::vector<T>&& data, std::vector<py::ssize_t> shape) {
+  auto* owned = new std::vector<T>(std::move(data));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(shape, owned->data(), free_when_done);
+}
+
+py::dict stats_dict(const RenderStats& s) {
+  py::dict d;
+  d["build_ms"] = s.build_ms;
+  d["tree_reused"] = s.tree_reused;
+  d["kernel_build_ms"] = s.kernel_build_ms;
+  d["kernel_cache_hit"] = s.kernel_cache_hit;
+  d["upload_ms"] = s.upload_ms;
+  d["frame_ms"] = s.frame_ms;
+  d["rays_primary"] = s.rays_primary;
+  d["rays_secondary"] = s.rays_secondary;
+  d["memory_bytes"] = s.memory_bytes;
+  d["tiles"] = s.tiles;
+  d["device"] = s.device;
+  d["tree"] = tree_stats_dict(s.tree);
+  return d;
+}
+
+py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera>& camera, const DeviceInfo& device,
+                 std::int64_t width, std::int64_t height, std::int64_t bounces, std::int64_t samples,
+                 const std::string& estimator, float rho, float max_distance, std::int64_t spp,
+                 const std::string& normals, std::uint64_t seed, const std::string& traversal, std::size_t tile_pixels,
+                 std::size_t work_group_size) {
+  RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.bounces = bounces;
+  settings.samples = samples;
+  settings.estimator = parse_estimator(estimator);
+  settings.rho = rho;
+  settings.max_distance = max_distance;
+  settings.spp = spp;
+  settings.normals = parse_normal_mode(normals);
+  settings.seed = seed;
+  settings.traversal = parse_traversal(traversal);
+  settings.tile_pixels = tile_pixels;
+  settings.work_group_size = work_group_size;
+  settings.validate();
+  RenderResult result;
+  {
+    py::gil_scoped_release release;
+    const Camera view = camera ? *camera : scene->default_camera(float(width) / float(height));
+    result = Renderer::for_device(device).render(scene, view, settings);
+  }
+  const py::ssize_t h = result.height, w = result.width;
+  py::array_t<std::uint8_t> mask = adopt(std::move(result.mask), {h, w});
+  return py::make_tuple(adopt(std::move(result.ao), {h, w}), mask.attr("view")("bool"), stats_dict(result.stats));
+}
+
+py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py::array::c_style>& origins,
+                const py::array_t<float, py::array::c_style>& directions, const DeviceInfo& device, bool any_hit,
+                const std::string& traversal) {
+  const std::size_t n = std::size_t(origins.shape(0));
+  std::vector<cl_float4> o(n), d(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    o[i] = {{origins.at(i, 0), origins.at(i, 1), origins.at(i, 2), 0.0f}};
+    d[i] = {{directions.at(i, 0), directions.at(i, 1), directions.at(i, 2), directions.at(i, 3)}};
+  }
+  const Traversal mode = parse_traversal(traversal);
+  std::vector<RayHit> hits;
+  {
+    py::gil_scoped_release release;
+    hits = Renderer::for_device(device).trace(scene, o, d, any_hit, mode);
+  }
+  std::vector<float> t(n), barycentrics(2 * n);
+  std::vector<std::int64_t> triangle(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    t[i] = hits[i].t;
+    triangle[i] = hits[i].triangle == 0xFFFFFFFFu ? -1 : std::int64_t(hits[i].triangle);
+    barycentrics[2 * i] = hits[i].b1;
+    barycentrics[2 * i + 1] = hits[i].b2;
+  }
+  const auto rows = py::ssize_t(n);
+  return py::make_tuple(adopt(std::move(t), {rows}), adopt(std::move(triangle), {rows}),
+                        adopt(std::move(barycentrics), {rows, 2}));
+}
+
+}  // namespace
+
+void bind_render(py::module_& m) {
+  m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("width"),
+        py::arg("height"), py::arg("bounces"), py::arg("samples"), py::arg("estimator"), py::arg("rho"),
+        py::arg("max_distance"), py::arg("spp"), py::arg("normals"), py::arg("seed"), py::arg("traversal"),
+        py::arg("tile_pixels"), py::arg("work_group_size"),
+        "Renders; returns (ao, mask, stats). Use mbao.render, which checks and documents the arguments.");
+  m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"), py::arg("device"),
+        py::arg("any_hit"), py::arg("traversal"),
+        "Traces (N, 3) origins along (N, 4) direction + t_max rows; returns (t, triangle, barycentrics).");
+}
+
+}  // namespace mbao::bindings

@@ -1,0 +1,175 @@
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
+
+#include "bindings/bindings.h"
+#include "scene/cornell_box.h"
+#include "scene/gltf_loader.h"
+
+namespace py = pybind11;
+
+namespace mbao::bindings {
+namespace {
+
+using Vec3 = std::array<float, 3>;
+
+Vec3 to_array(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+glm::vec3 to_vec3(const Vec3& a) { return {a[0], a[1], a[2]}; }
+
+// A read-only (rows, 3) view of vec3 data owned by `owner`.
+template <typename T, typename V>
+py::array rows_of_three(const std::vector<V>& data, py::handle owner) {
+  static_assert(sizeof(V) == 3 * sizeof(T), "tightly packed vectors");
+  py::array_t<T> array({py::ssize_t(data.size()), py::ssize_t(3)}, reinterpret_cast<const T*>(data.data()), owner);
+  array.attr("setflags")(py::arg("write") = false);
+  return std::move(array);
+}
+
+}  // namespace
+
+py::dict tree_stats_dict(const KdTreeStats& s) {
+  py::dict d;
+  d["nodes"] = s.nodes;
+  d["leaves"] = s.leaves;
+  d["empty_leaves"] = s.empty_leaves;
+  d["max_depth"] = s.max_depth;
+  d["mean_triangles_per_leaf"] = s.mean_triangles_per_leaf;
+  d["leaf_references"] = s.leaf_references;
+  d["sah_cost"] = s.sah_cost;
+  d["build_ms"] = s.build_ms;
+  d["memory_bytes"] = s.memory_bytes;
+  return d;
+}
+
+namespace {
+
+TriangleMesh mesh_from_arrays(const py::array_t<float, py::array::c_style>& vertices,
+                              const py::array_t<std::uint32_t, py::array::c_style>& indices,
+                              const std::optional<py::array_t<float, py::array::c_style>>& normals) {
+  TriangleMesh mesh;
+  const std::size_t n = std::size_t(vertices.shape(0)), m = std::size_t(indices.shape(0));
+  mesh.positions.resize(n);
+  mesh.triangles.resize(m);
+  std::memcpy(mesh.positions.data(), vertices.data(), n * sizeof(glm::vec3));
+  std::memcpy(mesh.triangles.data(), indices.data(), m * sizeof(glm::uvec3));
+  if (normals) {
+    mesh.normals.resize(std::size_t(normals->shape(0)));
+    std::memcpy(mesh.normals.data(), normals->data(), mesh.normals.size() * sizeof(glm::vec3));
+  }
+  return mesh;
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+  py::class_<Camera>(m, "Camera", R"doc(
+A pinhole camera (SPEC 3.1): right-handed, Y up as in glTF.
+
+Camera(eye, target, up=(0, 1, 0), vfov_deg=60.0, max_distance=None)
+
+``vfov_deg`` is the full vertical field of view. ``max_distance`` is only
+carried along (camera.json's suggested AO radius); ``render`` does not use it
+unless you pass it.)doc")
+      .def(py::init([](const Vec3& eye, const Vec3& target, const Vec3& up, float vfov_deg,
+                       std::optional<float> max_distance) {
+             Camera camera;
+             camera.eye = to_vec3(eye);
+             camera.target = to_vec3(target);
+             camera.up = to_vec3(up);
+             camera.vfov_deg = vfov_deg;
+             camera.max_distance = max_distance;
+             camera.validate();
+             return camera;
+           }),
+           py::arg("eye"), py::arg("target"), py::arg("up") = Vec3{0.0f, 1.0f, 0.0f}, py::arg("vfov_deg") = 60.0f,
+           py::arg("max_distance") = py::none())
+      .def_static("load", [](const std::filesystem::path& path) { return Camera::load(path.string()); },
+                  py::arg("path"), "Reads a camera.json file (SPEC 3.1.1).")
+      .def_property_readonly("eye", [](const Camera& c) { return to_array(c.eye); })
+      .def_property_readonly("target", [](const Camera& c) { return to_array(c.target); })
+      .def_property_readonly("up", [](const Camera& c) { return to_array(c.up); })
+      .def_property_readonly("vfov_deg", [](const Camera& c) { return c.vfov_deg; })
+      .def_property_readonly("max_distance", [](const Camera& c) { return c.max_distance; })
+      .def("__repr__", [](const Camera& c) {
+        auto v = [](const glm::vec3& p) {
+          return "(" + py::repr(py::float_(p.x)).cast<std::string>() + ", " +
+                 py::repr(py::float_(p.y)).cast<std::string>() + ", " +
+                 py::repr(py::float_(p.z)).cast<std::string>() + ")";
+        };
+        return "Camera(eye=" + v(c.eye) + ", target=" + v(c.target) + ", up=" + v(c.up) +
+               ", vfov_deg=" + py::repr(py::float_(c.vfov_deg)).cast<std::string>() + ")";
+      });
+
+  py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene", R"doc(
+Triangles in world space, ready to render: from ``mbao.load``, ``mbao.cornell_box``
+or, as ``mbao.Mesh``, from arrays. The kd-tree is built on first use and kept,
+so later renders of the same scene do not rebuild it.)doc")
+      .def_property_readonly(
+          "vertices", [](py::object self) { return rows_of_three<float>(self.cast<const Scene&>().mesh().positions, self); },
+          "(N, 3) float32 vertex positions in world space (read-only).")
+      .def_property_readonly(
+          "indices",
+          [](py::object self) { return rows_of_three<std::uint32_t>(self.cast<const Scene&>().mesh().triangles, self); },
+          "(M, 3) uint32 vertex indices of the triangles (read-only).")
+      .def_property_readonly(
+          "normals",
+          [](py::object self) -> py::object {
+            const TriangleMesh& mesh = self.cast<const Scene&>().mesh();
+            if (!mesh.has_normals()) return py::none();
+            return rows_of_three<float>(mesh.normals, self);
+          },
+          "(N, 3) float32 vertex normals, zero where a vertex has none; None without normals.")
+      .def_property_readonly(
+          "bounds",
+          [](const Scene& s) { return std::make_pair(to_array(s.bounds().lo), to_array(s.bounds().hi)); },
+          "(lo, hi) corners of the box around the triangles.")
+      .def_property_readonly("camera", [](const Scene& s) { return s.camera(); },
+                             "The scene's own camera (the Cornell box's, a glTF file's first perspective camera) or None.")
+      .def_property_readonly("name", &Scene::name)
+      .def_property_readonly("warnings", &Scene::warnings, "What loading skipped, one sentence each.")
+      .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh().triangles.size(); })
+      .def(
+          "build", [](const Scene& s) { return tree_stats_dict(s.kd_tree()->stats); },
+          py::call_guard<py::gil_scoped_release>(),
+          "Builds the kd-tree now (if not yet built) and returns its statistics: nodes, leaves, "
+          "empty_leaves, max_depth, mean_triangles_per_leaf, leaf_references, sah_cost, build_ms, memory_bytes.")
+      .def(
+          "kd_tree",
+          [](const Scene& s) {
+            const std::shared_ptr<const KdTree> tree = s.kd_tree();
+            py::dict d;
+            static_assert(sizeof(KdNode) == 2 * sizeof(std::uint32_t), "KdNode is two words");
+            py::array_t<std::uint32_t> nodes({py::ssize_t(tree->nodes.size()), py::ssize_t(2)});
+            std::memcpy(nodes.mutable_data(), tree->nodes.data(), tree->nodes.size() * sizeof(KdNode));
+            d["nodes"] = nodes;
+            d["leaf_triangles"] = py::array_t<std::uint32_t>(py::ssize_t(tree->leaf_triangles.size()),
+                                                             tree->leaf_triangles.data());
+            d["bounds"] = std::make_pair(to_array(tree->bounds.lo), to_array(tree->bounds.hi));
+            d["stats"] = tree_stats_dict(tree->stats);
+            return d;
+          },
+          R"doc(The kd-tree as the device gets it (kernels/mbao/kd_node.h), for inspection:
+"nodes" (K, 2) uint32 words (header, payload), "leaf_triangles", "bounds", "stats".)doc")
+      .def("__repr__", [](const Scene& s) {
+        return "<mbao.Scene '" + s.name() + "': " + std::to_string(s.mesh().triangles.size()) + " triangles>";
+      });
+
+  py::class_<Mesh, Scene, std::shared_ptr<Mesh>>(m, "_Mesh")
+      .def(py::init([](const py::array_t<float, py::array::c_style>& vertices,
+                       const py::array_t<std::uint32_t, py::array::c_style>& indices,
+                       const std::optional<py::array_t<float, py::array::c_style>>& normals) {
+             return std::make_shared<Mesh>(mesh_from_arrays(vertices, indices, normals));
+           }),
+           py::arg("vertices"), py::arg("indices"), py::arg("normals") = py::none());
+
+  m.def(
+      "load", [](const std::filesystem::path& path) -> std::shared_ptr<Scene> { return load_gltf(path.string()); },
+      py::arg("path"), py::call_guard<py::gil_scoped_release>());
+  m.def("cornell_box", []() -> std::shared_ptr<Scene> { return cornell_box(); },
+        "The measured Cornell box (SPEC 3.4), in millimetres, with its own camera.");
+}
+
+}  // namespace mbao::bindings

@@ -1,0 +1,82 @@
+#include "render/device_scene.h"
+
+
+namespace mbao {
+namespace {
+
+cl_float4 to_float4(const glm::vec3& v) { return {{v.x, v.y, v.z, 0.0f}}; }
+
+}  // namespace
+
+template <typename T>
+cl::Buffer DeviceScene::upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data) {
+  const std::size_t size = data.size() * sizeof(T);
+  // OpenCL has no empty buffers; an empty tree list still gets one element.
+  cl::Buffer buffer(context, CL_MEM_READ_ONLY, std::max<std::size_t>(size, sizeof(T)));
+  if (size) queue.enqueueWriteBuffer(buffer, CL_FALSE, 0, size, data.data());
+  bytes_ += std::max<std::size_t>(size, sizeof(T));
+  return buffer;
+}
+
+DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
+                         bool with_normals) {
+  const TriangleMesh& mesh = scene.mesh();
+  std::vector<cl_float4> corners;
+  corners.reserve(mesh.triangles.size() * 3);
+  for (const glm::uvec3& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) corners.push_back(to_float4(mesh.positions[t[k]]));
+
+  try {
+    nodes_ = upload(context, queue, tree.nodes);
+    leaf_triangles_ = upload(context, queue, tree.leaf_triangles);
+    triangle_corners_ = upload(context, queue, corners);
+    if (with_normals && mesh.has_normals()) {
+      std::vector<cl_uint> vertices;
+      vertices.reserve(mesh.triangles.size() * 3);
+      for (const glm::uvec3& t : mesh.triangles) vertices.insert(vertices.end(), {t.x, t.y, t.z});
+      std::vector<cl_float4> normals;
+      normals.reserve(mesh.normals.size());
+      for (const glm::vec3& n : mesh.normals) normals.push_back(to_float4(n));
+      triangle_vertices_ = upload(context, queue, vertices);
+      vertex_normals_ = upload(context, queue, normals);
+    }
+    queue.finish();
+  } catch (const cl::Error& e) {
+    throw_device_error("uploading " + scene.name() + " (" + std::to_string(mesh.triangles.size()) + " triangles)", e);
+  }
+  bounds_lo_ = to_float4(tree.bounds.lo);
+  bounds_hi_ = to_float4(tree.bounds.hi);
+}
+
+cl_uint DeviceScene::set_args(cl::Kernel& kernel) const {
+  kernel.setArg(0, nodes_);
+  kernel.setArg(1, leaf_triangles_);
+  kernel.setArg(2, triangle_corners_);
+  // Without normals both pointers are NULL in the kernel: geometric normals.
+  if (vertex_normals_()) {
+    kernel.setArg(3, triangle_vertices_);
+    kernel.setArg(4, vertex_normals_);
+  } else {
+    kernel.setArg(3, sizeof(cl_mem), nullptr);
+    kernel.setArg(4, sizeof(cl_mem), nullptr);
+  }
+  kernel.setArg(5, bounds_lo_);
+  kernel.setArg(6, bounds_hi_);
+  return 7;
+}
+
+std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute,
+                                                         const std::shared_ptr<const Scene>& scene,
+                                                         bool with_normals) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto it = entries_.begin(); it != entries_.end();) it = it->second.scene.expired() ? entries_.erase(it) : ++it;
+  Entry& entry = entries_[{scene->id(), with_normals}];
+  if (!entry.device_scene) {
+    const std::shared_ptr<const KdTree> tree = scene->kd_tree();
+    entry.device_scene = std::make_shared<const DeviceScene>(compute.context(), compute.queue(), *scene, *tree, with_normals);
+    entry.scene = scene;
+  }
+  return entry.device_scene;
+}
+
+}  // namespace mbao

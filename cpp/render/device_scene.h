@@ -1,0 +1,51 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <utility>
+
+#include "opencl/compute_context.h"
+#include "scene/scene.h"
+
+namespace mbao {
+
+// A scene's kd-tree and triangles in device memory, in the order the kernels'
+// MBAO_SCENE_PARAMS expect. Vertex normals are uploaded only when the
+// render uses them.
+class DeviceScene {
+ public:
+  DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
+              bool with_normals);
+
+  // Sets the kernel's leading scene parameters; returns the next parameter's index.
+  cl_uint set_args(cl::Kernel& kernel) const;
+  std::size_t bytes() const { return bytes_; }
+
+ private:
+  template <typename T>
+  cl::Buffer upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data);
+
+  cl::Buffer nodes_, leaf_triangles_, triangle_corners_, triangle_vertices_, vertex_normals_;
+  cl_float4 bounds_lo_{}, bounds_hi_{};
+  std::size_t bytes_ = 0;
+};
+
+// Uploads per (scene, normals) once per device; entries go when their scene does.
+class DeviceSceneCache {
+ public:
+  std::shared_ptr<const DeviceScene> get(ComputeContext& compute, const std::shared_ptr<const Scene>& scene,
+                                         bool with_normals);
+
+ private:
+  struct Entry {
+    std::weak_ptr<const Scene> scene;
+    std::shared_ptr<const DeviceScene> device_scene;
+  };
+  std::mutex mutex_;
+  std::map<std::pair<std::uint64_t, bool>, Entry> entries_;
+};
+
+}  // namespace mbao

@@ -1,0 +1,75 @@
+#include "render/render_settings.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace mbao {
+namespace {
+
+[[noreturn]] void bad(const std::string& message) { throw std::invalid_argument(message); }
+
+void check_range(const char* name, std::int64_t value, std::int64_t lo, std::int64_t hi) {
+  if (value < lo || value > hi)
+    bad(std::string(name) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+        std::to_string(value));
+}
+
+// Past this a pixel's ray count would not fit the 32-bit counter the kernels keep.
+constexpr std::uint64_t kMaxRaysPerPixel = 0xFFFFFFFFull;
+
+}  // namespace
+
+Estimator parse_estimator(const std::string& name) {
+  if (name == "branching") return Estimator::Branching;
+  if (name == "path") return Estimator::Path;
+  bad("estimator must be \"branching\" or \"path\", got \"" + name + "\"");
+}
+
+NormalMode parse_normal_mode(const std::string& name) {
+  if (name == "shading") return NormalMode::Shading;
+  if (name == "geometric") return NormalMode::Geometric;
+  bad("normals must be \"shading\" or \"geometric\", got \"" + name + "\"");
+}
+
+Traversal parse_traversal(const std::string& name) {
+  if (name == "pushdown") return Traversal::PushDown;
+  if (name == "restart") return Traversal::Restart;
+  bad("traversal must be \"pushdown\" or \"restart\", got \"" + name + "\"");
+}
+
+std::string to_string(Estimator estimator) { return estimator == Estimator::Branching ? "branching" : "path"; }
+std::string to_string(NormalMode mode) { return mode == NormalMode::Shading ? "shading" : "geometric"; }
+std::string to_string(Traversal traversal) { return traversal == Traversal::PushDown ? "pushdown" : "restart"; }
+
+std::uint64_t RenderSettings::max_rays_per_camera_sample() const {
+  if (estimator == Estimator::Path) return std::uint64_t(samples) * std::uint64_t(bounces);
+  std::uint64_t total = 0, level = 1;
+  for (std::int64_t k = 0; k < bounces; ++k) {
+    level *= std::uint64_t(samples);
+    total += level;
+    if (total > kMaxRaysPerPixel) return total;  // stop before it can overflow
+  }
+  return total;
+}
+
+void RenderSettings::validate() const {
+  check_range("width", width, 1, 16384);
+  check_range("height", height, 1, 16384);
+  check_range("samples", samples, 1, 1 << 20);
+  check_range("spp", spp, 1, 1 << 16);
+  check_range("bounces", bounces, 1, estimator == Estimator::Branching ? kMaxBranchingBounces : 1 << 16);
+  if (!(rho >= 0.0f && rho <= 1.0f)) bad("rho must be in [0, 1], got " + std::to_string(rho));
+  if (!(max_distance > 0.0f)) bad("max_distance must be > 0 (inf for unlimited), got " + std::to_string(max_distance));
+  const std::uint64_t per_pixel = max_rays_per_camera_sample() * std::uint64_t(spp);
+  if (per_pixel > kMaxRaysPerPixel) {
+    std::string message = "the " + to_string(estimator) + " estimator with samples=" + std::to_string(samples) +
+                          ", bounces=" + std::to_string(bounces) + " and spp=" + std::to_string(spp) +
+                          " traces more than " + std::to_string(kMaxRaysPerPixel) + " rays per pixel";
+    if (estimator == Estimator::Branching)
+      message += "; the path estimator needs at most samples * bounces = " +
+                 std::to_string(std::uint64_t(samples) * std::uint64_t(bounces)) + " per camera sample";
+    bad(message);
+  }
+}
+
+}  // namespace mbao

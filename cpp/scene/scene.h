@@ -1,0 +1,60 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "accel/kd_tree.h"
+#include "scene/camera.h"
+#include "scene/triangle_mesh.h"
+
+namespace mbao {
+
+// Geometry ready to render: the mesh, the camera it came with (if any) and its
+// kd-tree, built on first use and kept for every later render.
+class Scene {
+ public:
+  // Throws std::invalid_argument (naming `name`) for a mesh that cannot be rendered.
+  Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera = std::nullopt,
+        std::vector<std::string> warnings = {});
+  virtual ~Scene() = default;
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  const TriangleMesh& mesh() const { return mesh_; }
+  const Bounds3& bounds() const { return bounds_; }
+  const std::string& name() const { return name_; }
+  const std::optional<Camera>& camera() const { return camera_; }
+  // What the loader skipped or repaired, one sentence each.
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  // Unique for the life of the process: names the scene in device caches.
+  std::uint64_t id() const { return id_; }
+
+  // Its own camera, else one that frames the bounds at this width/height ratio.
+  Camera default_camera(float aspect) const;
+
+  std::shared_ptr<const KdTree> kd_tree() const;
+  bool has_kd_tree() const;
+
+ private:
+  TriangleMesh mesh_;
+  Bounds3 bounds_;
+  std::string name_;
+  std::optional<Camera> camera_;
+  std::vector<std::string> warnings_;
+  std::uint64_t id_;
+  mutable std::mutex tree_mutex_;
+  mutable std::shared_ptr<const KdTree> tree_;
+};
+
+// A scene made directly from arrays: no camera, no file.
+class Mesh : public Scene {
+ public:
+  explicit Mesh(TriangleMesh mesh) : Scene(std::move(mesh), "mesh") {}
+};
+
+}  // namespace mbao

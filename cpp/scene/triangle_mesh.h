@@ -1,0 +1,27 @@
+#pragma once
+
+#include <glm/vec3.hpp>
+#include <string>
+#include <vector>
+
+#include "scene/bounds.h"
+
+namespace mbao {
+
+// Triangles in world space: what every loader produces and the tree is built on.
+struct TriangleMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::uvec3> triangles;  // indices into positions
+  // Empty, or one per position; a zero vector marks a vertex without a normal.
+  std::vector<glm::vec3> normals;
+
+  bool has_normals() const { return !normals.empty(); }
+  // The box around the vertices the triangles use.
+  Bounds3 bounds() const;
+  // Throws std::invalid_argument, naming `what` and the offending element, for
+  // a mesh the renderer cannot use: no triangles, an index out of range, a
+  // non-finite vertex position or normal, a normals array of the wrong length.
+  void validate(const std::string& what) const;
+};
+
+}  // namespace mbao

@@ -1,0 +1,29 @@
+// Portability layer for the headers shared by the C++ host and the OpenCL C kernels.
+// Everything in kernels/mbao/ compiles as both; the host includes it as C++ and
+// the runtime inlines it into the OpenCL sources.
+#ifndef MBAO_PLATFORM_H
+#define MBAO_PLATFORM_H
+
+#ifdef __OPENCL_VERSION__
+#define MBAO_FN static inline
+typedef uint mbao_u32;
+#define mbao_float_as_u32(x) as_uint(x)
+#define mbao_u32_as_float(x) as_float(x)
+#else
+#include <cstdint>
+#include <cstring>
+#define MBAO_FN inline
+typedef std::uint32_t mbao_u32;
+inline mbao_u32 mbao_float_as_u32(float x) {
+  mbao_u32 u;
+  std::memcpy(&u, &x, sizeof u);
+  return u;
+}
+inline float mbao_u32_as_float(mbao_u32 u) {
+  float x;
+  std::memcpy(&x, &u, sizeof x);
+  return x;
+}
+#endif
+
+#endif

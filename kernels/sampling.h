@@ -1,0 +1,39 @@
+// Cosine-weighted directions drawn from the counter-based generator.
+#ifndef MBAO_SAMPLING_H
+#define MBAO_SAMPLING_H
+
+#include "mbao/philox.h"
+
+// The random numbers of one decision, addressed by what the decision is about:
+// the pixel, its camera sample, the bounce (0 for the camera ray) and the node
+// of the estimator's tree within that bounce.
+static inline Philox4x32 random_block(uint pixel, uint camera_sample, uint bounce, uint node,
+                                      uint2 seed) {
+  Philox4x32 counter;
+  counter.v[0] = pixel;
+  counter.v[1] = camera_sample;
+  counter.v[2] = bounce;
+  counter.v[3] = node;
+  return philox4x32_10(counter, seed.x, seed.y);
+}
+
+// An orthonormal basis around unit n without branches on n's direction
+// (Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 2017).
+static inline void orthonormal_basis(float3 n, float3* t, float3* b) {
+  const float sign = copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float c = n.x * n.y * a;
+  *t = (float3)(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+  *b = (float3)(c, sign + n.y * n.y * a, -n.y);
+}
+
+// Malley's method: uniform on the unit disk, projected up to the hemisphere.
+static inline float3 cosine_direction(float3 n, float u1, float u2) {
+  const float r = sqrt(u1);
+  const float phi = 2.0f * M_PI_F * u2;
+  float3 t, b;
+  orthonormal_basis(n, &t, &b);
+  return normalize(r * cos(phi) * t + r * sin(phi) * b + sqrt(fmax(0.0f, 1.0f - u1)) * n);
+}
+
+#endif

@@ -1,0 +1,15 @@
+// Rays given by the caller, traced as they are: the ray-query API and the
+// kernel the traversal tests compare against brute force.
+#include "kd_traversal.h"
+
+// directions[i].w is the ray's t_max. Each hit is stored as (t, triangle, b1, b2) bits.
+__kernel void trace_rays(MBAO_SCENE_PARAMS, __global const float4* origins,
+                         __global const float4* directions, uint count, int any_hit,
+                         __global uint4* hits) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  const SceneView scene = MBAO_SCENE_VIEW();
+  Hit hit;
+  trace_ray(&scene, origins[i].xyz, directions[i].xyz, directions[i].w, any_hit, &hit);
+  hits[i] = (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
+}

@@ -1,0 +1,34 @@
+"""mbao: multi-bounce ambient occlusion, ray traced with OpenCL.
+
+    import mbao
+    scene = mbao.cornell_box()            # or mbao.load("scene.glb"), or mbao.Mesh(vertices, indices)
+    result = mbao.render(scene, bounces=2)
+    mbao.save_image("ao.png", result.ao)
+
+What is computed, and every convention, is defined in SPEC.md (section numbers
+in the docstrings refer to it).
+"""
+
+from ._core import Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
+from .devices import devices
+from .images import save_image
+from .render import Result, render, trace
+from .scene import Mesh, load
+
+__all__ = [
+    "Camera",
+    "Device",
+    "DeviceError",
+    "Error",
+    "LoadError",
+    "Mesh",
+    "Result",
+    "Scene",
+    "cornell_box",
+    "devices",
+    "load",
+    "render",
+    "save_image",
+    "trace",
+]
+__version__ = "0.1.0"

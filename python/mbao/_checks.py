@@ -1,0 +1,50 @@
+"""Argument checks that name the argument and what it allows."""
+
+import numbers
+
+import numpy as np
+
+_INT64 = 2**63
+
+
+def integer(name, value):
+    """An int (numpy integers too, bools not) that fits in 64 bits."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
+    value = int(value)
+    if not -_INT64 <= value < _INT64:
+        raise ValueError(f"{name} is out of range, got {value}")
+    return value
+
+
+def real(name, value):
+    """A real number (ints too, bools not), as a float."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__} {value!r}")
+    return float(value)
+
+
+def choice(name, value, allowed):
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, one of {', '.join(map(repr, allowed))}; got {value!r}")
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
+    return value
+
+
+def rows(name, value, columns, kinds, dtype):
+    """An (N, columns) array of a dtype kind in `kinds`, as a C-contiguous `dtype` copy or view."""
+    try:
+        array = np.asarray(value)
+    except Exception as error:  # ragged lists and the like
+        raise TypeError(f"{name} must be an ({'N'}, {columns}) array: {error}") from None
+    if array.dtype.kind not in kinds:
+        raise TypeError(f"{name} must hold {_kind_names(kinds)}, got dtype {array.dtype}")
+    if array.ndim != 2 or array.shape[1] != columns:
+        raise ValueError(f"{name} must have shape (N, {columns}), got {array.shape}")
+    return np.ascontiguousarray(array, dtype=dtype)
+
+
+def _kind_names(kinds):
+    names = {"f": "floats", "i": "integers", "u": "unsigned integers"}
+    return " or ".join(names[k] for k in kinds)

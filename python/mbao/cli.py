@@ -1,0 +1,104 @@
+"""python -m mbao: render from the command line.
+
+    python -m mbao render [scene.glb] [--bounces 2] [--samples 4] [-o ao.png] ...
+    python -m mbao devices
+"""
+
+import argparse
+import math
+import sys
+
+from . import _core
+from .devices import devices
+from .images import save_image
+from .render import ESTIMATORS, NORMAL_MODES, TRAVERSALS, render
+from .scene import load
+
+
+def _parser():
+    parser = argparse.ArgumentParser(prog="python -m mbao", description="Multi-bounce ambient occlusion with OpenCL.")
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    r = commands.add_parser("render", help="render a scene (the built-in Cornell box by default) to an image")
+    r.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
+    r.add_argument("-o", "--output", default="ao.png", help="image to write: .png (8-bit) or .exr (float); default ao.png")
+    r.add_argument("--camera", help="camera.json (SPEC 3.1.1); default: the scene's own camera, else one framing it")
+    r.add_argument("--width", type=int, default=512)
+    r.add_argument("--height", type=int, default=512)
+    r.add_argument("--bounces", type=int, default=1)
+    r.add_argument("--samples", type=int, default=4, help="r: directions per hit")
+    r.add_argument("--estimator", choices=ESTIMATORS, default="branching")
+    r.add_argument("--rho", type=float, default=1.0, help="albedo in [0, 1]")
+    r.add_argument(
+        "--max-distance", type=float, default=math.inf, help="AO radius; default inf (camera.json may suggest one)"
+    )
+    r.add_argument("--spp", type=int, default=1, help="camera samples per pixel")
+    r.add_argument("--normals", choices=NORMAL_MODES, default="shading")
+    r.add_argument("--traversal", choices=TRAVERSALS, default="pushdown")
+    r.add_argument("--seed", type=int, default=0)
+    r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
+
+    commands.add_parser("devices", help="list the OpenCL devices")
+    return parser
+
+
+def _device_argument(text):
+    return int(text) if text is not None and text.isdigit() else text
+
+
+def _render(args):
+    scene = load(args.scene) if args.scene else _core.cornell_box()
+    camera = _core.Camera.load(args.camera) if args.camera else None
+    result = render(
+        scene,
+        camera=camera,
+        width=args.width,
+        height=args.height,
+        bounces=args.bounces,
+        samples=args.samples,
+        estimator=args.estimator,
+        rho=args.rho,
+        max_distance=args.max_distance,
+        spp=args.spp,
+        normals=args.normals,
+        seed=args.seed,
+        traversal=args.traversal,
+        device=_device_argument(args.device),
+    )
+    save_image(args.output, result.ao)
+    s = result.stats
+    rays = s["rays_primary"] + s["rays_secondary"]
+    tree = s["tree"]
+    print(f"scene        {scene.name} ({scene.triangle_count} triangles)")
+    print(f"device       {s['device']}")
+    print(
+        f"settings     {args.width}x{args.height}, bounces={args.bounces}, samples={args.samples}, "
+        f"{args.estimator}, rho={args.rho}, max_distance={args.max_distance}, spp={args.spp}"
+    )
+    print(
+        f"kd-tree      {tree['build_ms']:.1f} ms: {tree['nodes']} nodes, {tree['leaves']} leaves, "
+        f"depth {tree['max_depth']}, {tree['mean_triangles_per_leaf']:.2f} triangles per leaf, SAH {tree['sah_cost']:.1f}"
+    )
+    cache = "cached" if s["kernel_cache_hit"] else "built"
+    print(f"kernels      {s['kernel_build_ms']:.1f} ms ({cache})")
+    print(f"frame        {s['frame_ms']:.1f} ms in {s['tiles']} tile(s)")
+    print(
+        f"rays         {s['rays_primary']} primary + {s['rays_secondary']} secondary = "
+        f"{rays / s['frame_ms'] / 1e3:.2f} Mrays/s"
+    )
+    print(f"memory       {s['memory_bytes'] / 2**20:.1f} MiB on the device")
+    print(f"wrote        {args.output}")
+    return 0
+
+
+def main(argv=None):
+    args = _parser().parse_args(argv)
+    try:
+        if args.command == "devices":
+            for d in devices():
+                print(f"{d.index}: {d.platform}: {d.name} ({d.type}, {d.version})")
+            return 0
+        return _render(args)
+    except (ValueError, TypeError, OSError, _core.Error) as error:
+        print(f"mbao: {error}", file=sys.stderr)
+        return 2

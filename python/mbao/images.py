@@ -1,0 +1,36 @@
+"""Writing images with OpenImageIO."""
+
+import os
+
+import numpy as np
+
+_FLOAT_FORMATS = (".exr", ".hdr", ".tif", ".tiff", ".pfm")
+
+
+def save_image(path, array):
+    """Writes a (H, W) or (H, W, C) image; the format follows the file name.
+
+    EXR (and TIFF, HDR, PFM) get 32-bit floats unchanged. PNG and the other
+    formats get 8 bits: values clipped to [0, 1], no gamma (AO values are
+    stored as they are). Boolean arrays (masks) are written as 0 and 1.
+    """
+    import OpenImageIO as oiio  # imported here: only saving needs it
+
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
+    path = os.fspath(path)
+    data = np.asarray(array)
+    if data.dtype.kind not in "fiub":
+        raise TypeError(f"array must hold numbers, got dtype {data.dtype}")
+    if data.ndim not in (2, 3) or data.size == 0:
+        raise ValueError(f"array must be a non-empty (H, W) or (H, W, C) image, got shape {data.shape}")
+    # OpenImageIO's Python binding reads arrays as (H, W, C).
+    pixels = np.ascontiguousarray(data.reshape(data.shape[0], data.shape[1], -1), dtype=np.float32)
+    height, width, channels = pixels.shape
+    float_format = os.path.splitext(path)[1].lower() in _FLOAT_FORMATS
+    if not float_format:
+        pixels = np.clip(pixels, 0.0, 1.0)
+    image = oiio.ImageBuf(oiio.ImageSpec(width, height, channels, oiio.FLOAT))
+    image.set_pixels(oiio.ROI(0, width, 0, height, 0, 1, 0, channels), pixels)
+    if not image.write(path, oiio.FLOAT if float_format else oiio.UINT8):
+        raise OSError(f"cannot write {path!r}: {image.geterror()}")

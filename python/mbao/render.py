@@ -1,0 +1,137 @@
+"""Rendering and ray queries."""
+
+import dataclasses
+import math
+
+import numpy as np
+
+from . import _checks, _core
+from .devices import resolve
+
+ESTIMATORS = ("branching", "path")
+NORMAL_MODES = ("shading", "geometric")
+TRAVERSALS = ("pushdown", "restart")
+
+
+@dataclasses.dataclass(frozen=True)
+class Result:
+    """A rendered image.
+
+    ao: (height, width) float32, the b-bounce access (1 = open), row 0 at the top;
+        pixels whose camera rays all missed are 1.
+    mask: (height, width) bool, True where any camera sample hit geometry.
+    stats: build_ms, tree_reused, kernel_build_ms, kernel_cache_hit, upload_ms,
+        frame_ms, rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
+    """
+
+    ao: np.ndarray
+    mask: np.ndarray
+    stats: dict
+
+    def __repr__(self):
+        h, w = self.ao.shape
+        return f"<mbao.Result {w}x{h}, frame {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
+
+
+def _check_scene(scene):
+    if not isinstance(scene, _core.Scene):
+        raise TypeError(f"scene must be an mbao.Scene or mbao.Mesh, got {type(scene).__name__}")
+
+
+def render(
+    scene,
+    *,
+    camera=None,
+    width=512,
+    height=512,
+    bounces=1,
+    samples=4,
+    estimator="branching",
+    rho=1.0,
+    max_distance=math.inf,
+    spp=1,
+    normals="shading",
+    seed=0,
+    traversal="pushdown",
+    device=None,
+    tile_pixels=None,
+    work_group_size=None,
+):
+    """Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
+
+    camera: an mbao.Camera; by default the scene's own (the Cornell box's, a glTF
+        file's first perspective camera), else one framing the scene's bounds.
+    width, height: image size in pixels, 1..16384.
+    bounces: b >= 1 (branching: at most 16). samples: r, directions per hit.
+    estimator: "branching" (the paper's: r + r^2 + ... + r^b rays per camera
+        sample) or "path" (r paths of up to b segments).
+    rho: albedo in [0, 1]. max_distance: hits farther away count as misses (> 0, inf).
+    spp: camera samples per pixel (1: the pixel centre; more: jittered, box filter).
+    normals: "shading" (interpolated vertex normals where the mesh has them) or "geometric".
+    seed: any integer in [0, 2^64); the image is a pure function of the seed and
+        the settings, whatever the device, tiling or work-group size.
+    traversal: "pushdown" (Horn et al. 2007) or "restart" (Foley and Sugerman 2005).
+    device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
+    tile_pixels, work_group_size: how the work is cut up (None: automatic); they do not change the image.
+
+    The GIL is released while rendering.
+    """
+    _check_scene(scene)
+    if camera is not None and not isinstance(camera, _core.Camera):
+        raise TypeError(f"camera must be an mbao.Camera or None, got {type(camera).__name__}")
+    seed = _checks.integer("seed", seed)
+    if not 0 <= seed < 2**64:
+        raise ValueError(f"seed must be in [0, 2**64), got {seed}")
+    ao, mask, stats = _core.render(
+        scene,
+        camera,
+        resolve(device),
+        width=_checks.integer("width", width),
+        height=_checks.integer("height", height),
+        bounces=_checks.integer("bounces", bounces),
+        samples=_checks.integer("samples", samples),
+        estimator=_checks.choice("estimator", estimator, ESTIMATORS),
+        rho=_checks.real("rho", rho),
+        max_distance=_checks.real("max_distance", max_distance),
+        spp=_checks.integer("spp", spp),
+        normals=_checks.choice("normals", normals, NORMAL_MODES),
+        seed=seed,
+        traversal=_checks.choice("traversal", traversal, TRAVERSALS),
+        tile_pixels=_optional_count("tile_pixels", tile_pixels),
+        work_group_size=_optional_count("work_group_size", work_group_size),
+    )
+    return Result(ao, mask, stats)
+
+
+def _optional_count(name, value):
+    if value is None:
+        return 0
+    value = _checks.integer(name, value)
+    if value < 1:
+        raise ValueError(f"{name} must be >= 1 or None, got {value}")
+    return value
+
+
+def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversal="pushdown", device=None):
+    """Traces rays through the scene's kd-tree.
+
+    origins, directions: (N, 3) arrays (directions need not be unit length; t is
+    in units of their length). t_max: a number or an (N,) array; hits must have
+    0 < t <= t_max. any_hit: stop at the first hit found instead of the closest.
+
+    Returns (t, triangle, barycentrics): t (N,) float32, inf for a miss; triangle
+    (N,) int64 index into scene.indices, -1 for a miss; barycentrics (N, 2)
+    float32, the weights of the triangle's second and third vertex.
+    """
+    _check_scene(scene)
+    origins = _checks.rows("origins", origins, 3, "fiu", np.float32)
+    directions = _checks.rows("directions", directions, 3, "fiu", np.float32)
+    if len(origins) != len(directions):
+        raise ValueError(f"origins has {len(origins)} rows but directions has {len(directions)}")
+    if not isinstance(any_hit, (bool, np.bool_)):
+        raise TypeError(f"any_hit must be a bool, got {type(any_hit).__name__}")
+    limits = np.broadcast_to(np.asarray(t_max, dtype=np.float32), (len(origins),))
+    rays = np.ascontiguousarray(np.column_stack([directions, limits]), dtype=np.float32)
+    return _core.trace(
+        scene, origins, rays, resolve(device), bool(any_hit), _checks.choice("traversal", traversal, TRAVERSALS)
+    )

@@ -1,0 +1,50 @@
+"""Scenes from files and from arrays (SPEC 3.2)."""
+
+import os
+import warnings
+
+import numpy as np
+
+from . import _checks, _core
+
+
+class Mesh(_core._Mesh):
+    """A scene made from arrays: Mesh(vertices, indices, normals=None).
+
+    vertices: (N, 3) numbers, world space; indices: (M, 3) integers into vertices,
+    one row per triangle; normals: optional (N, 3) vertex normals (zero rows mean
+    "no normal here": the geometric normal is used). Arrays are copied.
+    """
+
+    def __init__(self, vertices, indices, normals=None):
+        vertices = _checks.rows("vertices", vertices, 3, "fiu", np.float32)
+        indices = _checks.rows("indices", indices, 3, "iu", np.int64)
+        if indices.size and (indices.min() < 0 or indices.max() >= len(vertices)):
+            bad = int(np.flatnonzero((indices < 0) | (indices >= len(vertices)))[0])
+            raise ValueError(
+                f"indices: triangle {bad // 3} uses vertex {int(indices.flat[bad])}, "
+                f"but there are {len(vertices)} vertices"
+            )
+        if normals is not None:
+            normals = _checks.rows("normals", normals, 3, "fiu", np.float32)
+            if len(normals) != len(vertices):
+                raise ValueError(f"normals has {len(normals)} rows for {len(vertices)} vertices")
+        super().__init__(vertices, indices.astype(np.uint32), normals)
+
+    def __repr__(self):
+        return f"<mbao.Mesh: {self.triangle_count} triangles, {len(self.vertices)} vertices>"
+
+
+def load(path):
+    """Loads a glTF 2.0 file (.gltf or .glb): every triangle mesh of the default
+    scene in world space, its normals, and its first perspective camera.
+
+    What is skipped (other primitive modes, ...) is reported as a warning and
+    listed in scene.warnings. Raises mbao.LoadError naming the file and element.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
+    scene = _core.load(os.fspath(path))
+    for message in scene.warnings:
+        warnings.warn(message, stacklevel=2)
+    return scene

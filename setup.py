@@ -1,0 +1,10 @@
+# scikit-build drives CMake for `pip install --no-build-isolation .`; the
+# metadata is in pyproject.toml.
+from skbuild import setup
+
+setup(
+    packages=["mbao"],
+    package_dir={"": "python"},
+    cmake_install_dir="python",
+    cmake_args=["-DMBAO_BUILD_TESTS=OFF", "-DMBAO_BUILD_BENCH=OFF", "-DMBAO_PYTHON_INPLACE=OFF"],
+)

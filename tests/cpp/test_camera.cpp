@@ -1,0 +1,98 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <glm/geometric.hpp>
+
+#include "core/error.h"
+#include "scene/camera.h"
+
+namespace mbao {
+namespace {
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(Camera, BasisFollowsSpec31) {
+  Camera camera;
+  camera.eye = {0, 0, 0};
+  camera.target = {0, 0, -5};  // looking down -z as in glTF
+  camera.up = {0, 2, 0};       // need not be unit or orthogonal
+  camera.vfov_deg = 90.0f;
+  const CameraBasis basis(camera);
+  EXPECT_NEAR(glm::distance(basis.forward, glm::vec3(0, 0, -1)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(basis.right, glm::vec3(1, 0, 0)), 0.0f, 1e-6f);  // right-handed: x to the right
+  EXPECT_NEAR(glm::distance(basis.up, glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
+  EXPECT_NEAR(basis.tan_half_vfov, 1.0f, 1e-6f);
+}
+
+TEST(Camera, LoadsCameraJsonWithOptionalMaxDistance) {
+  const Camera c = Camera::load(write_temp(
+      "cam.json", R"({"eye": [1, 2, 3], "target": [1, 2, 0], "up": [0, 1, 0], "vfov_deg": 45, "max_distance": 7.5})"));
+  EXPECT_EQ(c.eye, glm::vec3(1, 2, 3));
+  EXPECT_EQ(c.target, glm::vec3(1, 2, 0));
+  EXPECT_EQ(c.vfov_deg, 45.0f);
+  ASSERT_TRUE(c.max_distance.has_value());
+  EXPECT_EQ(*c.max_distance, 7.5f);
+  const Camera d = Camera::load(
+      write_temp("cam2.json", R"({"eye": [1, 2, 3], "target": [1, 2, 0], "up": [0, 1, 0], "vfov_deg": 45})"));
+  EXPECT_FALSE(d.max_distance.has_value());
+}
+
+// The LoadError message for a camera file with this text, or "".
+std::string load_error(const std::string& text) {
+  try {
+    Camera::load(write_temp("bad.json", text));
+  } catch (const LoadError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Camera, BadFilesNameTheFileAndTheField) {
+  EXPECT_NE(load_error("{").find("not valid JSON"), std::string::npos);
+  EXPECT_NE(load_error(R"({"eye": [0, 0, 1], "target": [0, 0, 0], "up": [0, 1, 0]})").find("\"vfov_deg\" is missing"),
+            std::string::npos);
+  EXPECT_NE(load_error(R"({"eye": [0, 0], "target": [0, 0, 0], "up": [0, 1, 0], "vfov_deg": 40})").find("\"eye\""),
+            std::string::npos);
+  EXPECT_NE(load_error(R"({"eye": [0, 0, 1], "target": [0, 0, 0], "up": [0, 0, 1], "vfov_deg": 40})").find("parallel"),
+            std::string::npos);
+  EXPECT_NE(load_error(R"({"eye": [0, 0, 1], "target": [0, 0, 0], "up": [0, 1, 0], "vfov_deg": 180})").find("vfov_deg"),
+            std::string::npos);
+  EXPECT_NE(load_error(R"({"eye": [0, 0, 1], "target": [0, 0, 0], "up": [0, 1, 0], "vfov_deg": 180})").find("bad.json"),
+            std::string::npos);
+  try {
+    Camera::load("/nonexistent/camera.json");
+    FAIL();
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/camera.json"), std::string::npos);
+  }
+}
+
+TEST(Camera, FramingSeesTheWholeBox) {
+  Bounds3 box;
+  box.extend({-3, 1, 10});
+  box.extend({5, 2, 14});
+  for (float aspect : {0.25f, 1.0f, 3.0f}) {
+    const Camera camera = Camera::framing(box, aspect);
+    camera.validate();
+    const CameraBasis basis(camera);
+    const float tan_half_h = basis.tan_half_vfov * aspect;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 p((corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,
+                        (corner & 4) ? box.hi.z : box.lo.z);
+      const glm::vec3 v = p - camera.eye;
+      const float depth = glm::dot(v, basis.forward);
+      ASSERT_GT(depth, 0.0f);
+      EXPECT_LE(std::abs(glm::dot(v, basis.right)) / depth, tan_half_h * 1.0001f) << "aspect " << aspect;
+      EXPECT_LE(std::abs(glm::dot(v, basis.up)) / depth, basis.tan_half_vfov * 1.0001f) << "aspect " << aspect;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mbao

@@ -1,0 +1,242 @@
+// The kd-tree's contract with the traversal kernels: every leaf holds exactly
+// the triangles whose boxes touch its closed cell, every split lies strictly
+// inside its cell, and the node words decode to what was built.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "accel/kd_tree.h"
+#include "scene/cornell_box.h"
+
+namespace mbao {
+namespace {
+
+Bounds3 triangle_box(const TriangleMesh& mesh, std::size_t t) {
+  Bounds3 box;
+  for (int k = 0; k < 3; ++k) box.extend(mesh.positions[mesh.triangles[t][k]]);
+  return box;
+}
+
+bool touches(const Bounds3& a, const Bounds3& b) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (a.hi[axis] < b.lo[axis] || a.lo[axis] > b.hi[axis]) return false;
+  return true;
+}
+
+struct Walk {
+  const TriangleMesh& mesh;
+  const KdTree& tree;
+  const KdBuildOptions options;
+  double sah = 0.0;
+  std::size_t leaves = 0, empty_leaves = 0;
+  int depth = 0;
+
+  void visit(std::uint32_t index, const Bounds3& cell, int level) {
+    ASSERT_LT(index, tree.nodes.size());
+    depth = std::max(depth, level);
+    const KdNode node = tree.nodes[index];
+    const double area = cell.surface_area() / tree.bounds.surface_area();
+    if (kd_is_leaf(node)) {
+      check_leaf(node, cell);
+      ++leaves;
+      empty_leaves += kd_triangle_count(node) == 0;
+      sah += area * options.intersection_cost * kd_triangle_count(node);
+      return;
+    }
+    sah += area * options.traversal_cost;
+    const int axis = int(kd_axis(node));
+    const float split = kd_split(node);
+    ASSERT_GT(split, cell.lo[axis]) << "split on the cell's wall at node " << index;
+    ASSERT_LT(split, cell.hi[axis]) << "split on the cell's wall at node " << index;
+    Bounds3 below = cell, above = cell;
+    below.hi[axis] = split;
+    above.lo[axis] = split;
+    visit(index + 1, below, level + 1);
+    visit(kd_above_child(node), above, level + 1);
+  }
+
+  void check_leaf(KdNode node, const Bounds3& cell) {
+    const std::uint32_t first = kd_first_index(node), count = kd_triangle_count(node);
+    ASSERT_LE(std::size_t(first) + count, tree.leaf_triangles.size());
+    const std::vector<std::uint32_t> listed(tree.leaf_triangles.begin() + first,
+                                            tree.leaf_triangles.begin() + first + count);
+    ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end()));
+    std::vector<std::uint32_t> expected;
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+      if (touches(triangle_box(mesh, t), cell)) expected.push_back(t);
+    ASSERT_EQ(listed, expected) << "leaf cell [" << cell.lo.x << "," << cell.lo.y << "," << cell.lo.z << "]-["
+                                << cell.hi.x << "," << cell.hi.y << "," << cell.hi.z << "]";
+  }
+};
+
+// Checks the whole contract for `mesh` and returns the tree.
+KdTree checked_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {}) {
+  const KdTree tree = build_kd_tree(mesh, options);
+  EXPECT_EQ(tree.bounds.lo, mesh.bounds().lo);
+  EXPECT_EQ(tree.bounds.hi, mesh.bounds().hi);
+  Walk walk{mesh, tree, options};
+  walk.visit(0, tree.bounds, 0);
+  EXPECT_EQ(tree.stats.nodes, tree.nodes.size());
+  EXPECT_EQ(tree.stats.leaves, walk.leaves);
+  EXPECT_EQ(tree.stats.empty_leaves, walk.empty_leaves);
+  EXPECT_EQ(tree.stats.max_depth, walk.depth);
+  EXPECT_EQ(tree.stats.leaf_references, tree.leaf_triangles.size());
+  EXPECT_EQ(tree.nodes.size(), 2 * walk.leaves - 1);  // every interior node has two children
+  if (tree.bounds.surface_area() > 0) {
+    EXPECT_NEAR(tree.stats.sah_cost, walk.sah, 1e-9 * walk.sah);
+  }
+  return tree;
+}
+
+TriangleMesh random_soup(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  TriangleMesh mesh;
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3 center(unit(rng), unit(rng), unit(rng));
+    const float size = 0.3f * std::pow(unit(rng), 3.0f);  // mostly small, some large
+    for (int k = 0; k < 3; ++k)
+      mesh.positions.push_back(center + size * glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f));
+    const auto base = std::uint32_t(3 * i);
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  }
+  return mesh;
+}
+
+// Axis-aligned unit quads on an integer grid in all three orientations: many
+// triangles share planes, edges and box faces.
+TriangleMesh axis_aligned_grid(int n) {
+  TriangleMesh mesh;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const auto base = std::uint32_t(mesh.positions.size());
+        for (int corner = 0; corner < 4; ++corner) {
+          glm::vec3 p(0.0f);
+          p[axis] = float((i + j) % n);
+          p[u] = float(i + (corner == 1 || corner == 2));
+          p[v] = float(j + (corner >= 2));
+          mesh.positions.push_back(p);
+        }
+        mesh.triangles.push_back({base, base + 1, base + 2});
+        mesh.triangles.push_back({base, base + 2, base + 3});
+      }
+  return mesh;
+}
+
+TEST(KdNode, WordsRoundTrip) {
+  const KdNode interior = kd_make_interior(2, -3.25f, 123456);
+  EXPECT_FALSE(kd_is_leaf(interior));
+  EXPECT_EQ(kd_axis(interior), 2u);
+  EXPECT_EQ(kd_split(interior), -3.25f);
+  EXPECT_EQ(kd_above_child(interior), 123456u);
+  const KdNode leaf = kd_make_leaf(MBAO_KD_MAX_INDEX, 0xFFFFFFFFu);
+  EXPECT_TRUE(kd_is_leaf(leaf));
+  EXPECT_EQ(kd_triangle_count(leaf), MBAO_KD_MAX_INDEX);
+  EXPECT_EQ(kd_first_index(leaf), 0xFFFFFFFFu);
+  EXPECT_EQ(sizeof(KdNode), 8u);
+}
+
+TEST(KdTree, RandomSoupsKeepTheLeafContract) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const TriangleMesh mesh = random_soup(2000, seed);
+    const KdTree tree = checked_tree(mesh);
+    EXPECT_GT(tree.stats.leaves, 100u);
+    EXPECT_LT(tree.stats.sah_cost, KdBuildOptions{}.intersection_cost * double(mesh.triangles.size()) / 20.0);
+  }
+}
+
+TEST(KdTree, PlanarTrianglesOnSharedPlanesKeepTheLeafContract) {
+  const KdTree tree = checked_tree(axis_aligned_grid(8));
+  EXPECT_GT(tree.stats.leaves, 10u);
+}
+
+TEST(KdTree, CornellWallsOnTheBoundingBoxAreCutIntoThinCells) {
+  const auto scene = cornell_box();
+  const KdTree tree = checked_tree(scene->mesh());
+  // The right wall (triangles 8 and 9) lies in the plane x = 0, a face of the
+  // root cell. Some leaf holds it in a cell thinner than 1 mm along x.
+  bool thin_leaf_with_wall = false;
+  std::vector<std::pair<std::uint32_t, Bounds3>> stack = {{0u, tree.bounds}};
+  while (!stack.empty()) {
+    auto [index, cell] = stack.back();
+    stack.pop_back();
+    const KdNode node = tree.nodes[index];
+    if (kd_is_leaf(node)) {
+      const auto begin = tree.leaf_triangles.begin() + kd_first_index(node);
+      const auto end = begin + kd_triangle_count(node);
+      if (cell.hi.x - cell.lo.x < 1.0f && std::find(begin, end, 8u) != end) thin_leaf_with_wall = true;
+      continue;
+    }
+    Bounds3 below = cell, above = cell;
+    below.hi[kd_axis(node)] = above.lo[kd_axis(node)] = kd_split(node);
+    stack.push_back({index + 1, below});
+    stack.push_back({kd_above_child(node), above});
+  }
+  EXPECT_TRUE(thin_leaf_with_wall);
+}
+
+TEST(KdTree, AFlatSceneIsNeverSplitAcrossItsPlane) {
+  TriangleMesh mesh = axis_aligned_grid(6);
+  TriangleMesh flat;
+  for (const glm::uvec3& t : mesh.triangles) {  // keep the quads that lie in z = const, moved to z = 2
+    const glm::vec3 a = mesh.positions[t.x], b = mesh.positions[t.y], c = mesh.positions[t.z];
+    if (a.z != b.z || b.z != c.z) continue;
+    const auto base = std::uint32_t(flat.positions.size());
+    for (glm::vec3 p : {a, b, c}) flat.positions.push_back({p.x, p.y, 2.0f});
+    flat.triangles.push_back({base, base + 1, base + 2});
+  }
+  const KdTree tree = checked_tree(flat);
+  for (const KdNode& node : tree.nodes) {
+    if (!kd_is_leaf(node)) {
+      EXPECT_NE(kd_axis(node), 2u);
+    }
+  }
+  EXPECT_GT(tree.stats.leaves, 1u);
+}
+
+TEST(KdTree, EmptySpaceAroundAClusterIsCutOff) {
+  TriangleMesh mesh = random_soup(200, 7);
+  for (glm::vec3& p : mesh.positions) p = 0.01f * p;  // a cluster in one corner of a big box
+  const auto base = std::uint32_t(mesh.positions.size());
+  mesh.positions.insert(mesh.positions.end(), {{10, 10, 10}, {10.1f, 10, 10}, {10, 10.1f, 10}});
+  mesh.triangles.push_back({base, base + 1, base + 2});
+  const KdTree tree = checked_tree(mesh);
+  EXPECT_GT(tree.stats.empty_leaves, 0u);
+}
+
+TEST(KdTree, InseparableTrianglesEndInOneLeaf) {
+  TriangleMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  for (int i = 0; i < 100; ++i) mesh.triangles.push_back({0, 1, 2});  // the same triangle 100 times
+  const KdTree tree = checked_tree(mesh);
+  EXPECT_EQ(tree.stats.max_depth, 0);
+  EXPECT_EQ(tree.leaf_triangles.size(), 100u);
+}
+
+TEST(KdTree, DepthStaysWithinTheLimit) {
+  KdBuildOptions options;
+  options.max_depth = 3;
+  const KdTree tree = checked_tree(random_soup(5000, 11), options);
+  EXPECT_LE(tree.stats.max_depth, 3);
+}
+
+TEST(KdTree, SingleTriangleAndDegenerateTriangles) {
+  TriangleMesh one;
+  one.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 1}};
+  one.triangles = {{0, 1, 2}};
+  checked_tree(one);
+  TriangleMesh degenerate = random_soup(300, 5);
+  const auto base = std::uint32_t(degenerate.positions.size());
+  degenerate.positions.insert(degenerate.positions.end(), {{0.5f, 0.5f, 0.5f}, {0.7f, 0.7f, 0.7f}, {0.9f, 0.9f, 0.9f}});
+  degenerate.triangles.push_back({base, base + 1, base + 2});  // collinear
+  degenerate.triangles.push_back({base, base, base});          // a point
+  checked_tree(degenerate);
+}
+
+}  // namespace
+}  // namespace mbao

@@ -1,0 +1,84 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "render/render_settings.h"
+
+namespace mbao {
+namespace {
+
+// The message of the std::invalid_argument that validate() throws, or "".
+std::string complaint(const RenderSettings& s) {
+  try {
+    s.validate();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RenderSettings, DefaultsAreTheSeedPapersConfiguration) {
+  const RenderSettings s;
+  EXPECT_EQ(complaint(s), "");
+  EXPECT_EQ(s.width, 512);
+  EXPECT_EQ(s.height, 512);
+  EXPECT_EQ(s.samples, 4);
+  EXPECT_EQ(s.bounces, 1);
+  EXPECT_EQ(s.estimator, Estimator::Branching);
+  EXPECT_EQ(s.rho, 1.0f);
+  EXPECT_TRUE(std::isinf(s.max_distance));
+}
+
+TEST(RenderSettings, EachBadValueIsNamedWithItsRange) {
+  const auto with = [](auto change) {
+    RenderSettings s;
+    change(s);
+    return complaint(s);
+  };
+  EXPECT_NE(with([](RenderSettings& s) { s.width = 0; }).find("width must be in [1, 16384], got 0"), std::string::npos);
+  EXPECT_NE(with([](RenderSettings& s) { s.height = -3; }).find("height"), std::string::npos);
+  EXPECT_NE(with([](RenderSettings& s) { s.bounces = 0; }).find("bounces must be in [1, 16]"), std::string::npos);
+  EXPECT_NE(with([](RenderSettings& s) { s.samples = 0; }).find("samples"), std::string::npos);
+  EXPECT_NE(with([](RenderSettings& s) { s.spp = 0; }).find("spp"), std::string::npos);
+  EXPECT_NE(with([](RenderSettings& s) { s.rho = 1.5f; }).find("rho must be in [0, 1]"), std::string::npos);
+  EXPECT_NE(with([](RenderSettings& s) { s.rho = std::nanf(""); }).find("rho"), std::string::npos);
+  EXPECT_NE(with([](RenderSettings& s) { s.max_distance = 0.0f; }).find("max_distance must be > 0"), std::string::npos);
+}
+
+TEST(RenderSettings, PathAllowsMoreBouncesThanBranching) {
+  RenderSettings s;
+  s.bounces = 40;
+  EXPECT_NE(complaint(s), "");
+  s.estimator = Estimator::Path;
+  EXPECT_EQ(complaint(s), "");
+}
+
+TEST(RenderSettings, CountsRaysPerCameraSample) {
+  RenderSettings s;
+  s.samples = 4;
+  s.bounces = 2;
+  EXPECT_EQ(s.max_rays_per_camera_sample(), 4u + 16u);  // the paper's 20 rays per pixel
+  s.estimator = Estimator::Path;
+  EXPECT_EQ(s.max_rays_per_camera_sample(), 8u);
+}
+
+TEST(RenderSettings, ExplodingBranchingWorkIsRefusedWithTheRayCountAndTheAlternative) {
+  RenderSettings s;
+  s.samples = 64;
+  s.bounces = 6;  // 64^6 > 2^32 rays per pixel
+  const std::string message = complaint(s);
+  EXPECT_NE(message.find("rays per pixel"), std::string::npos) << message;
+  EXPECT_NE(message.find("path estimator"), std::string::npos) << message;
+}
+
+TEST(RenderSettings, NamesParseAndPrintBothWays) {
+  for (const char* name : {"branching", "path"}) EXPECT_EQ(to_string(parse_estimator(name)), name);
+  for (const char* name : {"shading", "geometric"}) EXPECT_EQ(to_string(parse_normal_mode(name)), name);
+  for (const char* name : {"pushdown", "restart"}) EXPECT_EQ(to_string(parse_traversal(name)), name);
+  EXPECT_THROW(parse_estimator("Branching"), std::invalid_argument);
+  EXPECT_THROW(parse_traversal("stack"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mbao
