@@ -4,8 +4,13 @@
 
 #define MBAO_NO_TRIANGLE 0xFFFFFFFFu
 
-// Bounds on float rounding error, in units of the unit roundoff u = 2^-24:
-// gamma(n) = n u / (1 - n u) (Higham; pbrt's notation).
+// The watertight test relies on a*b - c*d being rounded once per product: a
+// fused multiply-add would make the edge functions of a shared edge, or of a
+// triangle with coinciding corners, differ from exact zero in their sign.
+#pragma OPENCL FP_CONTRACT OFF
+
+// Bound on the rounding error of n float operations, relative to the result:
+// gamma(n) = n u / (1 - n u) with u = 2^-24 (Higham; pbrt's notation).
 #define MBAO_UNIT_ROUNDOFF (0.5f * FLT_EPSILON)
 static inline float error_gamma(int n) {
   return (n * MBAO_UNIT_ROUNDOFF) / (1.0f - n * MBAO_UNIT_ROUNDOFF);
@@ -68,7 +73,10 @@ static inline float edge_function(float ax, float ay, float bx, float by) {
 }
 
 // Intersects the ray with triangle (p0, p1, p2) for 0 < t <= t_max. On a hit
-// returns 1 and writes t and the barycentrics of p1 and p2.
+// returns 1 and writes t and the barycentrics of p1 and p2. Every hit with a
+// positive t counts, however close: rays leaving a surface start far enough
+// off it (surface.h) that they need no minimum distance, and so a surface
+// just in front of a ray's origin is never skipped.
 static inline int intersect_triangle(const WatertightRay* ray, float3 p0, float3 p1, float3 p2,
                                      float t_max, float* t_out, float* b1_out, float* b2_out) {
   const float3 a = p0 - ray->origin, b = p1 - ray->origin, c = p2 - ray->origin;
@@ -95,20 +103,6 @@ static inline int intersect_triangle(const WatertightRay* ray, float3 p0, float3
   const float inv_det = 1.0f / det;
   const float t = t_scaled * inv_det;
   if (!(t <= t_max)) return 0;
-
-  // Reject t that is not certainly positive once the rounding error of the
-  // computation above is accounted for (the bound of pbrt-v4, section 6.8.4).
-  const float max_z = fmax(fmax(fabs(sz * az), fabs(sz * bz)), fabs(sz * cz));
-  const float max_x = fmax(fmax(fabs(ax), fabs(bx)), fabs(cx));
-  const float max_y = fmax(fmax(fabs(ay), fabs(by)), fabs(cy));
-  const float delta_z = error_gamma(3) * max_z;
-  const float delta_x = error_gamma(5) * (max_x + max_z);
-  const float delta_y = error_gamma(5) * (max_y + max_z);
-  const float delta_e = 2.0f * (error_gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-  const float max_e = fmax(fmax(fabs(e0), fabs(e1)), fabs(e2));
-  const float delta_t =
-      3.0f * (error_gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * fabs(inv_det);
-  if (t <= delta_t) return 0;
 
   *t_out = t;
   *b1_out = e1 * inv_det;

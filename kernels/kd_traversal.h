@@ -95,8 +95,9 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
     t_lo = t_hi;
   } while (t_lo < t_exit);
 
+  if (best.triangle == MBAO_NO_TRIANGLE) return 0;
   *hit = best;
-  return best.triangle != MBAO_NO_TRIANGLE;
+  return 1;
 }
 
 #endif

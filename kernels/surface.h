@@ -5,9 +5,16 @@
 
 #include "scene.h"
 
+// How far a ray leaving a surface starts off it, in float steps of the
+// triangle's largest coordinate: far more than the rounding error with which a
+// ray/triangle test can place the ray's origin on the wrong side of that
+// triangle's plane, or of a coplanar neighbour's (the Cornell box light lies in
+// the ceiling).
+#define MBAO_ORIGIN_OFFSET_STEPS 256.0f
+
 typedef struct Surface {
   float3 position;
-  float3 position_error;    // bound on |computed - exact| per component
+  float offset;             // distance along the normal at which rays leave it
   float3 geometric_normal;  // unit, on the side the incoming ray came from
   float3 shading_normal;    // unit, turned to the same side
 } Surface;
@@ -19,10 +26,10 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
   const float b0 = 1.0f - hit.b1 - hit.b2;
 
   Surface s;
-  // Interpolating the corners is more accurate than origin + t * dir, and its
-  // error is bounded by gamma(7) times the sum of the terms' magnitudes.
+  // Interpolating the corners is more accurate than origin + t * dir.
   s.position = b0 * p0 + hit.b1 * p1 + hit.b2 * p2;
-  s.position_error = error_gamma(7) * (fabs(b0 * p0) + fabs(hit.b1 * p1) + fabs(hit.b2 * p2));
+  const float3 magnitude = fmax(fmax(fabs(p0), fabs(p1)), fabs(p2));
+  s.offset = MBAO_ORIGIN_OFFSET_STEPS * FLT_EPSILON * fmax(fmax(magnitude.x, magnitude.y), magnitude.z);
 
   float3 ng = normalize(cross(p1 - p0, p2 - p0));
   if (dot(ng, incoming) > 0.0f) ng = -ng;
@@ -44,14 +51,12 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
   return s;
 }
 
-// The origin of a ray leaving the surface along dir (on the geometric normal's
-// side): moved off the surface by the position's error bound projected on the
-// normal, then rounded away, so the ray cannot re-hit the surface it leaves
-// (pbrt-v4's offset, section 6.8.6).
+// The origin of a ray leaving the surface along dir: moved off the surface
+// along the geometric normal, to dir's side, then rounded away from the
+// surface so that it moves even where the offset is below a float step.
 static inline float3 offset_origin(const Surface* s, float3 dir) {
   const float3 n = s->geometric_normal;
-  const float distance = dot(fabs(n), s->position_error);
-  float3 offset = distance * n;
+  float3 offset = s->offset * n;
   if (dot(dir, n) < 0.0f) offset = -offset;
   float3 p = s->position + offset;
   p.x = offset.x > 0.0f ? nextafter(p.x, INFINITY) : (offset.x < 0.0f ? nextafter(p.x, -INFINITY) : p.x);

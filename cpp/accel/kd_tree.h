@@ -25,14 +25,16 @@ struct KdTreeStats {
   int max_depth = 0;
   double mean_triangles_per_leaf = 0.0;  // over non-empty leaves
   std::size_t leaf_references = 0;       // entries in the leaf triangle list
+  std::size_t degenerate_triangles = 0;  // zero-area triangles, left out: no ray can hit them
   double sah_cost = 0.0;                 // expected cost of a random ray, in K units
   double build_ms = 0.0;
   std::size_t memory_bytes = 0;  // nodes and leaf lists
 };
 
 // A kd-tree in the device's layout: nodes depth first, each interior node's
-// "below" child right after it. Every leaf lists every triangle that touches
-// its closed cell, so a point on a cell boundary is found from either side.
+// "below" child right after it. Every leaf lists every triangle of non-zero
+// area whose box touches its closed cell, so a point on a cell boundary is
+// found from either side.
 struct KdTree {
   std::vector<KdNode> nodes;
   std::vector<std::uint32_t> leaf_triangles;

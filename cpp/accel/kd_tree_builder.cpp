@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <limits>
 
 #include "accel/kd_tree.h"
@@ -55,6 +56,17 @@ void append_events(const Bounds3& box, std::uint32_t triangle, EventLists& event
   }
 }
 
+// Exact for float input: the differences and products of floats are exact in
+// double, so only a triangle whose corners are collinear gets a zero cross product.
+// No ray can hit such a triangle, so it stays out of the tree.
+bool has_zero_area(const TriangleMesh& mesh, std::uint32_t t) {
+  const glm::dvec3 p0 = mesh.positions[mesh.triangles[t][0]];
+  const glm::dvec3 e1 = glm::dvec3(mesh.positions[mesh.triangles[t][1]]) - p0;
+  const glm::dvec3 e2 = glm::dvec3(mesh.positions[mesh.triangles[t][2]]) - p0;
+  const glm::dvec3 n = glm::cross(e1, e2);
+  return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
+}
+
 Bounds3 intersection(const Bounds3& a, const Bounds3& b) {
   Bounds3 box;
   box.lo = glm::max(a.lo, b.lo);
@@ -91,9 +103,15 @@ class Builder {
     root_area_ = tree.bounds.surface_area();
 
     EventLists events;
-    for (std::uint32_t i = 0; i < n; ++i) append_events(triangle_boxes_[i], i, events);
+    std::size_t placed = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (has_zero_area(mesh_, i)) continue;
+      append_events(triangle_boxes_[i], i, events);
+      ++placed;
+    }
+    tree.stats.degenerate_triangles = n - placed;
     for (auto& list : events) std::sort(list.begin(), list.end());
-    build_node(tree, tree.bounds, std::move(events), n, 0);
+    build_node(tree, tree.bounds, std::move(events), placed, 0);
 
     tree.stats.nodes = tree.nodes.size();
     tree.stats.leaf_references = tree.leaf_triangles.size();

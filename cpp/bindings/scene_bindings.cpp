@@ -38,6 +38,7 @@ py::dict tree_stats_dict(const KdTreeStats& s) {
   d["max_depth"] = s.max_depth;
   d["mean_triangles_per_leaf"] = s.mean_triangles_per_leaf;
   d["leaf_references"] = s.leaf_references;
+  d["degenerate_triangles"] = s.degenerate_triangles;
   d["sah_cost"] = s.sah_cost;
   d["build_ms"] = s.build_ms;
   d["memory_bytes"] = s.memory_bytes;

@@ -13,7 +13,7 @@ cl::Buffer DeviceScene::upload(const cl::Context& context, cl::CommandQueue& que
   const std::size_t size = data.size() * sizeof(T);
   // OpenCL has no empty buffers; an empty tree list still gets one element.
   cl::Buffer buffer(context, CL_MEM_READ_ONLY, std::max<std::size_t>(size, sizeof(T)));
-  if (size) queue.enqueueWriteBuffer(buffer, CL_FALSE, 0, size, data.data());
+  if (size) queue.enqueueWriteBuffer(buffer, CL_TRUE, 0, size, data.data());  // blocking: data is a temporary
   bytes_ += std::max<std::size_t>(size, sizeof(T));
   return buffer;
 }
@@ -40,7 +40,6 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
       triangle_vertices_ = upload(context, queue, vertices);
       vertex_normals_ = upload(context, queue, normals);
     }
-    queue.finish();
   } catch (const cl::Error& e) {
     throw_device_error("uploading " + scene.name() + " (" + std::to_string(mesh.triangles.size()) + " triangles)", e);
   }

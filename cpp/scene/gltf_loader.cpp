@@ -157,7 +157,9 @@ class AccessorReader {
     const std::size_t element = components * size;
     std::vector<T> values(accessor.count * components, T(0));  // a missing bufferView means zeros
     if (accessor.bufferView >= 0) {
-      const tinygltf::BufferView& view = model_.bufferViews.at(std::size_t(accessor.bufferView));
+      if (std::size_t(accessor.bufferView) >= model_.bufferViews.size())
+        fail(index, role, "refers to bufferView " + std::to_string(accessor.bufferView) + ", which does not exist");
+      const tinygltf::BufferView& view = model_.bufferViews[std::size_t(accessor.bufferView)];
       const std::size_t stride = view.byteStride ? view.byteStride : element;
       const unsigned char* bytes =
           view_bytes(accessor.bufferView, accessor.byteOffset, stride, accessor.count, element, index, role);
@@ -176,8 +178,11 @@ class AccessorReader {
     const std::size_t n = std::size_t(std::max(sparse.count, 0));
     const int index_type = sparse.indices.componentType;
     const std::size_t index_size = component_size(index_type);
-    if (index_size == 0 || index_type == TINYGLTF_COMPONENT_TYPE_FLOAT)
-      fail(index, role, "has sparse indices of " + component_name(index_type));
+    if (index_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && index_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        index_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(index, role,
+           "has sparse indices of " + component_name(index_type) +
+               "; they must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
     const std::size_t value_size = components * component_size(accessor.componentType);
     const unsigned char* where = view_bytes(sparse.indices.bufferView, std::size_t(sparse.indices.byteOffset),
                                             index_size, n, index_size, index, role + ", sparse indices");
@@ -304,8 +309,13 @@ class SceneAssembler {
                         std::to_string(vertex_count));
 
     const auto base = std::uint32_t(mesh_.positions.size());
-    for (std::size_t v = 0; v < vertex_count; ++v)
-      mesh_.positions.push_back(glm::vec3(world * glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0)));
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+      const glm::vec3 p(world * glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0));
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        throw LoadError(path_ + ": " + what + " vertex " + std::to_string(v) +
+                        " is not finite in world space (its POSITION or a node transform is not finite or too large)");
+      mesh_.positions.push_back(p);
+    }
     for (std::size_t t = 0; t < indices.size(); t += 3)
       mesh_.triangles.push_back({base + indices[t], base + indices[t + 1], base + indices[t + 2]});
     add_normals(primitive, world, what, vertex_count);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <glm/geometric.hpp>
 #include <set>
 
 #include "accel/kd_tree.h"
@@ -18,6 +19,13 @@ Bounds3 triangle_box(const TriangleMesh& mesh, std::size_t t) {
   Bounds3 box;
   for (int k = 0; k < 3; ++k) box.extend(mesh.positions[mesh.triangles[t][k]]);
   return box;
+}
+
+bool has_area(const TriangleMesh& mesh, std::size_t t) {
+  const glm::dvec3 a = mesh.positions[mesh.triangles[t][0]];
+  const glm::dvec3 n = glm::cross(glm::dvec3(mesh.positions[mesh.triangles[t][1]]) - a,
+                                  glm::dvec3(mesh.positions[mesh.triangles[t][2]]) - a);
+  return n != glm::dvec3(0.0);
 }
 
 bool touches(const Bounds3& a, const Bounds3& b) {
@@ -66,7 +74,7 @@ struct Walk {
     ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end()));
     std::vector<std::uint32_t> expected;
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-      if (touches(triangle_box(mesh, t), cell)) expected.push_back(t);
+      if (has_area(mesh, t) && touches(triangle_box(mesh, t), cell)) expected.push_back(t);
     ASSERT_EQ(listed, expected) << "leaf cell [" << cell.lo.x << "," << cell.lo.y << "," << cell.lo.z << "]-["
                                 << cell.hi.x << "," << cell.hi.y << "," << cell.hi.z << "]";
   }
@@ -235,7 +243,11 @@ TEST(KdTree, SingleTriangleAndDegenerateTriangles) {
   degenerate.positions.insert(degenerate.positions.end(), {{0.5f, 0.5f, 0.5f}, {0.7f, 0.7f, 0.7f}, {0.9f, 0.9f, 0.9f}});
   degenerate.triangles.push_back({base, base + 1, base + 2});  // collinear
   degenerate.triangles.push_back({base, base, base});          // a point
-  checked_tree(degenerate);
+  const KdTree tree = checked_tree(degenerate);
+  std::size_t without_area = 0;
+  for (std::size_t t = 0; t < degenerate.triangles.size(); ++t) without_area += !has_area(degenerate, t);
+  EXPECT_GE(without_area, 2u);
+  EXPECT_EQ(tree.stats.degenerate_triangles, without_area);
 }
 
 }  // namespace

@@ -1,0 +1,31 @@
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import mbao
+from mbao.devices import resolve
+
+REPO = pathlib.Path(__file__).resolve().parents[1]
+# Tests may read the shared test scenes next to the checkout (the package never does).
+SHARED_SCENES = pathlib.Path(os.environ.get("MBAO_SHARED_SCENES", REPO.parent / "shared" / "scenes"))
+
+
+def shared_scene(name):
+    """Path of shared/scenes/<name>/, or skip when the shared scenes are not there."""
+    folder = SHARED_SCENES / name
+    if not (folder / "scene.glb").exists():
+        pytest.skip(f"shared scene {name} not found under {SHARED_SCENES}")
+    return folder
+
+
+@pytest.fixture(scope="session")
+def device():
+    """The device every test renders on: $MBAO_DEVICE, else the first GPU, else the first device."""
+    return resolve(None)
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261122)

@@ -1,0 +1,138 @@
+"""Ambient occlusion against closed-form answers (SPEC 1-3). Statistical
+checks allow 4 standard errors of the estimator, computed from its own variance."""
+
+import math
+
+import numpy as np
+import pytest
+
+import mbao
+from meshes import box, disk, merge, plane, sphere
+
+ESTIMATORS = ("branching", "path")
+
+
+def polygon_occlusion(point, normal, polygon):
+    """The cosine-weighted fraction of the hemisphere a convex polygon covers,
+    seen from `point` (Lambert's formula for the form factor of a polygon)."""
+    v = np.asarray(polygon, float) - point
+    total = 0.0
+    for a, b in zip(v, np.roll(v, -1, axis=0)):
+        angle = math.acos(np.clip(np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1))
+        g = np.cross(a, b)
+        total += angle * np.dot(normal, g / np.linalg.norm(g))
+    return abs(total) / (2.0 * math.pi)
+
+
+def one_pixel_access(scene, eye, target, **settings):
+    """L at the point the camera ray through a 1x1 image meets (the pixel centre
+    looks straight at target)."""
+    camera = mbao.Camera(eye, target, up=(0, 1, 0), vfov_deg=10.0)
+    result = mbao.render(scene, camera=camera, width=1, height=1, **settings)
+    assert result.mask[0, 0]
+    return float(result.ao[0, 0]), result.stats
+
+
+def assert_within_standard_errors(estimate, expected, samples, k=4.0):
+    """A mean of `samples` Bernoulli(expected) outcomes lies within k standard errors."""
+    standard_error = math.sqrt(expected * (1.0 - expected) / samples)
+    assert abs(estimate - expected) <= k * standard_error, (
+        f"{estimate} is {abs(estimate - expected) / standard_error:.1f} standard errors from {expected}"
+    )
+
+
+@pytest.mark.parametrize("bounces", [1, 2, 3])
+@pytest.mark.parametrize("estimator", ESTIMATORS)
+def test_a_plane_is_open_everywhere(bounces, estimator):
+    """Nothing above a plane occludes it: every covered pixel is exactly 1, also
+    on a plane 10^4 times larger than the view, where self-intersection would show."""
+    for half_size, eye in ((10.0, (0.0, 3.0, 4.0)), (1e4, (0.0, 1.0, 2.0))):
+        scene = mbao.Mesh(*plane(half_size, divisions=3))
+        camera = mbao.Camera(eye, (0.0, 0.0, 0.0), vfov_deg=60.0)
+        result = mbao.render(scene, camera=camera, width=24, height=16, bounces=bounces, samples=8, estimator=estimator)
+        assert result.mask.sum() > 100
+        np.testing.assert_array_equal(result.ao[result.mask], 1.0)
+
+
+@pytest.mark.parametrize("bounces", [1, 2, 3])
+@pytest.mark.parametrize("estimator", ESTIMATORS)
+def test_a_closed_box_is_closed_everywhere(bounces, estimator):
+    """Seen from inside a closed box every ray hits a wall, whatever the bounce:
+    every pixel is exactly 0. A ray slipping through an edge would show as > 0."""
+    scene = mbao.Mesh(*box((-1.0, -1.5, -2.0), (1.0, 1.5, 2.0)))
+    camera = mbao.Camera((0.2, -0.3, 0.1), (0.5, 0.4, 1.0), vfov_deg=100.0)
+    result = mbao.render(scene, camera=camera, width=20, height=20, bounces=bounces, samples=4, estimator=estimator)
+    assert result.mask.all()
+    np.testing.assert_array_equal(result.ao, 0.0)
+
+
+def test_convex_sphere_sees_no_occlusion_from_outside():
+    """With geometric normals every direction leaving a convex surface escapes."""
+    vertices, indices, normals = sphere(2.0, (1.0, -1.0, 0.5))
+    scene = mbao.Mesh(vertices, indices, normals)
+    camera = mbao.Camera((1.0, 2.0, 7.0), (1.0, -1.0, 0.5), vfov_deg=45.0)
+    result = mbao.render(scene, camera=camera, width=24, height=24, bounces=2, samples=8, normals="geometric")
+    assert result.mask.sum() > 100
+    np.testing.assert_array_equal(result.ao[result.mask], 1.0)
+
+
+@pytest.mark.parametrize("estimator", ESTIMATORS)
+def test_point_under_a_coaxial_disk(estimator):
+    """L_1 = h^2 / (h^2 + R^2) for a point under a parallel disk of radius R at
+    height h (here a 256-sided polygon, whose exact value Lambert's formula gives)."""
+    h, R, r = 1.0, 0.75, 1 << 16
+    disk_mesh = disk(R, h, 256)
+    scene = mbao.Mesh(*merge(plane(20.0), disk_mesh))
+    expected = 1.0 - polygon_occlusion(np.zeros(3), np.array([0.0, 1.0, 0.0]), disk_mesh[0][1:])
+    assert abs(expected - h * h / (h * h + R * R)) < 1e-3  # the polygon is a disk to this precision
+    access, stats = one_pixel_access(scene, (1.5, 0.4, 0.3), (0.0, 0.0, 0.0), samples=r, estimator=estimator, seed=3)
+    assert stats["rays_secondary"] == r  # every direction is above the floor: all traced
+    assert_within_standard_errors(access, expected, r)
+
+
+def test_max_distance_shrinks_the_disk():
+    """Hits beyond max_distance count as misses: under the disk only the part
+    within distance d occludes, a disk of radius sqrt(d^2 - h^2), so L_1 = h^2 / d^2."""
+    h, R, r = 1.0, 0.75, 1 << 16
+    scene = mbao.Mesh(*merge(plane(20.0), disk(R, h, 256)))
+    eye, target = (1.5, 0.4, 0.3), (0.0, 0.0, 0.0)
+    near, _ = one_pixel_access(scene, eye, target, samples=r, max_distance=0.999 * h)
+    assert near == 1.0
+    d = 1.1
+    within, _ = one_pixel_access(scene, eye, target, samples=r, max_distance=d, seed=5)
+    assert_within_standard_errors(within, h * h / (d * d), r)
+    # Beyond the disk's farthest point (at sqrt(h^2 + R^2) = 1.25), max_distance changes nothing.
+    unlimited, _ = one_pixel_access(scene, eye, target, samples=4096)
+    beyond, _ = one_pixel_access(scene, eye, target, samples=4096, max_distance=1.26)
+    assert beyond == unlimited
+
+
+def test_directions_below_the_geometric_surface_count_as_occluded():
+    """On a plane whose shading normals lean by alpha, the cosine lobe around the
+    shading normal dips below the plane for a fraction (1 - cos alpha) / 2 of
+    its weight (SPEC 3.3): L_1 = (1 + cos alpha) / 2. Geometric normals see 1."""
+    alpha, r = math.radians(50.0), 1 << 16
+    vertices, indices = plane(20.0)
+    normals = np.tile([math.sin(alpha), math.cos(alpha), 0.0], (len(vertices), 1))
+    scene = mbao.Mesh(vertices, indices, normals)
+    eye, target = (0.3, 1.0, 1.2), (0.0, 0.0, 0.0)
+    leaning, stats = one_pixel_access(scene, eye, target, samples=r)
+    assert_within_standard_errors(leaning, (1.0 + math.cos(alpha)) / 2.0, r)
+    assert stats["rays_secondary"] < r  # the blocked directions are not traced
+    geometric, _ = one_pixel_access(scene, eye, target, samples=r, normals="geometric")
+    assert geometric == 1.0
+
+
+def test_shading_normals_are_turned_to_the_side_the_ray_came_from():
+    """Normals given pointing away from the camera are flipped like the
+    geometric normal: seen from below, a plane with downward... or upward
+    normals gives the same image."""
+    vertices, indices = plane(20.0)
+    up = np.tile([0.0, 1.0, 0.0], (len(vertices), 1))
+    camera = mbao.Camera((0.0, -2.0, 1.0), (0.0, 0.0, 0.0), vfov_deg=60.0)
+    images = [
+        mbao.render(mbao.Mesh(vertices, indices, n), camera=camera, width=12, height=12, samples=8).ao
+        for n in (up, -up)
+    ]
+    np.testing.assert_array_equal(images[0], images[1])
+    np.testing.assert_array_equal(images[0], 1.0)
