@@ -66,20 +66,20 @@ static inline int bounces_on(const AoSettings* s, uint bounce) {
 
 // The paper's estimator: r new directions at every hit of every bounce but the
 // last, r + r^2 + ... + r^b rays, walked depth first with one surface per level.
-// A miss at bounce k weighs rho^(k-1) / r^k.
+// Every escape at bounce k weighs rho^(k-1) / r^k, so escapes are counted per
+// bounce and weighed once at the end: the sum of b + 1 bounces then starts
+// with the exact sum of b bounces, and L_b <= L_(b+1) holds sample by sample.
 static float branching_estimate(const SceneView* scene, const Surface* primary,
                                 const AoSettings* s, uint pixel, uint camera_sample, uint* rays) {
   Surface surface[MBAO_MAX_BRANCHING_BOUNCES];
   uint next_child[MBAO_MAX_BRANCHING_BOUNCES];
   uint node[MBAO_MAX_BRANCHING_BOUNCES];
-  float miss_weight[MBAO_MAX_BRANCHING_BOUNCES];
-  const float inv_samples = 1.0f / (float)s->samples;
+  uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
+  for (uint k = 0; k < s->bounces; ++k) escapes[k] = 0;
   surface[0] = *primary;
   next_child[0] = 0;
   node[0] = 0;
-  miss_weight[0] = inv_samples;
 
-  float value = 0.0f;
   int level = 0;
   while (level >= 0) {
     if (next_child[level] == s->samples) {
@@ -94,39 +94,45 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
     const int outcome = cast_ao_ray(scene, &surface[level], s, pixel, camera_sample, bounce, child,
                                     bounce_on, &dir, &hit, rays);
     if (outcome == MBAO_RAY_ESCAPED) {
-      value += miss_weight[level];
+      ++escapes[level];
     } else if (outcome == MBAO_RAY_HIT && bounce_on) {
       ++level;
       surface[level] = make_surface(scene, hit, dir);
       next_child[level] = 0;
       node[level] = child;
-      miss_weight[level] = miss_weight[level - 1] * s->rho * inv_samples;
     }
   }
-  return value;
+
+  const float inv_samples = 1.0f / (float)s->samples;
+  float value = 0.0f, weight = inv_samples;
+  for (uint k = 0; k < s->bounces; ++k) {
+    value += (float)escapes[k] * weight;
+    weight *= s->rho * inv_samples;
+  }
+  return fmin(value, 1.0f);  // rounding of the weights must not lift it past 1
 }
 
-// r paths of up to b segments, one direction per further bounce.
+// r paths of up to b segments, one direction per further bounce; an escape at
+// bounce k adds rho^(k-1), and the sum is divided by r once.
 static float path_estimate(const SceneView* scene, const Surface* primary, const AoSettings* s,
                            uint pixel, uint camera_sample, uint* rays) {
-  const float inv_samples = 1.0f / (float)s->samples;
-  float value = 0.0f;
+  float sum = 0.0f;
   for (uint path = 0; path < s->samples; ++path) {
     Surface surface = *primary;
-    float weight = inv_samples;
+    float weight = 1.0f;
     for (uint bounce = 1; bounce <= s->bounces; ++bounce) {
       const int bounce_on = bounces_on(s, bounce);
       float3 dir;
       Hit hit;
       const int outcome = cast_ao_ray(scene, &surface, s, pixel, camera_sample, bounce, path,
                                       bounce_on, &dir, &hit, rays);
-      if (outcome == MBAO_RAY_ESCAPED) value += weight;
+      if (outcome == MBAO_RAY_ESCAPED) sum += weight;
       if (outcome != MBAO_RAY_HIT || !bounce_on) break;
       surface = make_surface(scene, hit, dir);
       weight *= s->rho;
     }
   }
-  return value;
+  return fmin(sum / (float)s->samples, 1.0f);
 }
 
 #define MBAO_ESTIMATOR_BRANCHING 0

@@ -216,28 +216,30 @@ class Builder {
       n_right += side != Left;
       if (side == Both) straddling.push_back(e.triangle);
     }
-    for (int axis = 0; axis < 3; ++axis) {
-      for (const Event& e : events[axis]) {
-        if (side_[e.triangle] == Left) left[axis].push_back(e);
-        if (side_[e.triangle] == Right) right[axis].push_back(e);
-      }
-    }
     EventLists new_left, new_right;
     for (std::uint32_t t : straddling) {
       append_events(intersection(triangle_boxes_[t], left_box), t, new_left);
       append_events(intersection(triangle_boxes_[t], right_box), t, new_right);
     }
     for (int axis = 0; axis < 3; ++axis) {
-      merge_sorted(left[axis], new_left[axis]);
-      merge_sorted(right[axis], new_right[axis]);
+      std::vector<Event> left_only, right_only;
+      left_only.reserve(2 * (n_left - straddling.size()));
+      right_only.reserve(2 * (n_right - straddling.size()));
+      for (const Event& e : events[axis]) {
+        if (side_[e.triangle] == Left) left_only.push_back(e);
+        if (side_[e.triangle] == Right) right_only.push_back(e);
+      }
+      left[axis] = merged(left_only, new_left[axis]);
+      right[axis] = merged(right_only, new_right[axis]);
     }
   }
 
-  static void merge_sorted(std::vector<Event>& into, std::vector<Event>& extra) {
+  // The union of a sorted list and an unsorted one, sorted.
+  static std::vector<Event> merged(const std::vector<Event>& sorted, std::vector<Event>& extra) {
     std::sort(extra.begin(), extra.end());
-    const std::size_t middle = into.size();
-    into.insert(into.end(), extra.begin(), extra.end());
-    std::inplace_merge(into.begin(), into.begin() + std::ptrdiff_t(middle), into.end());
+    std::vector<Event> out(sorted.size() + extra.size());
+    std::merge(sorted.begin(), sorted.end(), extra.begin(), extra.end(), out.begin());
+    return out;
   }
 
   void make_leaf(KdTree& tree, const Bounds3& box, const std::vector<Event>& events) {

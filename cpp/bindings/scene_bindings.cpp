@@ -16,7 +16,7 @@ namespace {
 
 using Vec3 = std::array<float, 3>;
 
-Vec3 to_array(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+py::tuple to_tuple(const glm::vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 glm::vec3 to_vec3(const Vec3& a) { return {a[0], a[1], a[2]}; }
 
 // A read-only (rows, 3) view of vec3 data owned by `owner`.
@@ -89,9 +89,9 @@ unless you pass it.)doc")
            py::arg("max_distance") = py::none())
       .def_static("load", [](const std::filesystem::path& path) { return Camera::load(path.string()); },
                   py::arg("path"), "Reads a camera.json file (SPEC 3.1.1).")
-      .def_property_readonly("eye", [](const Camera& c) { return to_array(c.eye); })
-      .def_property_readonly("target", [](const Camera& c) { return to_array(c.target); })
-      .def_property_readonly("up", [](const Camera& c) { return to_array(c.up); })
+      .def_property_readonly("eye", [](const Camera& c) { return to_tuple(c.eye); })
+      .def_property_readonly("target", [](const Camera& c) { return to_tuple(c.target); })
+      .def_property_readonly("up", [](const Camera& c) { return to_tuple(c.up); })
       .def_property_readonly("vfov_deg", [](const Camera& c) { return c.vfov_deg; })
       .def_property_readonly("max_distance", [](const Camera& c) { return c.max_distance; })
       .def("__repr__", [](const Camera& c) {
@@ -125,7 +125,7 @@ so later renders of the same scene do not rebuild it.)doc")
           "(N, 3) float32 vertex normals, zero where a vertex has none; None without normals.")
       .def_property_readonly(
           "bounds",
-          [](const Scene& s) { return std::make_pair(to_array(s.bounds().lo), to_array(s.bounds().hi)); },
+          [](const Scene& s) { return py::make_tuple(to_tuple(s.bounds().lo), to_tuple(s.bounds().hi)); },
           "(lo, hi) corners of the box around the triangles.")
       .def_property_readonly("camera", [](const Scene& s) { return s.camera(); },
                              "The scene's own camera (the Cornell box's, a glTF file's first perspective camera) or None.")
@@ -133,8 +133,15 @@ so later renders of the same scene do not rebuild it.)doc")
       .def_property_readonly("warnings", &Scene::warnings, "What loading skipped, one sentence each.")
       .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh().triangles.size(); })
       .def(
-          "build", [](const Scene& s) { return tree_stats_dict(s.kd_tree()->stats); },
-          py::call_guard<py::gil_scoped_release>(),
+          "build",
+          [](const Scene& s) {
+            KdTreeStats stats;
+            {
+              py::gil_scoped_release release;
+              stats = s.kd_tree()->stats;
+            }
+            return tree_stats_dict(stats);
+          },
           "Builds the kd-tree now (if not yet built) and returns its statistics: nodes, leaves, "
           "empty_leaves, max_depth, mean_triangles_per_leaf, leaf_references, sah_cost, build_ms, memory_bytes.")
       .def(
@@ -148,7 +155,7 @@ so later renders of the same scene do not rebuild it.)doc")
             d["nodes"] = nodes;
             d["leaf_triangles"] = py::array_t<std::uint32_t>(py::ssize_t(tree->leaf_triangles.size()),
                                                              tree->leaf_triangles.data());
-            d["bounds"] = std::make_pair(to_array(tree->bounds.lo), to_array(tree->bounds.hi));
+            d["bounds"] = py::make_tuple(to_tuple(tree->bounds.lo), to_tuple(tree->bounds.hi));
             d["stats"] = tree_stats_dict(tree->stats);
             return d;
           },

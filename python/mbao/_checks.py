@@ -4,16 +4,14 @@ import numbers
 
 import numpy as np
 
-_INT64 = 2**63
-
-
-def integer(name, value):
-    """An int (numpy integers too, bools not) that fits in 64 bits."""
+def integer(name, value, lo=-(2**63), hi=2**63 - 1, range_text=None):
+    """An int (numpy integers too, bools not) in [lo, hi]; the C++ core checks
+    the narrower ranges of the settings, this one what fits its 64 bits."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
     value = int(value)
-    if not -_INT64 <= value < _INT64:
-        raise ValueError(f"{name} is out of range, got {value}")
+    if not lo <= value <= hi:
+        raise ValueError(f"{name} must be in {range_text or f'[{lo}, {hi}]'}, got {value}")
     return value
 
 

@@ -15,9 +15,15 @@ from .render import ESTIMATORS, NORMAL_MODES, TRAVERSALS, render
 from .scene import load
 
 
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        """One line, like every other error of the command: no usage block."""
+        self.exit(2, f"mbao: {message} (see {self.prog} --help)\n")
+
+
 def _parser():
-    parser = argparse.ArgumentParser(prog="python -m mbao", description="Multi-bounce ambient occlusion with OpenCL.")
-    commands = parser.add_subparsers(dest="command", required=True)
+    parser = _Parser(prog="python -m mbao", description="Multi-bounce ambient occlusion with OpenCL.")
+    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     r = commands.add_parser("render", help="render a scene (the built-in Cornell box by default) to an image")
     r.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")

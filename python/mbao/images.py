@@ -30,6 +30,9 @@ def save_image(path, array):
     float_format = os.path.splitext(path)[1].lower() in _FLOAT_FORMATS
     if not float_format:
         pixels = np.clip(pixels, 0.0, 1.0)
+    if oiio.ImageOutput.create(path) is None:
+        extension = os.path.splitext(path)[1] or "(none)"
+        raise ValueError(f"path: OpenImageIO has no writer for the extension {extension} of {path!r}; use .png or .exr")
     image = oiio.ImageBuf(oiio.ImageSpec(width, height, channels, oiio.FLOAT))
     image.set_pixels(oiio.ROI(0, width, 0, height, 0, 1, 0, channels), pixels)
     if not image.write(path, oiio.FLOAT if float_format else oiio.UINT8):

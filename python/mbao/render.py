@@ -79,9 +79,7 @@ def render(
     _check_scene(scene)
     if camera is not None and not isinstance(camera, _core.Camera):
         raise TypeError(f"camera must be an mbao.Camera or None, got {type(camera).__name__}")
-    seed = _checks.integer("seed", seed)
-    if not 0 <= seed < 2**64:
-        raise ValueError(f"seed must be in [0, 2**64), got {seed}")
+    seed = _checks.integer("seed", seed, 0, 2**64 - 1, "[0, 2**64)")
     ao, mask, stats = _core.render(
         scene,
         camera,

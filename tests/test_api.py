@@ -1,0 +1,617 @@
+"""The Python API's contract: what mbao.render, mbao.Mesh, mbao.Camera,
+mbao.devices and mbao.save_image accept, return and refuse.
+
+Each test states one promise of the public API (python/mbao, SPEC.md). Renders
+are tiny (a few dozen pixels) unless a test needs real work to measure.
+"""
+
+import json
+import math
+import os
+import pathlib
+import re
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import mbao
+from meshes import box, merge, plane
+
+STATS_KEYS = {
+    "build_ms",
+    "tree_reused",
+    "kernel_build_ms",
+    "kernel_cache_hit",
+    "upload_ms",
+    "frame_ms",
+    "rays_primary",
+    "rays_secondary",
+    "memory_bytes",
+    "tiles",
+    "device",
+    "tree",
+}
+TREE_KEYS = {
+    "nodes",
+    "leaves",
+    "empty_leaves",
+    "max_depth",
+    "mean_triangles_per_leaf",
+    "leaf_references",
+    "degenerate_triangles",
+    "sah_cost",
+    "build_ms",
+    "memory_bytes",
+}
+
+# The package directory's parent, so that subprocesses import this same mbao.
+PACKAGE_ROOT = str(pathlib.Path(mbao.__file__).resolve().parents[1])
+
+
+def small_scene():
+    """A box standing on a floor: a Mesh with no camera of its own."""
+    return mbao.Mesh(*merge(plane(2.0), box((-0.5, 0.0, -0.5), (0.5, 1.0, 0.5))))
+
+
+def run_python(code, timeout=120):
+    """Runs `code` in a fresh interpreter (for calls that might crash the process)."""
+    env = dict(os.environ, PYTHONPATH=PACKAGE_ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    return subprocess.run(
+        [sys.executable, "-X", "faulthandler", "-c", textwrap.dedent(code)],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env=env,
+    )
+
+
+@pytest.fixture(scope="module")
+def cornell():
+    return mbao.cornell_box()
+
+
+# -- render: defaults, result, stats ---------------------------------------------
+
+
+def check_result(result, width, height, spp=1):
+    assert isinstance(result, mbao.Result)
+    assert result.ao.dtype == np.float32 and result.ao.shape == (height, width)
+    assert result.mask.dtype == np.bool_ and result.mask.shape == (height, width)
+    assert np.all(np.isfinite(result.ao))
+    assert result.ao.min() >= 0.0 and result.ao.max() <= 1.0
+    # SPEC 2: a camera sample that misses everything gives 1.0.
+    assert np.all(result.ao[~result.mask] == 1.0)
+    stats = result.stats
+    assert STATS_KEYS <= set(stats), STATS_KEYS - set(stats)
+    assert TREE_KEYS <= set(stats["tree"]), TREE_KEYS - set(stats["tree"])
+    assert stats["rays_primary"] == width * height * spp
+    for key in ("build_ms", "kernel_build_ms", "upload_ms", "frame_ms"):
+        assert isinstance(stats[key], float) and stats[key] >= 0.0, key
+    assert stats["frame_ms"] > 0.0
+    assert isinstance(stats["rays_secondary"], int) and stats["rays_secondary"] >= 0
+    assert isinstance(stats["memory_bytes"], int) and stats["memory_bytes"] > 0
+    assert isinstance(stats["tiles"], int) and stats["tiles"] >= 1
+    assert isinstance(stats["tree_reused"], bool) and isinstance(stats["kernel_cache_hit"], bool)
+    assert isinstance(stats["device"], str) and stats["device"]
+
+
+def test_render_cornell_box_with_defaults(cornell):
+    result = mbao.render(cornell, width=32, height=32)
+    check_result(result, 32, 32)
+    assert result.mask.any() and (result.ao < 1.0).any()
+    # Defaults: 1 bounce, 4 samples, branching: at most 4 secondary rays per primary hit.
+    assert 0 < result.stats["rays_secondary"] <= 4 * result.mask.sum()
+
+
+def test_render_non_square_with_spp(cornell):
+    result = mbao.render(cornell, width=12, height=7, spp=3)
+    check_result(result, 12, 7, spp=3)
+
+
+def test_render_mesh_without_camera_frames_the_scene():
+    scene = small_scene()
+    assert scene.camera is None
+    result = mbao.render(scene, width=32, height=32)
+    check_result(result, 32, 32)
+    # The framing camera looks at the centre of the bounds and sees all of them.
+    assert result.mask[16, 16]
+    border = np.concatenate([result.mask[0], result.mask[-1], result.mask[:, 0], result.mask[:, -1]])
+    assert not border.any()
+    assert (result.ao[result.mask] < 1.0).any()
+
+
+def test_camera_none_means_the_scenes_own_camera(cornell):
+    assert isinstance(cornell.camera, mbao.Camera)
+    default = mbao.render(cornell, width=32, height=32, seed=5)
+    explicit = mbao.render(cornell, camera=cornell.camera, width=32, height=32, seed=5)
+    np.testing.assert_array_equal(default.ao, explicit.ao)
+    np.testing.assert_array_equal(default.mask, explicit.mask)
+
+
+def test_explicit_camera_is_used(cornell):
+    c = cornell.camera
+    away = mbao.Camera(c.eye, (c.eye[0], c.eye[1], c.eye[2] - 100.0), c.up, c.vfov_deg)  # looks out of the box
+    result = mbao.render(cornell, camera=away, width=16, height=16)
+    assert not result.mask.any()
+    assert np.all(result.ao == 1.0)
+    assert result.stats["rays_secondary"] == 0
+
+
+def test_result_repr_names_size_and_device(cornell):
+    result = mbao.render(cornell, width=8, height=6)
+    assert "8x6" in repr(result) and result.stats["device"] in repr(result)
+
+
+# -- scenes are built once ---------------------------------------------------------
+
+
+def test_second_render_reuses_the_tree():
+    scene = small_scene()
+    first = mbao.render(scene, width=8, height=8)
+    second = mbao.render(scene, width=8, height=8)
+    assert first.stats["tree_reused"] is False
+    assert second.stats["tree_reused"] is True
+    assert second.stats["tree"] == first.stats["tree"]
+    assert scene.kd_tree()["stats"] == first.stats["tree"]
+
+
+def test_build_returns_the_tree_stats():
+    # In a subprocess: a crash in Scene.build must fail this test, not kill the test run.
+    proc = run_python(
+        """
+        import json, mbao
+        scene = mbao.cornell_box()
+        stats = scene.build()
+        again = scene.build()
+        result = mbao.render(scene, width=4, height=4)
+        print(json.dumps({"stats": stats, "again": again, "reused": result.stats["tree_reused"],
+                          "render_tree": result.stats["tree"]}))
+        """
+    )
+    how = f"signal {-proc.returncode}" if proc.returncode < 0 else f"exit code {proc.returncode}"
+    assert proc.returncode == 0, f"scene.build() crashed ({how}):\n{proc.stderr[-2000:]}"
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert isinstance(out["stats"], dict) and TREE_KEYS <= set(out["stats"])
+    assert out["stats"]["nodes"] >= 1 and out["stats"]["leaves"] >= 1
+    assert out["again"] == out["stats"]  # built once, not rebuilt
+    assert out["reused"] is True  # a render after build() reuses the tree
+    assert out["render_tree"] == out["stats"]
+
+
+def test_kd_tree_arrays(cornell):
+    tree = cornell.kd_tree()
+    assert {"nodes", "leaf_triangles", "bounds", "stats"} <= set(tree)
+    nodes, leaf_triangles = tree["nodes"], tree["leaf_triangles"]
+    assert nodes.dtype == np.uint32 and nodes.ndim == 2 and nodes.shape[1] == 2
+    assert len(nodes) == tree["stats"]["nodes"] >= 1
+    assert leaf_triangles.dtype == np.uint32 and leaf_triangles.ndim == 1
+    assert len(leaf_triangles) == tree["stats"]["leaf_references"]
+    assert leaf_triangles.max() < cornell.triangle_count
+    # Every triangle is in some leaf.
+    assert set(leaf_triangles.tolist()) == set(range(cornell.triangle_count))
+    lo, hi = (np.asarray(corner) for corner in tree["bounds"])
+    scene_lo, scene_hi = (np.asarray(corner) for corner in cornell.bounds)
+    assert np.all(lo <= scene_lo) and np.all(hi >= scene_hi)
+
+
+# -- argument checking ---------------------------------------------------------------
+
+# (arguments, exception, regular expression the message must match)
+BAD_ARGUMENTS = [
+    (dict(width=0), ValueError, r"width.*\[1, 16384\]"),
+    (dict(width=20000), ValueError, r"width.*\[1, 16384\]"),
+    (dict(width=2.5), TypeError, r"width"),
+    (dict(width=True), TypeError, r"width"),
+    (dict(height=0), ValueError, r"height.*\[1, 16384\]"),
+    (dict(height=20000), ValueError, r"height.*\[1, 16384\]"),
+    (dict(height=2.5), TypeError, r"height"),
+    (dict(height=True), TypeError, r"height"),
+    (dict(bounces=0), ValueError, r"bounces.*\[1, 16\]"),
+    (dict(bounces=17), ValueError, r"bounces.*\[1, 16\]"),
+    (dict(samples=0), ValueError, r"samples.*\[1, "),
+    (dict(spp=0), ValueError, r"spp.*\[1, "),
+    (dict(rho=-0.1), ValueError, r"rho.*\[0, 1\]"),
+    (dict(rho=1.5), ValueError, r"rho.*\[0, 1\]"),
+    (dict(rho=math.nan), ValueError, r"rho.*\[0, 1\]"),
+    (dict(rho="1"), TypeError, r"rho"),
+    (dict(max_distance=0), ValueError, r"max_distance.*> ?0"),
+    (dict(max_distance=-1), ValueError, r"max_distance.*> ?0"),
+    (dict(max_distance=math.nan), ValueError, r"max_distance.*> ?0"),
+    (dict(estimator="foo"), ValueError, r"estimator.*branching.*path"),
+    (dict(estimator=3), TypeError, r"estimator"),
+    (dict(normals="smooth"), ValueError, r"normals.*shading.*geometric"),
+    (dict(traversal="kd"), ValueError, r"traversal.*pushdown.*restart"),
+    (dict(seed=-1), ValueError, r"seed.*(2\*\*64|2\^64)"),
+    (dict(seed=2**64), ValueError, r"seed.*(2\*\*64|2\^64)"),
+    (dict(seed=1.5), TypeError, r"seed"),
+    (dict(camera="camera.json"), TypeError, r"camera"),
+    (dict(tile_pixels=0), ValueError, r"tile_pixels"),
+    (dict(work_group_size=0), ValueError, r"work_group_size"),
+    (dict(device=1.5), TypeError, r"device"),
+]
+
+
+@pytest.mark.parametrize(
+    "arguments, error, message", BAD_ARGUMENTS, ids=[f"{k}={v!r}" for (a, _, _) in BAD_ARGUMENTS for k, v in a.items()]
+)
+def test_bad_argument_is_refused_by_name(cornell, arguments, error, message):
+    settings = dict(width=1, height=1)
+    settings.update(arguments)
+    with pytest.raises(error, match=message):
+        mbao.render(cornell, **settings)
+
+
+def test_scene_must_be_a_scene():
+    vertices, indices = box((0, 0, 0), (1, 1, 1))
+    with pytest.raises(TypeError, match="scene"):
+        mbao.render(vertices, width=1, height=1)
+    with pytest.raises(TypeError, match="scene"):
+        mbao.render("scene.glb", width=1, height=1)
+
+
+def test_bad_device_index_lists_the_devices(cornell, device):
+    with pytest.raises(ValueError, match="device") as info:
+        mbao.render(cornell, width=1, height=1, device=99)
+    assert "99" in str(info.value) and device.name in str(info.value)
+
+
+def test_unknown_device_name_lists_the_devices(cornell, device):
+    with pytest.raises(ValueError, match="device") as info:
+        mbao.render(cornell, width=1, height=1, device="no-such-gpu")
+    assert "no-such-gpu" in str(info.value) and device.name in str(info.value)
+
+
+def test_more_than_16_bounces_are_fine_with_the_path_estimator(cornell):
+    result = mbao.render(cornell, width=1, height=1, bounces=17, estimator="path")
+    assert result.ao.shape == (1, 1)
+
+
+def test_infinite_max_distance_is_fine(cornell):
+    result = mbao.render(cornell, width=2, height=2, max_distance=math.inf)
+    assert result.ao.shape == (2, 2)
+
+
+@pytest.mark.parametrize("seed", [0, 2**32, 2**63, 2**64 - 1, np.uint64(2**64 - 1)])
+def test_seed_takes_any_value_in_0_to_2_pow_64(cornell, seed):
+    result = mbao.render(cornell, width=1, height=1, seed=seed)
+    assert result.ao.shape == (1, 1)
+
+
+def test_exploding_branching_work_points_to_the_path_estimator(cornell):
+    with pytest.raises(ValueError, match="path"):
+        mbao.render(cornell, width=1, height=1, samples=64, bounces=6)
+
+
+# -- mbao.Mesh ------------------------------------------------------------------------
+
+VERTICES = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64)
+INDICES = np.array([[0, 1, 2], [0, 2, 3]])
+
+
+@pytest.mark.parametrize("vertex_type", [np.float64, np.float32, np.int32, np.int64, np.uint8])
+@pytest.mark.parametrize("index_type", [np.int32, np.int64, np.uint16, np.uint32])
+def test_mesh_accepts_numeric_types(vertex_type, index_type):
+    mesh = mbao.Mesh(VERTICES.astype(vertex_type), INDICES.astype(index_type))
+    assert isinstance(mesh, mbao.Scene)
+    assert mesh.vertices.dtype == np.float32 and mesh.indices.dtype == np.uint32
+    np.testing.assert_array_equal(mesh.vertices, VERTICES.astype(np.float32))
+    np.testing.assert_array_equal(mesh.indices, INDICES.astype(np.uint32))
+    assert mesh.triangle_count == 2
+
+
+def test_mesh_accepts_lists():
+    mesh = mbao.Mesh(VERTICES.tolist(), INDICES.tolist(), normals=[[0, 0, 1]] * 4)
+    np.testing.assert_array_equal(mesh.vertices, VERTICES.astype(np.float32))
+    np.testing.assert_array_equal(mesh.indices, INDICES)
+    np.testing.assert_array_equal(mesh.normals, np.tile(np.float32([0, 0, 1]), (4, 1)))
+
+
+def test_mesh_round_trips_its_arrays(rng):
+    vertices = rng.normal(size=(30, 3))
+    indices = rng.integers(0, 30, size=(20, 3))
+    normals = rng.normal(size=(30, 3))
+    mesh = mbao.Mesh(vertices, indices, normals)
+    np.testing.assert_array_equal(mesh.vertices, vertices.astype(np.float32))
+    np.testing.assert_array_equal(mesh.indices, indices.astype(np.uint32))
+    assert mesh.normals.dtype == np.float32
+    np.testing.assert_array_equal(mesh.normals, normals.astype(np.float32))
+    lo, hi = mesh.bounds
+    np.testing.assert_array_equal(lo, vertices.astype(np.float32).min(axis=0))
+    np.testing.assert_array_equal(hi, vertices.astype(np.float32).max(axis=0))
+    assert mbao.Mesh(vertices, indices).normals is None
+
+
+def test_mesh_copies_its_input():
+    vertices, indices, normals = VERTICES.astype(np.float32), INDICES.astype(np.uint32), np.zeros((4, 3), np.float32)
+    mesh = mbao.Mesh(vertices, indices, normals)
+    vertices[:] = 7
+    indices[:] = 3
+    normals[:] = 1
+    np.testing.assert_array_equal(mesh.vertices, VERTICES.astype(np.float32))
+    np.testing.assert_array_equal(mesh.indices, INDICES)
+    np.testing.assert_array_equal(mesh.normals, 0)
+
+
+def test_mesh_arrays_are_read_only():
+    mesh = mbao.Mesh(VERTICES, INDICES, normals=np.tile([0.0, 0.0, 1.0], (4, 1)))
+    for array in (mesh.vertices, mesh.indices, mesh.normals):
+        assert not array.flags.writeable
+        with pytest.raises(ValueError):
+            array[0, 0] = 1
+
+
+BAD_MESHES = [
+    ("vertices (N, 2)", dict(vertices=VERTICES[:, :2]), ValueError, r"vertices.*\(N, 3\)"),
+    ("vertices flat", dict(vertices=VERTICES.ravel()), ValueError, r"vertices.*\(N, 3\)"),
+    ("indices (M, 2)", dict(indices=INDICES[:, :2]), ValueError, r"indices.*\(N, 3\)"),
+    ("indices flat", dict(indices=INDICES.ravel()), ValueError, r"indices"),
+    ("normals (N, 2)", dict(normals=VERTICES[:, :2]), ValueError, r"normals"),
+    ("normals rows", dict(normals=VERTICES[:3]), ValueError, r"normals.*3.*4"),
+    ("float indices", dict(indices=INDICES.astype(np.float64)), TypeError, r"indices"),
+    ("bool indices", dict(indices=INDICES.astype(bool)), TypeError, r"indices"),
+    ("complex vertices", dict(vertices=VERTICES.astype(complex)), TypeError, r"vertices"),
+    ("string vertices", dict(vertices=np.full((4, 3), "a")), TypeError, r"vertices"),
+    ("negative index", dict(indices=[[0, 1, 2], [0, -1, 3]]), ValueError, r"triangle 1.*vertex -1"),
+    ("index too large", dict(indices=[[0, 1, 2], [0, 2, 4]]), ValueError, r"triangle 1.*vertex 4"),
+    ("no triangles", dict(indices=np.zeros((0, 3), int)), ValueError, r"no triangles"),
+    ("NaN vertex", dict(vertices=np.where(np.arange(12).reshape(4, 3) == 4, np.nan, VERTICES)), ValueError, r"vertex 1"),
+    ("inf vertex", dict(vertices=np.where(np.arange(12).reshape(4, 3) == 9, np.inf, VERTICES)), ValueError, r"vertex 3"),
+]
+
+
+@pytest.mark.parametrize("arguments, error, message", [b[1:] for b in BAD_MESHES], ids=[b[0] for b in BAD_MESHES])
+def test_mesh_refuses_bad_arrays(arguments, error, message):
+    settings = dict(vertices=VERTICES, indices=INDICES, normals=None)
+    settings.update(arguments)
+    with pytest.raises(error, match=message):
+        mbao.Mesh(**settings)
+
+
+# -- mbao.Camera ------------------------------------------------------------------------
+
+
+def test_camera_keeps_its_parameters():
+    camera = mbao.Camera((1, 2, 3), np.array([0.0, 0.5, 0.0]), (0, 1, 0), 50)
+    assert camera.eye == pytest.approx((1, 2, 3))
+    assert camera.target == pytest.approx((0, 0.5, 0))
+    assert camera.up == pytest.approx((0, 1, 0))
+    assert camera.vfov_deg == pytest.approx(50)
+    assert camera.max_distance is None
+    assert "Camera(" in repr(camera)
+
+
+@pytest.mark.parametrize(
+    "eye, target, up, vfov, message",
+    [
+        ((0, 0, 5), (0, 0, 0), (0, 0, 1), 45, r"up.*parallel"),
+        ((0, 0, 5), (0, 0, 0), (0, 0, -3), 45, r"up.*parallel"),
+        ((0, 0, 5), (0, 0, 0), (0, 0, 0), 45, r"up"),
+        ((1, 1, 1), (1, 1, 1), (0, 1, 0), 45, r"eye.*target"),
+        ((0, 0, 5), (0, 0, 0), (0, 1, 0), 0, r"vfov_deg.*\(0, 180\)"),
+        ((0, 0, 5), (0, 0, 0), (0, 1, 0), 180, r"vfov_deg.*\(0, 180\)"),
+        ((0, 0, 5), (0, 0, 0), (0, 1, 0), math.nan, r"vfov_deg"),
+        ((0, 0, math.inf), (0, 0, 0), (0, 1, 0), 45, r"finite"),
+    ],
+)
+def test_camera_refuses_degenerate_views(eye, target, up, vfov, message):
+    with pytest.raises(ValueError, match=message):
+        mbao.Camera(eye, target, up, vfov)
+
+
+def write_json(path, document):
+    path.write_text(json.dumps(document) if not isinstance(document, str) else document)
+    return path
+
+
+CAMERA_JSON = {"eye": [1, 2, 3], "target": [0, 0.5, 0], "up": [0, 1, 0], "vfov_deg": 50}
+
+
+def test_camera_load(tmp_path):
+    camera = mbao.Camera.load(write_json(tmp_path / "camera.json", CAMERA_JSON))  # a pathlib.Path
+    assert camera.eye == pytest.approx((1, 2, 3))
+    assert camera.target == pytest.approx((0, 0.5, 0))
+    assert camera.up == pytest.approx((0, 1, 0))
+    assert camera.vfov_deg == pytest.approx(50)
+    assert camera.max_distance is None
+    with_radius = mbao.Camera.load(str(write_json(tmp_path / "radius.json", dict(CAMERA_JSON, max_distance=2.5))))
+    assert with_radius.max_distance == pytest.approx(2.5)
+
+
+BAD_CAMERA_FILES = [
+    ("not JSON", "{eye: "),
+    ("not an object", [1, 2, 3]),
+    ("eye missing", {k: v for k, v in CAMERA_JSON.items() if k != "eye"}),
+    ("vfov_deg missing", {k: v for k, v in CAMERA_JSON.items() if k != "vfov_deg"}),
+    ("eye of 2 numbers", dict(CAMERA_JSON, eye=[1, 2])),
+    ("vfov_deg a string", dict(CAMERA_JSON, vfov_deg="50")),
+    ("eye == target", dict(CAMERA_JSON, target=[1, 2, 3])),
+    ("up parallel", dict(CAMERA_JSON, eye=[0, 5, 0], target=[0, 0, 0])),
+    ("vfov_deg 180", dict(CAMERA_JSON, vfov_deg=180)),
+    ("max_distance <= 0", dict(CAMERA_JSON, max_distance=0)),
+]
+
+
+@pytest.mark.parametrize("document", [b[1] for b in BAD_CAMERA_FILES], ids=[b[0] for b in BAD_CAMERA_FILES])
+def test_camera_load_errors_name_the_file(tmp_path, document):
+    path = write_json(tmp_path / "bad_camera.json", document)
+    with pytest.raises(mbao.LoadError, match="bad_camera.json"):
+        mbao.Camera.load(path)
+
+
+def test_camera_load_missing_file(tmp_path):
+    with pytest.raises(mbao.LoadError, match="no_such_camera.json"):
+        mbao.Camera.load(tmp_path / "no_such_camera.json")
+
+
+def test_error_hierarchy():
+    assert issubclass(mbao.LoadError, mbao.Error)
+    assert issubclass(mbao.DeviceError, mbao.Error)
+    assert issubclass(mbao.Error, RuntimeError)
+
+
+# -- devices ----------------------------------------------------------------------------
+
+
+def test_devices_are_listed(device):
+    listed = mbao.devices()
+    assert isinstance(listed, list) and listed
+    for i, d in enumerate(listed):
+        assert isinstance(d, mbao.Device)
+        assert d.index == i
+        assert isinstance(d.name, str) and d.name
+        assert isinstance(d.platform, str) and d.platform
+        assert d.type in ("GPU", "CPU", "accelerator", "other")
+    assert device in listed
+
+
+def pyopencl_device(device):
+    import pyopencl
+
+    matches = [
+        d
+        for platform in pyopencl.get_platforms()
+        if platform.name.strip() == device.platform
+        for d in platform.get_devices()
+        if d.name.strip() == device.name
+    ]
+    assert matches, f"pyopencl does not list {device!r}"
+    return matches[0]
+
+
+def test_every_way_of_naming_a_device_gives_the_same_image(cornell, device):
+    ways = {
+        "None": None,
+        "index": device.index,
+        "numpy index": np.int64(device.index),
+        "name, upper case": device.name.upper(),
+        "name, lower case": device.name.lower(),
+        "platform: name": f"{device.platform}: {device.name}",
+        "mbao.Device": device,
+        "pyopencl.Device": pyopencl_device(device),
+    }
+    reference = None
+    for way, value in ways.items():
+        result = mbao.render(cornell, width=16, height=16, seed=11, device=value)
+        assert device.name in result.stats["device"], way
+        if reference is None:
+            reference = result
+        else:
+            np.testing.assert_array_equal(result.ao, reference.ao, err_msg=way)
+            np.testing.assert_array_equal(result.mask, reference.mask, err_msg=way)
+
+
+def test_device_negative_index(cornell):
+    with pytest.raises(ValueError, match="device"):
+        mbao.render(cornell, width=1, height=1, device=-1)
+
+
+# -- mbao.save_image -------------------------------------------------------------------
+
+
+def read_image(path):
+    import OpenImageIO as oiio
+
+    image = oiio.ImageBuf(str(path))
+    assert not image.has_error, image.geterror()
+    return image.spec(), image.get_pixels(oiio.FLOAT)
+
+
+def test_save_png_is_8_bit_and_clipped(tmp_path):
+    values = np.linspace(-0.5, 1.5, 12, dtype=np.float32).reshape(3, 4)
+    mbao.save_image(tmp_path / "ao.png", values)
+    spec, pixels = read_image(tmp_path / "ao.png")
+    assert (spec.width, spec.height, spec.nchannels) == (4, 3, 1)
+    assert spec.format == "uint8"
+    expected = np.round(np.clip(values, 0.0, 1.0) * 255.0) / 255.0
+    np.testing.assert_allclose(pixels[..., 0], expected, atol=0.5 / 255.0)
+    assert pixels.min() == 0.0 and pixels.max() == 1.0
+
+
+def test_save_exr_round_trips_float32(tmp_path, rng):
+    values = (rng.random((5, 7)) * 3.0 - 1.0).astype(np.float32)
+    mbao.save_image(str(tmp_path / "ao.exr"), values)
+    spec, pixels = read_image(tmp_path / "ao.exr")
+    assert (spec.width, spec.height, spec.nchannels) == (7, 5, 1)
+    np.testing.assert_array_equal(pixels[..., 0], values)
+
+
+def test_save_rgb_image(tmp_path, rng):
+    values = rng.random((4, 6, 3)).astype(np.float32)
+    mbao.save_image(tmp_path / "rgb.exr", values)
+    spec, pixels = read_image(tmp_path / "rgb.exr")
+    assert spec.nchannels == 3
+    np.testing.assert_array_equal(pixels, values)
+
+
+def test_save_mask(tmp_path, cornell):
+    result = mbao.render(cornell, width=8, height=8)
+    mask = np.zeros((4, 5), bool)
+    mask[1:3, 2:] = True
+    mbao.save_image(tmp_path / "mask.png", mask)
+    _, pixels = read_image(tmp_path / "mask.png")
+    np.testing.assert_array_equal(pixels[..., 0], mask.astype(np.float32))
+    mbao.save_image(tmp_path / "render_mask.png", result.mask)  # a Result's mask as it is
+    assert read_image(tmp_path / "render_mask.png")[1].shape == (8, 8, 1)
+
+
+@pytest.mark.parametrize("shape", [(5,), (2, 2, 2, 2), (0, 3), ()])
+def test_save_image_refuses_bad_shapes(tmp_path, shape):
+    with pytest.raises(ValueError, match="shape"):
+        mbao.save_image(tmp_path / "x.png", np.zeros(shape, np.float32))
+
+
+@pytest.mark.parametrize("array", [np.full((2, 2), "a"), np.full((2, 2), None), np.zeros((2, 2), complex)])
+def test_save_image_refuses_non_numbers(tmp_path, array):
+    with pytest.raises(TypeError, match="dtype"):
+        mbao.save_image(tmp_path / "x.png", array)
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_save_image_unknown_extension_says_why(tmp_path):
+    path = tmp_path / "ao.xyz"
+    with pytest.raises((ValueError, OSError)) as info:
+        mbao.save_image(path, np.zeros((2, 2), np.float32))
+    # Beyond the file name, the message says what is wrong: the format or extension.
+    reason = str(info.value).replace(str(path), "")
+    assert re.search(r"(?i)format|extension|\.xyz", reason), f"unhelpful message: {info.value}"
+
+
+def test_save_image_into_missing_folder(tmp_path):
+    with pytest.raises(OSError, match="no_such_folder"):
+        mbao.save_image(tmp_path / "no_such_folder" / "ao.png", np.zeros((2, 2), np.float32))
+
+
+# -- the GIL ------------------------------------------------------------------------------
+
+
+def test_render_releases_the_gil(cornell):
+    settings = dict(width=128, height=128, bounces=2, samples=8)
+    mbao.render(cornell, **{**settings, "width": 4, "height": 4})  # kernels built before timing
+    window = {}
+
+    def render_in_background():
+        window["start"] = time.perf_counter()
+        window["result"] = mbao.render(cornell, **settings)
+        window["end"] = time.perf_counter()
+
+    worker = threading.Thread(target=render_in_background)
+    ticks = []
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.perf_counter())  # pure Python work in the main thread
+    worker.join()
+    assert window["result"].ao.shape == (128, 128)
+    start, end = window["start"], window["end"]
+    duration = end - start
+    assert duration > 0.02, "the render was too quick to tell"
+    during = np.array([t for t in ticks if start <= t <= end])
+    # The main thread kept running while the render ran...
+    assert len(during) > 1000, f"main thread counted {len(during)} in {duration * 1e3:.0f} ms of rendering"
+    # ... throughout, not only before the render took the GIL or after it gave it back.
+    gaps = np.diff(np.concatenate([[start], during, [end]]))
+    assert gaps.max() < 0.5 * duration, f"main thread stalled {gaps.max() * 1e3:.0f} of {duration * 1e3:.0f} ms"

@@ -1,0 +1,162 @@
+"""`python -m mbao`: the command line, run as a user would, in a subprocess."""
+
+import json
+import os
+import pathlib
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import mbao
+from gltf_writer import GltfBuilder
+from meshes import box, merge, plane
+
+# The package directory's parent, so that the subprocess runs this same mbao.
+PACKAGE_ROOT = str(pathlib.Path(mbao.__file__).resolve().parents[1])
+
+
+def run_mbao(*args, cwd):
+    env = dict(os.environ, PYTHONPATH=PACKAGE_ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    return subprocess.run(
+        [sys.executable, "-m", "mbao", *map(str, args)], capture_output=True, text=True, timeout=120, cwd=cwd, env=env
+    )
+
+
+def read_image(path):
+    import OpenImageIO as oiio
+
+    image = oiio.ImageBuf(str(path))
+    assert not image.has_error, image.geterror()
+    return image.spec(), image.get_pixels(oiio.FLOAT)
+
+
+def output_lines(stdout):
+    """The report, as {first word: rest of the line}."""
+    lines = {}
+    for line in stdout.splitlines():
+        if line.strip():
+            key, _, rest = line.partition(" ")
+            lines[key] = rest.strip()
+    return lines
+
+
+@pytest.fixture(scope="module")
+def gltf_scene(tmp_path_factory):
+    """A box on a floor as a .gltf file, and a camera.json looking at it."""
+    folder = tmp_path_factory.mktemp("cli_scene")
+    vertices, indices = merge(plane(2.0), box((-0.5, 0.0, -0.5), (0.5, 1.0, 0.5)))
+    b = GltfBuilder()
+    mesh = b.add_mesh([b.primitive(vertices, indices)])
+    b.add_scene([b.add_node(mesh=mesh)], default=True)
+    scene = b.write(folder / "scene.gltf")
+    camera = folder / "camera.json"
+    camera.write_text(json.dumps({"eye": [2.0, 2.5, 3.0], "target": [0, 0.3, 0], "up": [0, 1, 0], "vfov_deg": 40}))
+    away = folder / "away.json"  # looks up into the empty sky
+    away.write_text(json.dumps({"eye": [0, 3, 0], "target": [0, 10, 0], "up": [0, 0, 1], "vfov_deg": 30}))
+    return scene, camera, away
+
+
+def test_render_cornell_box_to_png(tmp_path, device):
+    proc = run_mbao("render", "--width", 32, "--height", 24, "--bounces", 2, "-o", "out.png", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    spec, pixels = read_image(tmp_path / "out.png")
+    assert (spec.width, spec.height, spec.nchannels) == (32, 24, 1)
+    assert spec.format == "uint8"
+    assert (pixels < 1.0).any() and (pixels > 0.0).any()  # the box, with some occlusion
+    report = output_lines(proc.stdout)
+    for key in ("scene", "device", "settings", "kd-tree", "kernels", "frame", "rays", "memory", "wrote"):
+        assert key in report, f"no {key!r} line in:\n{proc.stdout}"
+    assert report["scene"].startswith("cornell_box")
+    assert device.name in report["device"]
+    assert "32x24" in report["settings"] and "bounces=2" in report["settings"]
+    assert re.search(r"\d+ nodes", report["kd-tree"])
+    assert re.match(r"[\d.]+ ms", report["frame"])
+    assert re.match(rf"{32 * 24} primary \+ [1-9]\d* secondary", report["rays"])
+    assert "out.png" in report["wrote"]
+    assert proc.stderr == ""
+
+
+def test_render_gltf_with_camera_to_exr(tmp_path, gltf_scene):
+    scene, camera, away = gltf_scene
+    proc = run_mbao("render", scene, "--camera", camera, "--width", 20, "--height", 16, "-o", "out.exr", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    spec, pixels = read_image(tmp_path / "out.exr")
+    assert (spec.width, spec.height, spec.nchannels) == (20, 16, 1)
+    assert spec.format == "float"
+    assert pixels.min() >= 0.0 and pixels.max() <= 1.0
+    assert pixels.min() < 0.9  # the floor by the box is occluded
+    assert "(14 triangles)" in output_lines(proc.stdout)["scene"]
+
+    # The camera file is what decides the view: looking away, every pixel is open sky.
+    proc = run_mbao("render", scene, "--camera", away, "--width", 20, "--height", 16, "-o", "away.exr", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    _, pixels = read_image(tmp_path / "away.exr")
+    assert np.all(pixels == 1.0)
+    assert re.match(r"320 primary \+ 0 secondary", output_lines(proc.stdout)["rays"])
+
+
+def test_every_render_option_is_accepted(tmp_path, gltf_scene):
+    scene, camera, _ = gltf_scene
+    proc = run_mbao(
+        "render", scene, "--camera", camera, "-o", "ao.exr",
+        "--width", 10, "--height", 8, "--bounces", 3, "--samples", 2, "--estimator", "path", "--rho", 0.5,
+        "--max-distance", 1.5, "--spp", 2, "--seed", 7, "--normals", "geometric", "--traversal", "restart",
+        "--device", 0,
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    settings = output_lines(proc.stdout)["settings"]
+    for part in ("10x8", "bounces=3", "samples=2", "path", "rho=0.5", "max_distance=1.5", "spp=2"):
+        assert part in settings, f"{part!r} not in {settings!r}"
+    assert re.match(rf"{10 * 8 * 2} primary", output_lines(proc.stdout)["rays"])
+    assert read_image(tmp_path / "ao.exr")[0].width == 10
+
+
+def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
+    scene, camera, _ = gltf_scene
+    proc = run_mbao("render", scene, "--camera", camera, "--width", 12, "--height", 9, "--seed", 3, "--bounces", 2,
+                    "-o", "cli.exr", cwd=tmp_path)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    expected = mbao.render(mbao.load(scene), camera=mbao.Camera.load(camera), width=12, height=9, seed=3, bounces=2)
+    np.testing.assert_array_equal(read_image(tmp_path / "cli.exr")[1][..., 0], expected.ao)
+
+
+def test_devices_lists_the_devices(tmp_path, device):
+    proc = run_mbao("devices", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    lines = [line for line in proc.stdout.splitlines() if line.strip()]
+    assert len(lines) == len(mbao.devices()) >= 1
+    assert any(line.startswith(f"{device.index}: ") and device.name in line for line in lines), proc.stdout
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["render", "no_such_scene.glb"], r"no_such_scene\.glb"),
+        (["render", "--bounces", "0"], r"bounces"),
+        (["render", "--estimator", "foo"], r"estimator.*foo"),
+        (["render", "--rho", "2"], r"rho"),
+        (["render", "--camera", "no_such_camera.json"], r"no_such_camera\.json"),
+    ],
+    ids=["missing scene", "bounces 0", "unknown estimator", "rho 2", "missing camera"],
+)
+def test_bad_input_gives_a_one_line_message(tmp_path, args, message):
+    proc = run_mbao(*args, "--width", 4, "--height", 4, "-o", "x.png", cwd=tmp_path)
+    assert proc.returncode != 0
+    assert "Traceback" not in proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mbao: "), f"stderr is not one 'mbao: ...' line:\n{proc.stderr}"
+    assert re.search(message, lines[0]), lines[0]
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_unknown_device_lists_the_devices(tmp_path, device):
+    proc = run_mbao("render", "--device", "no-such-gpu", "--width", 4, "--height", 4, "-o", "x.png", cwd=tmp_path)
+    assert proc.returncode != 0
+    assert "Traceback" not in proc.stderr
+    assert proc.stderr.startswith("mbao: ") and "no-such-gpu" in proc.stderr.splitlines()[0]
+    assert device.name in proc.stderr
+    assert not (tmp_path / "x.png").exists()

@@ -1,0 +1,141 @@
+"""The two estimators of SPEC 2 on the Cornell box: same expected value, L_b
+non-decreasing in b, bounded by [0, 1], and images that depend on the seed
+and the settings alone, not on how the work is cut up."""
+
+import math
+
+import numpy as np
+import pytest
+
+import mbao
+
+ESTIMATORS = ("branching", "path")
+
+
+@pytest.fixture(scope="module")
+def cornell():
+    return mbao.cornell_box()
+
+
+def render_seeds(scene, seeds, **settings):
+    return np.stack([mbao.render(scene, seed=seed, **settings).ao for seed in seeds])
+
+
+@pytest.mark.parametrize("bounces", [2, 3])
+def test_branching_and_path_have_the_same_expectation(cornell, bounces):
+    """The difference of the image means lies within 4 standard errors, the
+    standard error taken from the per-pixel variance over independent seeds."""
+    settings = dict(width=16, height=16, bounces=bounces, samples=4, rho=0.8)
+    runs = 12
+    branching = render_seeds(cornell, range(runs), estimator="branching", **settings)
+    path = render_seeds(cornell, range(1000, 1000 + runs), estimator="path", **settings)
+    pixels = branching.shape[1] * branching.shape[2]
+    difference = branching.mean() - path.mean()
+    variance = (branching.var(axis=0, ddof=1).sum() + path.var(axis=0, ddof=1).sum()) / runs / pixels**2
+    assert abs(difference) <= 4.0 * np.sqrt(variance), f"{difference} vs standard error {np.sqrt(variance)}"
+    # Estimates that differ in nothing are no test: the estimators must have noise.
+    assert variance > 0
+
+
+@pytest.mark.parametrize("estimator, rho, rounding", [("branching", 1.0, 0.0), ("branching", 0.6, 0.0),
+                                                     ("path", 1.0, 0.0), ("path", 0.6, 1e-6)])
+def test_more_bounces_never_lower_the_access(cornell, estimator, rho, rounding):
+    """L_b <= L_(b+1): a hit adds rho * L_(b-1) >= 0. With the same seed both
+    estimators draw the same directions for the bounces both images have, so it
+    holds pixel by pixel; exactly where the sums are exact (escapes counted per
+    bounce, or rho = 1), else up to float rounding."""
+    images = [
+        mbao.render(cornell, width=24, height=24, bounces=b, samples=3, rho=rho, estimator=estimator, seed=9).ao
+        for b in (1, 2, 3, 4)
+    ]
+    for lower, higher in zip(images, images[1:]):
+        assert np.all(higher >= lower - rounding)
+        assert np.mean(higher) > np.mean(lower)  # in the closed box, bounces add light
+    for image in images:
+        assert image.min() >= 0.0 and image.max() <= 1.0
+
+
+@pytest.mark.parametrize("estimator", ESTIMATORS)
+def test_black_surfaces_stop_at_the_first_hit(cornell, estimator):
+    """With rho = 0 a hit contributes nothing: every b gives the b = 1 image."""
+    one = mbao.render(cornell, width=16, height=16, bounces=1, samples=4, estimator=estimator, seed=4)
+    three = mbao.render(cornell, width=16, height=16, bounces=3, samples=4, rho=0.0, estimator=estimator, seed=4)
+    np.testing.assert_array_equal(one.ao, three.ao)
+    assert three.stats["rays_secondary"] == one.stats["rays_secondary"]
+
+
+def test_rays_per_camera_sample_are_those_of_spec_2(device):
+    """Inside a closed box every ray hits: branching traces r + r^2 + ... + r^b
+    rays per camera sample, path r * b."""
+    from meshes import box
+
+    scene = mbao.Mesh(*box((-1, -1, -1), (1, 1, 1)))
+    camera = mbao.Camera((0.1, 0.2, 0.0), (0.0, 0.0, 1.0), vfov_deg=90.0)
+    samples, bounces, spp = 3, 3, 2
+    common = dict(camera=camera, width=5, height=4, samples=samples, bounces=bounces, spp=spp, normals="geometric")
+    branching = mbao.render(scene, estimator="branching", **common).stats
+    path = mbao.render(scene, estimator="path", **common).stats
+    camera_samples = 5 * 4 * spp
+    assert branching["rays_primary"] == path["rays_primary"] == camera_samples
+    assert branching["rays_secondary"] == camera_samples * (3 + 9 + 27)
+    assert path["rays_secondary"] == camera_samples * 3 * 3
+
+
+@pytest.mark.parametrize("estimator", ESTIMATORS)
+def test_images_do_not_depend_on_tiling_or_work_group_size(cornell, estimator):
+    settings = dict(width=23, height=17, bounces=2, samples=3, spp=2, estimator=estimator, seed=77)
+    reference = mbao.render(cornell, **settings)
+    for tile_pixels, work_group_size in ((1, None), (7, 1), (64, 16), (391, 128), (None, 3)):
+        other = mbao.render(cornell, tile_pixels=tile_pixels, work_group_size=work_group_size, **settings)
+        np.testing.assert_array_equal(other.ao, reference.ao)
+        np.testing.assert_array_equal(other.mask, reference.mask)
+        assert other.stats["rays_secondary"] == reference.stats["rays_secondary"]
+    assert mbao.render(cornell, tile_pixels=1, **settings).stats["tiles"] == 23 * 17
+
+
+def test_the_seed_alone_decides_the_noise(cornell):
+    a = mbao.render(cornell, width=16, height=16, seed=1).ao
+    np.testing.assert_array_equal(a, mbao.render(cornell, width=16, height=16, seed=1).ao)
+    assert not np.array_equal(a, mbao.render(cornell, width=16, height=16, seed=2).ao)
+    # All 64 bits of the seed count.
+    assert not np.array_equal(a, mbao.render(cornell, width=16, height=16, seed=1 + 2**40).ao)
+
+
+@pytest.mark.parametrize("traversal", ["pushdown", "restart"])
+def test_traversals_render_the_same_image(cornell, traversal):
+    settings = dict(width=20, height=20, bounces=2, samples=4, seed=5)
+    np.testing.assert_array_equal(
+        mbao.render(cornell, traversal=traversal, **settings).ao, mbao.render(cornell, **settings).ao
+    )
+
+
+def test_camera_samples_average_over_the_pixel():
+    """spp > 1 jitters the camera rays uniformly over the pixel and averages
+    (a box filter). Seen from straight above, a half-plane x <= 0 whose shading
+    normals lean by alpha has L_1 = c = (1 + cos alpha) / 2 everywhere, and
+    misses count 1: a pixel covering a fraction f of the half-plane has mean
+    1 - f (1 - c). Pixels along the edge are partly covered."""
+    alpha, r, spp = math.radians(60.0), 16, 64
+    c = (1.0 + math.cos(alpha)) / 2.0
+    vertices = np.array([[-50.0, 0.0, -50.0], [0.0, 0.0, -50.0], [0.0, 0.0, 50.0], [-50.0, 0.0, 50.0]])
+    normals = np.tile([math.sin(alpha), math.cos(alpha), 0.0], (4, 1))
+    scene = mbao.Mesh(vertices, [[0, 1, 2], [0, 2, 3]], normals)
+    width, height, depth, vfov = 16, 6, 2.0, 60.0
+    camera = mbao.Camera((0.3, depth, 0.1), (0.3, 0.0, 0.1), up=(0.0, 0.0, -1.0), vfov_deg=vfov)
+    result = mbao.render(scene, camera=camera, width=width, height=height, samples=r, spp=spp, seed=11)
+
+    # SPEC 3.1: right = normalize(cross(forward, up)) = +x here, so image column
+    # x covers world x in 0.3 + depth * tan(vfov / 2) * aspect * [u(x), u(x + 1)].
+    half_width = depth * math.tan(math.radians(vfov) / 2.0) * width / height
+    left = 0.3 + half_width * (np.arange(width) / width * 2.0 - 1.0)
+    right = 0.3 + half_width * ((np.arange(width) + 1.0) / width * 2.0 - 1.0)
+    covered = np.clip(-left / (right - left), 0.0, 1.0)  # the fraction of the column with x <= 0
+    assert 0.0 < covered.max() - covered[covered < 1.0].max() < 1.0  # one column is partly covered
+    expected = np.tile(1.0 - covered * (1.0 - c), (height, 1))
+
+    # Per camera sample: hit with probability f, then the mean of r Bernoulli(c).
+    f = np.tile(covered, (height, 1))
+    second_moment = 1.0 - 2.0 * f * (1.0 - c) + f * ((1.0 - c) ** 2 + c * (1.0 - c) / r)
+    variance = (second_moment - expected**2) / spp
+    assert abs(result.ao.mean() - expected.mean()) <= 4.0 * math.sqrt(variance.sum()) / expected.size
+    np.testing.assert_array_equal(result.mask, np.tile(covered > 0.0, (height, 1)))
