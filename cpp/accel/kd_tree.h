@@ -33,8 +33,8 @@ struct KdTreeStats {
 
 // A kd-tree in the device's layout: nodes depth first, each interior node's
 // "below" child right after it. Every leaf lists every triangle of non-zero
-// area whose box touches its closed cell, so a point on a cell boundary is
-// found from either side.
+// area that touches its closed cell (and none whose box misses the cell), so a
+// point on a cell boundary is found from either side.
 struct KdTree {
   std::vector<KdNode> nodes;
   std::vector<std::uint32_t> leaf_triangles;

@@ -2,9 +2,10 @@
 // for ray tracing, and on doing that in O(N log N)" (2006): split events are
 // sorted once per axis and then split, in order, between the children.
 //
+// Straddling triangles are clipped to the children's cells ("perfect splits").
 // Two choices differ from the paper, both for exact traversal:
-// * A triangle goes into every child whose closed cell its box touches, so a
-//   ray that lies in a split plane finds everything on that plane.
+// * A triangle goes into every child whose closed cell it touches, so a ray
+//   that lies in a split plane finds everything on that plane.
 // * Split planes sit a small distance `min_width` off the event positions, and
 //   no child is thinner than that. Every cell thus has a real width along each
 //   axis it was split on: a ray cannot skip a cell because the distances to its
@@ -17,6 +18,7 @@
 #include <limits>
 
 #include "accel/kd_tree.h"
+#include "accel/triangle_clip.h"
 #include "core/error.h"
 #include "core/timer.h"
 
@@ -67,17 +69,14 @@ bool has_zero_area(const TriangleMesh& mesh, std::uint32_t t) {
   return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
 }
 
-Bounds3 intersection(const Bounds3& a, const Bounds3& b) {
-  Bounds3 box;
-  box.lo = glm::max(a.lo, b.lo);
-  box.hi = glm::min(a.hi, b.hi);
-  return box;
-}
-
 class Builder {
  public:
   Builder(const TriangleMesh& mesh, const KdBuildOptions& options)
-      : mesh_(mesh), options_(options), side_(mesh.triangles.size()) {
+      : mesh_(mesh),
+        options_(options),
+        side_(mesh.triangles.size()),
+        extent_lo_(mesh.triangles.size()),
+        extent_hi_(mesh.triangles.size()) {
     triangle_boxes_.reserve(mesh.triangles.size());
     for (const glm::uvec3& t : mesh.triangles) {
       Bounds3 box;
@@ -198,39 +197,55 @@ class Builder {
     return index;
   }
 
-  // Splits the events between the children, keeping their order. Triangles on
-  // both sides get new events for their box clipped to each child, sorted and
-  // merged in.
+  // Splits the events between the children, keeping their order. A triangle
+  // on both sides is clipped to each child: where it misses a child's cell it
+  // stays out of it, elsewhere it gets new events for its clipped box, sorted
+  // and merged in.
   void partition(const EventLists& events, const Split& split, const Bounds3& left_box, const Bounds3& right_box,
                  EventLists& left, EventLists& right, std::size_t& n_left, std::size_t& n_right) {
+    // The triangles' extent in this node along the split axis, from their events.
+    for (const Event& e : events[split.axis]) {
+      if (e.type != EventType::End) extent_lo_[e.triangle] = e.position;
+      if (e.type != EventType::Start) extent_hi_[e.triangle] = e.position;
+    }
     std::vector<std::uint32_t> straddling;
+    std::size_t left_only = 0, right_only = 0;
     for (const Event& e : events[split.axis]) {
       if (e.type == EventType::End) continue;
-      // The split lies inside the node, so the triangle's whole box decides.
-      const Bounds3& box = triangle_boxes_[e.triangle];
-      const Side side = box.hi[split.axis] < split.position ? Left
-                        : box.lo[split.axis] > split.position ? Right
-                                                              : Both;
+      const Side side = extent_hi_[e.triangle] < split.position  ? Left
+                        : extent_lo_[e.triangle] > split.position ? Right
+                                                                  : Both;
       side_[e.triangle] = side;
-      n_left += side != Right;
-      n_right += side != Left;
+      left_only += side == Left;
+      right_only += side == Right;
       if (side == Both) straddling.push_back(e.triangle);
     }
     EventLists new_left, new_right;
     for (std::uint32_t t : straddling) {
-      append_events(intersection(triangle_boxes_[t], left_box), t, new_left);
-      append_events(intersection(triangle_boxes_[t], right_box), t, new_right);
-    }
-    for (int axis = 0; axis < 3; ++axis) {
-      std::vector<Event> left_only, right_only;
-      left_only.reserve(2 * (n_left - straddling.size()));
-      right_only.reserve(2 * (n_right - straddling.size()));
-      for (const Event& e : events[axis]) {
-        if (side_[e.triangle] == Left) left_only.push_back(e);
-        if (side_[e.triangle] == Right) right_only.push_back(e);
+      const std::array<glm::vec3, 3> corners = {mesh_.positions[mesh_.triangles[t][0]],
+                                                 mesh_.positions[mesh_.triangles[t][1]],
+                                                 mesh_.positions[mesh_.triangles[t][2]]};
+      if (const auto box = clipped_bounds(corners, left_box)) {
+        append_events(*box, t, new_left);
+        ++n_left;
       }
-      left[axis] = merged(left_only, new_left[axis]);
-      right[axis] = merged(right_only, new_right[axis]);
+      if (const auto box = clipped_bounds(corners, right_box)) {
+        append_events(*box, t, new_right);
+        ++n_right;
+      }
+    }
+    n_left += left_only;
+    n_right += right_only;
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<Event> left_events, right_events;
+      left_events.reserve(2 * left_only);
+      right_events.reserve(2 * right_only);
+      for (const Event& e : events[axis]) {
+        if (side_[e.triangle] == Left) left_events.push_back(e);
+        if (side_[e.triangle] == Right) right_events.push_back(e);
+      }
+      left[axis] = merged(left_events, new_left[axis]);
+      right[axis] = merged(right_events, new_right[axis]);
     }
   }
 
@@ -258,7 +273,9 @@ class Builder {
   const TriangleMesh& mesh_;
   const KdBuildOptions& options_;
   std::vector<Bounds3> triangle_boxes_;
+  // Scratch, per triangle, for the node being split.
   std::vector<Side> side_;
+  std::vector<float> extent_lo_, extent_hi_;
   int max_depth_ = 0;
   float min_width_ = 0.0f;
   double root_area_ = 0.0;

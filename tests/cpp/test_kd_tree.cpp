@@ -1,6 +1,6 @@
-// The kd-tree's contract with the traversal kernels: every leaf holds exactly
-// the triangles whose boxes touch its closed cell, every split lies strictly
-// inside its cell, and the node words decode to what was built.
+// The kd-tree's contract with the traversal kernels: every leaf holds every
+// triangle that touches its closed cell (and none whose box misses it), every
+// split lies strictly inside its cell, and the node words decode to what was built.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <set>
 
 #include "accel/kd_tree.h"
+#include "accel/triangle_clip.h"
 #include "scene/cornell_box.h"
 
 namespace mbao {
@@ -31,6 +32,26 @@ bool has_area(const TriangleMesh& mesh, std::size_t t) {
 bool touches(const Bounds3& a, const Bounds3& b) {
   for (int axis = 0; axis < 3; ++axis)
     if (a.hi[axis] < b.lo[axis] || a.lo[axis] > b.hi[axis]) return false;
+  return true;
+}
+
+// Separating-axis test of a triangle against a closed box (Akenine-Moller
+// 2001), in double: the box's 3 axes, the triangle's normal and the 9 cross
+// products of their edges.
+bool triangle_touches_box(const TriangleMesh& mesh, std::size_t t, const Bounds3& box) {
+  const glm::dvec3 center = 0.5 * (glm::dvec3(box.lo) + glm::dvec3(box.hi));
+  const glm::dvec3 half = 0.5 * (glm::dvec3(box.hi) - glm::dvec3(box.lo));
+  glm::dvec3 v[3];
+  for (int k = 0; k < 3; ++k) v[k] = glm::dvec3(mesh.positions[mesh.triangles[t][k]]) - center;
+  const glm::dvec3 edges[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  std::vector<glm::dvec3> axes = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, glm::cross(edges[0], edges[1])};
+  for (const glm::dvec3& e : edges)
+    for (int a = 0; a < 3; ++a) axes.push_back(glm::cross(e, glm::dvec3(a == 0, a == 1, a == 2)));
+  for (const glm::dvec3& axis : axes) {
+    const double p0 = glm::dot(v[0], axis), p1 = glm::dot(v[1], axis), p2 = glm::dot(v[2], axis);
+    const double radius = glm::dot(half, glm::abs(axis));
+    if (std::min({p0, p1, p2}) > radius || std::max({p0, p1, p2}) < -radius) return false;
+  }
   return true;
 }
 
@@ -72,11 +93,20 @@ struct Walk {
     const std::vector<std::uint32_t> listed(tree.leaf_triangles.begin() + first,
                                             tree.leaf_triangles.begin() + first + count);
     ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end()));
-    std::vector<std::uint32_t> expected;
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-      if (has_area(mesh, t) && touches(triangle_box(mesh, t), cell)) expected.push_back(t);
-    ASSERT_EQ(listed, expected) << "leaf cell [" << cell.lo.x << "," << cell.lo.y << "," << cell.lo.z << "]-["
-                                << cell.hi.x << "," << cell.hi.y << "," << cell.hi.z << "]";
+    const std::set<std::uint32_t> in_leaf(listed.begin(), listed.end());
+    ASSERT_EQ(in_leaf.size(), listed.size()) << "a triangle listed twice";
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (!has_area(mesh, t)) {
+        ASSERT_FALSE(in_leaf.count(t)) << "zero-area triangle " << t << " in a leaf";
+        continue;
+      }
+      if (triangle_touches_box(mesh, t, cell)) {
+        ASSERT_TRUE(in_leaf.count(t)) << "triangle " << t << " touches the leaf cell but is not in the leaf";
+      }
+      if (!touches(triangle_box(mesh, t), cell)) {
+        ASSERT_FALSE(in_leaf.count(t)) << "triangle " << t << " is in a leaf its box does not touch";
+      }
+    }
   }
 };
 
@@ -147,6 +177,31 @@ TEST(KdNode, WordsRoundTrip) {
   EXPECT_EQ(kd_triangle_count(leaf), MBAO_KD_MAX_INDEX);
   EXPECT_EQ(kd_first_index(leaf), 0xFFFFFFFFu);
   EXPECT_EQ(sizeof(KdNode), 8u);
+}
+
+TEST(TriangleClip, BoxOfThePartInsideTheCell) {
+  Bounds3 cell;
+  cell.extend({0, 0, 0});
+  cell.extend({1, 1, 1});
+  // Inside: its own box.
+  const auto inside = clipped_bounds({{{0.1f, 0.2f, 0.3f}, {0.9f, 0.2f, 0.3f}, {0.1f, 0.8f, 0.5f}}}, cell);
+  ASSERT_TRUE(inside);
+  EXPECT_EQ(inside->lo, glm::vec3(0.1f, 0.2f, 0.3f));
+  EXPECT_EQ(inside->hi, glm::vec3(0.9f, 0.8f, 0.5f));
+  // Half out along x: the box stops at the wall; y shrinks with the cut edge.
+  const auto cut = clipped_bounds({{{0.5f, 0.0f, 0.5f}, {1.5f, 0.0f, 0.5f}, {0.5f, 1.0f, 0.5f}}}, cell);
+  ASSERT_TRUE(cut);
+  EXPECT_EQ(cut->lo, glm::vec3(0.5f, 0.0f, 0.5f));
+  EXPECT_EQ(cut->hi.x, 1.0f);
+  EXPECT_NEAR(cut->hi.y, 1.0f, 1e-6f);
+  // A diagonal triangle whose box overlaps the cell's corner but which passes by it.
+  EXPECT_FALSE(clipped_bounds({{{1.2f, 2.0f, 0.5f}, {2.0f, 1.2f, 0.5f}, {2.0f, 2.0f, 0.5f}}}, cell));
+  EXPECT_FALSE(clipped_bounds({{{1.5f, -1.0f, 0.5f}, {1.5f, 3.0f, 0.5f}, {3.0f, 1.0f, 0.5f}}}, cell));
+  // Touching the cell in one corner only: kept, as a point.
+  const auto corner = clipped_bounds({{{1.0f, 1.0f, 1.0f}, {2.0f, 1.0f, 1.0f}, {1.0f, 2.0f, 1.0f}}}, cell);
+  ASSERT_TRUE(corner);
+  EXPECT_EQ(corner->lo, glm::vec3(1.0f));
+  EXPECT_EQ(corner->hi, glm::vec3(1.0f));
 }
 
 TEST(KdTree, RandomSoupsKeepTheLeafContract) {
