@@ -56,7 +56,6 @@ Options parse(int argc, char** argv) {
   Options options;
   options.settings.samples = 4;
   options.settings.estimator = mbao::Estimator::Branching;
-  options.settings.work_group_size = std::getenv("WG") ? std::stoul(std::getenv("WG")) : 0;
   for (int i = 0; i < argc; ++i) options.command_line += (i ? " " : "") + std::string(argv[i]);
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
@@ -169,8 +168,8 @@ int main(int argc, char** argv) {
                      {"frames", options.frames}}},
                    {"results", json::array()}};
 
-    std::cout << "| scene | triangles | max_distance | build ms | b=1 ms | b=2 ms | b=1 Mrays/s | b=2 Mrays/s |\n"
-              << "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::cout << "| scene | triangles | max_distance | build ms | b=1 ms | b=2 ms | b=1 Mrays/s | b=2 Mrays/s | device |\n"
+              << "|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
     for (const BenchScene& s : scenes) {
       std::vector<float> radii = {std::numeric_limits<float>::infinity()};
       if (s.camera.max_distance) radii.push_back(*s.camera.max_distance);
@@ -201,11 +200,12 @@ int main(int argc, char** argv) {
         std::cout << "| " << s.name << " | " << s.scene->mesh().triangles.size() << " | "
                   << (std::isinf(radius) ? std::string("inf") : fixed(radius, 1)) << " | " << fixed(tree.build_ms, 1)
                   << " | " << fixed(b1["frame_ms"], 1) << " | " << fixed(b2["frame_ms"], 1) << " | "
-                  << fixed(b1["mrays_per_s"], 1) << " | " << fixed(b2["mrays_per_s"], 1) << " |" << std::endl;
+                  << fixed(b1["mrays_per_s"], 1) << " | " << fixed(b2["mrays_per_s"], 1) << " | " << device.name
+                  << " |" << std::endl;
         report["results"].push_back(row);
       }
     }
-    std::cout << "\nDevice: " << device.description() << ". " << options.settings.width << "x"
+    std::cout << "\nDevice: " << device.description() << " (" << device.version << "). " << options.settings.width << "x"
               << options.settings.height << ", r=" << options.settings.samples
               << ", branching, rho=1, spp=1; frame = median of " << options.frames
               << " (camera rays + AO + read-back); Mrays/s counts primary and secondary rays.\n";
