@@ -5,7 +5,6 @@
 #include <mutex>
 #include <set>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "accel/kd_tree.h"
@@ -66,8 +65,7 @@ class Renderer {
  private:
   std::shared_ptr<ComputeContext> compute_;
   DeviceSceneCache scenes_;
-  // Kernels launched once already: (program, estimator, work-group sizes).
-  std::set<std::tuple<cl_program, std::string, std::size_t, std::size_t>> warmed_up_;
+  std::set<std::string> launched_;  // Frame::launch_signature() of every frame so far
   std::mutex mutex_;
 };
 

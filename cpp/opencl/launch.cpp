@@ -1,0 +1,23 @@
+#include "opencl/launch.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace mbao {
+
+std::size_t work_group_size_for(const cl::Kernel& kernel, const cl::Device& device, std::size_t requested) {
+  constexpr std::size_t kDefault = 64;
+  const std::size_t limit = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device);
+  if (requested > limit)
+    throw std::invalid_argument("work_group_size must be at most " + std::to_string(limit) +
+                                " on this device, got " + std::to_string(requested));
+  return requested ? requested : std::min(kDefault, limit);
+}
+
+void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items, std::size_t work_group) {
+  const std::size_t groups = std::max<std::size_t>(1, (items + work_group - 1) / work_group);
+  queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * work_group), cl::NDRange(work_group));
+}
+
+}  // namespace mbao

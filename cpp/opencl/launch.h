@@ -1,0 +1,19 @@
+#pragma once
+
+#include <cstddef>
+
+#include "opencl/opencl.h"
+
+namespace mbao {
+
+// The work-group size to launch `kernel` with: `requested`, or by default 64
+// (a size that suits divergent ray-tracing code on GPUs; a fixed size also
+// spares PoCL a compile for every launch size), never more than the kernel
+// allows. Throws std::invalid_argument for a request above that limit.
+std::size_t work_group_size_for(const cl::Kernel& kernel, const cl::Device& device, std::size_t requested);
+
+// Enqueues `items` work items in groups of `work_group` (at least one group,
+// so an empty launch still runs: the kernels return for indices past their count).
+void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items, std::size_t work_group);
+
+}  // namespace mbao

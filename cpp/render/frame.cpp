@@ -1,0 +1,85 @@
+#include "render/frame.h"
+
+#include "opencl/launch.h"
+
+namespace mbao {
+namespace {
+
+cl_float4 to_float4(const glm::vec3& v) { return {{v.x, v.y, v.z, 0.0f}}; }
+
+cl_uint2 seed_words(std::uint64_t seed) { return {{cl_uint(seed & 0xFFFFFFFFu), cl_uint(seed >> 32)}}; }
+
+}  // namespace
+
+Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
+             const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels)
+    : pixels_(std::size_t(s.width) * std::size_t(s.height)), spp_(std::size_t(s.spp)) {
+  const std::size_t hit_bytes = tile_pixels * spp_ * sizeof(cl_uint4);
+  camera_hits_ = cl::Buffer(context, CL_MEM_READ_WRITE, hit_bytes);
+  ao_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
+  coverage_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
+  secondary_rays_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
+  bytes_ = hit_bytes + pixels_ * (sizeof(cl_float) + sizeof(cl_uchar) + sizeof(cl_uint));
+
+  const CameraBasis basis(camera);
+  const float aspect = float(s.width) / float(s.height);
+  camera_rays_ = cl::Kernel(program, "trace_camera_rays");
+  cl_uint arg = scene.set_args(camera_rays_);
+  camera_rays_.setArg(arg++, to_float4(camera.eye));
+  camera_rays_.setArg(arg++, to_float4(basis.forward));
+  camera_rays_.setArg(arg++, to_float4(basis.right));
+  camera_rays_.setArg(arg++, to_float4(basis.up));
+  camera_rays_.setArg(arg++, cl_float2{{basis.tan_half_vfov * aspect, basis.tan_half_vfov}});
+  camera_rays_.setArg(arg++, cl_uint(s.width));
+  camera_rays_.setArg(arg++, cl_uint(s.height));
+  camera_rays_.setArg(arg++, cl_uint(spp_));
+  camera_rays_.setArg(arg++, seed_words(s.seed));
+  camera_tile_arg_ = arg;
+  camera_rays_.setArg(arg + 2, camera_hits_);
+
+  ao_kernel_ = cl::Kernel(program, s.estimator == Estimator::Branching ? "ao_branching" : "ao_path");
+  arg = scene.set_args(ao_kernel_);
+  ao_kernel_.setArg(arg++, to_float4(camera.eye));
+  ao_kernel_.setArg(arg++, cl_uint(spp_));
+  ao_kernel_.setArg(arg++, cl_uint(s.bounces));
+  ao_kernel_.setArg(arg++, cl_uint(s.samples));
+  ao_kernel_.setArg(arg++, s.rho);
+  ao_kernel_.setArg(arg++, s.max_distance);
+  ao_kernel_.setArg(arg++, seed_words(s.seed));
+  ao_tile_arg_ = arg;
+  ao_kernel_.setArg(arg + 2, camera_hits_);
+  ao_kernel_.setArg(arg + 3, ao_);
+  ao_kernel_.setArg(arg + 4, coverage_);
+  ao_kernel_.setArg(arg + 5, secondary_rays_);
+
+  camera_group_ = work_group_size_for(camera_rays_, device, s.work_group_size);
+  ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
+}
+
+void Frame::set_tile(std::size_t first, std::size_t count) {
+  camera_rays_.setArg(camera_tile_arg_, cl_uint(first));
+  camera_rays_.setArg(camera_tile_arg_ + 1, cl_uint(count));
+  ao_kernel_.setArg(ao_tile_arg_, cl_uint(first));
+  ao_kernel_.setArg(ao_tile_arg_ + 1, cl_uint(count));
+}
+
+void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
+  set_tile(first, count);
+  launch(queue, camera_rays_, count * spp_, camera_group_);
+  launch(queue, ao_kernel_, count, ao_group_);
+}
+
+void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask, cl_uint* secondary_rays) {
+  queue.enqueueReadBuffer(ao_, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao);
+  queue.enqueueReadBuffer(coverage_, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), mask);
+  queue.enqueueReadBuffer(secondary_rays_, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
+}
+
+std::string Frame::launch_signature() const {
+  const cl::Program program = ao_kernel_.getInfo<CL_KERNEL_PROGRAM>();
+  return std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " " +
+         ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(camera_group_) + " " +
+         std::to_string(ao_group_);
+}
+
+}  // namespace mbao

@@ -1,0 +1,44 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "opencl/opencl.h"
+#include "render/device_scene.h"
+#include "render/render_settings.h"
+#include "scene/camera.h"
+
+namespace mbao {
+
+// The device side of one render: its buffers and its two kernels (render.cl's
+// camera rays and AO), set up for everything but the tile. Pixels are
+// numbered row by row from the top left; a tile is a range of them.
+class Frame {
+ public:
+  Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
+        const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels);
+
+  // Camera rays and AO for pixels [first, first + count).
+  void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
+  // Copies the image and the per-pixel secondary ray counts back (non-blocking).
+  void enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask, cl_uint* secondary_rays);
+
+  // Device memory of the frame's own buffers.
+  std::size_t bytes() const { return bytes_; }
+  // What decides whether the kernels have been launched before: program, AO kernel and work-group sizes.
+  std::string launch_signature() const;
+
+ private:
+  void set_tile(std::size_t first, std::size_t count);
+
+  std::size_t pixels_, spp_;
+  cl::Buffer camera_hits_, ao_, coverage_, secondary_rays_;
+  cl::Kernel camera_rays_, ao_kernel_;
+  cl_uint camera_tile_arg_ = 0, ao_tile_arg_ = 0;
+  std::size_t camera_group_ = 0, ao_group_ = 0;
+  std::size_t bytes_ = 0;
+};
+
+}  // namespace mbao
