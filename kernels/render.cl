@@ -1,12 +1,9 @@
 // Multi-bounce ambient occlusion (SPEC 1-2): camera rays first, then one work
 // item per pixel that runs the chosen estimator for each of its camera samples.
+#include "mbao/limits.h"
 #include "kd_traversal.h"
 #include "surface.h"
 #include "sampling.h"
-
-#ifndef MBAO_MAX_BRANCHING_BOUNCES
-#define MBAO_MAX_BRANCHING_BOUNCES 16
-#endif
 
 // Camera rays (SPEC 3.1). One work item per camera sample of the tile; the
 // closest hit is stored as (t, triangle, b1, b2) bits.

@@ -615,3 +615,14 @@ def test_render_releases_the_gil(cornell):
     # ... throughout, not only before the render took the GIL or after it gave it back.
     gaps = np.diff(np.concatenate([[start], during, [end]]))
     assert gaps.max() < 0.5 * duration, f"main thread stalled {gaps.max() * 1e3:.0f} of {duration * 1e3:.0f} ms"
+
+
+def test_trace_checks_its_arguments(cornell):
+    origins, directions = np.zeros((3, 3)), np.ones((3, 3))
+    for t_max in (0.0, -1.0, np.nan, [1.0, 2.0], "far"):
+        with pytest.raises(ValueError, match="t_max"):
+            mbao.trace(cornell, origins, directions, t_max=t_max)
+    with pytest.raises(ValueError, match="origins"):
+        mbao.trace(cornell, origins[:2], directions)
+    with pytest.raises(TypeError, match="any_hit"):
+        mbao.trace(cornell, origins, directions, any_hit=1)

@@ -5,6 +5,8 @@
 #include <limits>
 #include <string>
 
+#include "mbao/limits.h"
+
 namespace mbao {
 
 enum class Estimator { Branching, Path };
@@ -44,8 +46,7 @@ struct RenderSettings {
   std::uint64_t max_rays_per_camera_sample() const;
 };
 
-// The largest bounce count of the branching estimator (its depth-first walk
-// keeps one surface per level); the path estimator has no such limit.
-constexpr std::int64_t kMaxBranchingBounces = 16;
+// The largest bounce count of the branching estimator; the path estimator has no such limit.
+constexpr std::int64_t kMaxBranchingBounces = MBAO_MAX_BRANCHING_BOUNCES;
 
 }  // namespace mbao

@@ -128,7 +128,12 @@ def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversa
         raise ValueError(f"origins has {len(origins)} rows but directions has {len(directions)}")
     if not isinstance(any_hit, (bool, np.bool_)):
         raise TypeError(f"any_hit must be a bool, got {type(any_hit).__name__}")
-    limits = np.broadcast_to(np.asarray(t_max, dtype=np.float32), (len(origins),))
+    try:
+        limits = np.broadcast_to(np.asarray(t_max, dtype=np.float32), (len(origins),))
+    except (TypeError, ValueError):
+        raise ValueError(f"t_max must be a number or one per ray ({len(origins)}), got {t_max!r}") from None
+    if not np.all(limits > 0):  # NaN fails too
+        raise ValueError("t_max must be > 0 (inf for unlimited)")
     rays = np.ascontiguousarray(np.column_stack([directions, limits]), dtype=np.float32)
     return _core.trace(
         scene, origins, rays, resolve(device), bool(any_hit), _checks.choice("traversal", traversal, TRAVERSALS)

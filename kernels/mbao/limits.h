@@ -1,0 +1,9 @@
+// Limits the host checks and the kernels are sized for: one definition for both.
+#ifndef MBAO_LIMITS_H
+#define MBAO_LIMITS_H
+
+// The branching estimator walks its tree depth first and keeps one surface per
+// bounce in private memory; the path estimator keeps one, whatever b is.
+#define MBAO_MAX_BRANCHING_BOUNCES 16
+
+#endif
