@@ -1,8 +1,5 @@
 #include "opencl/compute_context.h"
 
-#include <map>
-#include <mutex>
-
 namespace mbao {
 namespace {
 
@@ -29,16 +26,5 @@ ComputeContext::ComputeContext(DeviceInfo device)
       context_(make_context(device_)),
       queue_(make_queue(context_, device_)),
       programs_(context_, device_.device) {}
-
-std::shared_ptr<ComputeContext> ComputeContext::for_device(const DeviceInfo& device) {
-  static std::mutex mutex;
-  // Never destroyed: releasing OpenCL objects during static destruction can
-  // run after the driver has been unloaded.
-  static auto* contexts = new std::map<cl_device_id, std::shared_ptr<ComputeContext>>;
-  std::lock_guard<std::mutex> lock(mutex);
-  std::shared_ptr<ComputeContext>& context = (*contexts)[device.device()];
-  if (!context) context = std::make_shared<ComputeContext>(device);
-  return context;
-}
 
 }  // namespace mbao

@@ -32,10 +32,12 @@ std::size_t tile_pixels_for(const RenderSettings& s, std::size_t pixels) {
 
 Renderer& Renderer::for_device(const DeviceInfo& device) {
   static std::mutex mutex;
-  static auto* renderers = new std::map<cl_device_id, std::unique_ptr<Renderer>>;  // never destroyed, as contexts
+  // Never destroyed: releasing OpenCL objects during static destruction can run
+  // after the driver has been unloaded.
+  static auto* renderers = new std::map<cl_device_id, std::unique_ptr<Renderer>>;
   std::lock_guard<std::mutex> lock(mutex);
   std::unique_ptr<Renderer>& renderer = (*renderers)[device.device()];
-  if (!renderer) renderer = std::make_unique<Renderer>(ComputeContext::for_device(device));
+  if (!renderer) renderer = std::make_unique<Renderer>(device);
   return *renderer;
 }
 
@@ -54,10 +56,10 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
 
   const bool with_normals = settings.normals == NormalMode::Shading && scene->mesh().has_normals();
   Stopwatch upload_clock;
-  const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(*compute_, scene, with_normals);
+  const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, with_normals);
   stats.upload_ms = upload_clock.elapsed_ms();
 
-  const BuiltProgram built = compute_->programs().get("render.cl", program_options(settings.traversal));
+  const BuiltProgram built = compute_.programs().get("render.cl", program_options(settings.traversal));
   stats.kernel_build_ms = built.build_ms;
   stats.kernel_cache_hit = built.cache_hit;
 
@@ -69,8 +71,8 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   result.mask.resize(pixels);
   std::vector<cl_uint> secondary_rays(pixels);
   try {
-    cl::CommandQueue& queue = compute_->queue();
-    Frame frame(compute_->context(), device().device, built.program, *device_scene, camera, settings, tile_pixels);
+    cl::CommandQueue& queue = compute_.queue();
+    Frame frame(compute_.context(), device().device, built.program, *device_scene, camera, settings, tile_pixels);
     stats.memory_bytes = device_scene->bytes() + frame.bytes();
     // Some drivers (PoCL) compile a kernel for its work-group size at its first
     // launch: do that in an empty launch, counted as kernel build time.
@@ -104,12 +106,12 @@ std::vector<RayHit> Renderer::trace(const std::shared_ptr<const Scene>& scene, c
   std::vector<RayHit> hits(origins.size());
   if (origins.empty()) return hits;
   std::lock_guard<std::mutex> lock(mutex_);
-  const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(*compute_, scene, false);
-  const BuiltProgram built = compute_->programs().get("trace.cl", program_options(traversal));
+  const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
+  const BuiltProgram built = compute_.programs().get("trace.cl", program_options(traversal));
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {
-    const cl::Context& context = compute_->context();
-    cl::CommandQueue& queue = compute_->queue();
+    const cl::Context& context = compute_.context();
+    cl::CommandQueue& queue = compute_.queue();
     const std::size_t n = origins.size();
     cl::Buffer origin_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_float4),
                              const_cast<cl_float4*>(origins.data()));

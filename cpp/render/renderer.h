@@ -45,14 +45,15 @@ struct RayHit {
   float b1, b2;  // barycentric weights of the triangle's second and third corner
 };
 
-// Renders and traces on one OpenCL device. One per device for the process;
+// Renders and traces on one OpenCL device, keeping its built programs and the
+// scenes uploaded to it. One per device for the life of the process (for_device);
 // calls are serialized.
 class Renderer {
  public:
-  explicit Renderer(std::shared_ptr<ComputeContext> compute) : compute_(std::move(compute)) {}
+  explicit Renderer(const DeviceInfo& device) : compute_(device) {}
   static Renderer& for_device(const DeviceInfo& device);
 
-  const DeviceInfo& device() const { return compute_->device(); }
+  const DeviceInfo& device() const { return compute_.device(); }
 
   RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                       const RenderSettings& settings);
@@ -63,7 +64,7 @@ class Renderer {
                             const std::vector<cl_float4>& directions, bool any_hit, Traversal traversal);
 
  private:
-  std::shared_ptr<ComputeContext> compute_;
+  ComputeContext compute_;
   DeviceSceneCache scenes_;
   std::set<std::string> launched_;  // Frame::launch_signature() of every frame so far
   std::mutex mutex_;
