@@ -78,7 +78,8 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
       float t, b1, b2;
       if (!intersect_triangle(&ray, triangle_corner(scene, triangle, 0),
                               triangle_corner(scene, triangle, 1),
-                              triangle_corner(scene, triangle, 2), best.t, &t, &b1, &b2))
+                              triangle_corner(scene, triangle, 2), best.t, &t, &b1, &b2) ||
+          !hit_is_solid(scene, triangle, b1, b2))
         continue;
       if (t < best.t || triangle < best.triangle) {
         best.t = t;

@@ -4,7 +4,6 @@ import pathlib
 import numpy as np
 import pytest
 
-import mbao
 from mbao.devices import resolve
 
 REPO = pathlib.Path(__file__).resolve().parents[1]

@@ -46,6 +46,9 @@ NUMPY_TYPE = {
 }
 ACCESSOR_TYPE = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4"}
 
+# sampler.wrapS / wrapT
+REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT = 10497, 33071, 33648
+
 GLB_MAGIC = b"glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
 GLB_BIN_CHUNK = 0x004E4942
@@ -70,6 +73,7 @@ class GltfBuilder:
             "buffers": [],
         }
         self.bin = bytearray()
+        self.files = {}  # external files (images) written next to the glTF file
 
     # -- raw data ----------------------------------------------------------
 
@@ -146,10 +150,12 @@ class GltfBuilder:
     # -- meshes, nodes, scenes, cameras ------------------------------------
 
     def primitive(self, positions=None, indices=None, normals=None, index_type=UNSIGNED_INT, mode=None,
-                  position_accessor=None, normal_accessor=None):
+                  position_accessor=None, normal_accessor=None, texcoords=None, texcoord_type=FLOAT,
+                  texcoord_set=0, material=None):
         """A primitive dict (not yet in a mesh). positions/normals are (N, 3)
         arrays, or pass ready accessors; indices a flat or (M, 3) array stored
-        as index_type, or None for a non-indexed primitive. mode None: omitted (TRIANGLES)."""
+        as index_type, or None for a non-indexed primitive. mode None: omitted (TRIANGLES).
+        texcoords: (N, 2) in [0, 1] for FLOAT, stored normalized for integer types."""
         if position_accessor is None:
             position_accessor = self.add_array(np.asarray(positions).reshape(-1, 3))
         primitive = {"attributes": {"POSITION": position_accessor}}
@@ -161,7 +167,56 @@ class GltfBuilder:
             primitive["indices"] = self.add_array(np.asarray(indices).reshape(-1), index_type)
         if mode is not None:
             primitive["mode"] = mode
+        if texcoords is not None:
+            primitive["attributes"][f"TEXCOORD_{texcoord_set}"] = self.add_texcoords(texcoords, texcoord_type)
+        if material is not None:
+            primitive["material"] = material
         return primitive
+
+    def add_texcoords(self, texcoords, component_type=FLOAT):
+        texcoords = np.asarray(texcoords, dtype=np.float64).reshape(-1, 2)
+        if component_type == FLOAT:
+            return self.add_array(texcoords, FLOAT)
+        scale = np.iinfo(NUMPY_TYPE[component_type]).max
+        accessor = self.add_array(np.round(texcoords * scale), component_type)
+        self.doc["accessors"][accessor]["normalized"] = True
+        return accessor
+
+    # -- materials and textures ------------------------------------------------
+
+    def add_image(self, encoded, mime_type="image/png", where="bufferView", file_name=None):
+        """An image from encoded bytes, stored in a bufferView of buffer 0, as a
+        data URI, or as an external file (written next to the glTF file)."""
+        if where == "bufferView":
+            image = {"bufferView": self.add_buffer_view(encoded), "mimeType": mime_type}
+        elif where == "data-uri":
+            image = {"uri": f"data:{mime_type};base64," + base64.b64encode(bytes(encoded)).decode("ascii")}
+        else:
+            self.files[file_name] = bytes(encoded)
+            image = {"uri": file_name}
+        return self._append("images", image)
+
+    def add_texture(self, image, wrap_s=None, wrap_t=None):
+        texture = {"source": image}
+        if wrap_s is not None or wrap_t is not None:
+            sampler = {key: value for key, value in (("wrapS", wrap_s), ("wrapT", wrap_t)) if value is not None}
+            texture["sampler"] = self._append("samplers", sampler)
+        return self._append("textures", texture)
+
+    def add_material(self, alpha_mode=None, alpha_cutoff=None, base_color_factor=None, texture=None, texcoord_set=None):
+        pbr = {}
+        if base_color_factor is not None:
+            pbr["baseColorFactor"] = [float(x) for x in base_color_factor]
+        if texture is not None:
+            pbr["baseColorTexture"] = {"index": texture}
+            if texcoord_set is not None:
+                pbr["baseColorTexture"]["texCoord"] = texcoord_set
+        material = {"pbrMetallicRoughness": pbr}
+        if alpha_mode is not None:
+            material["alphaMode"] = alpha_mode
+        if alpha_cutoff is not None:
+            material["alphaCutoff"] = float(alpha_cutoff)
+        return self._append("materials", material)
 
     def add_mesh(self, primitives):
         return self._append("meshes", {"primitives": list(primitives)})
@@ -252,9 +307,12 @@ class GltfBuilder:
         return path
 
     def write(self, path, container=None):
-        """Writes `path` as container "gltf", "gltf+bin" or "glb" (default: by suffix)."""
+        """Writes `path` as container "gltf", "gltf+bin" or "glb" (default: by
+        suffix), and the external files next to it."""
         container = container or ("glb" if str(path).endswith(".glb") else "gltf")
         writers = {"gltf": self.write_gltf, "gltf+bin": self.write_gltf_external, "glb": self.write_glb}
+        for name, data in self.files.items():
+            (pathlib.Path(path).parent / name).write_bytes(data)
         return writers[container](path)
 
     def _append(self, key, item):
@@ -263,6 +321,24 @@ class GltfBuilder:
 
 
 CONTAINERS = ("gltf", "gltf+bin", "glb")
+
+
+def png_bytes(pixels, tmp_dir):
+    """A PNG of `pixels` ((H, W) grey or (H, W, C) with C = 2 grey-alpha, 3 RGB,
+    4 RGBA), 8-bit for uint8 data and 16-bit for uint16, encoded by OpenImageIO."""
+    import OpenImageIO as oiio
+
+    pixels = np.asarray(pixels)
+    if pixels.ndim == 2:
+        pixels = pixels[:, :, None]
+    height, width, channels = pixels.shape
+    bits = oiio.UINT16 if pixels.dtype == np.uint16 else oiio.UINT8
+    path = pathlib.Path(tmp_dir) / f"image-{width}x{height}x{channels}-{pixels.dtype}.png"
+    image = oiio.ImageBuf(oiio.ImageSpec(width, height, channels, bits))
+    scale = 65535.0 if pixels.dtype == np.uint16 else 255.0
+    image.set_pixels(oiio.ROI(0, width, 0, height, 0, 1, 0, channels), (pixels / scale).astype(np.float32))
+    assert image.write(str(path), bits), image.geterror()
+    return path.read_bytes()
 
 
 def file_name(stem, container):

@@ -2,7 +2,6 @@
 repository's copy of the Cornell box is still the shared file."""
 
 import hashlib
-import pathlib
 
 import numpy as np
 import pytest

@@ -132,6 +132,19 @@ so later renders of the same scene do not rebuild it.)doc")
       .def_property_readonly("name", &Scene::name)
       .def_property_readonly("warnings", &Scene::warnings, "What loading skipped, one sentence each.")
       .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh().triangles.size(); })
+      .def_property_readonly(
+          "alpha_masks",
+          [](const Scene& s) -> py::object {
+            const AlphaMasks& masks = s.masks();
+            if (masks.empty()) return py::none();
+            py::dict d;
+            d["textures"] = masks.textures.size();
+            d["masked_triangles"] = masks.triangles.size();
+            d["texels"] = masks.texels.size();
+            d["bytes"] = masks.bytes();
+            return std::move(d);
+          },
+          "None without MASK materials; else counts of alpha textures, masked triangles, texels and bytes.")
       .def(
           "build",
           [](const Scene& s) {
@@ -174,8 +187,13 @@ so later renders of the same scene do not rebuild it.)doc")
            py::arg("vertices"), py::arg("indices"), py::arg("normals") = py::none());
 
   m.def(
-      "load", [](const std::filesystem::path& path) -> std::shared_ptr<Scene> { return load_gltf(path.string()); },
-      py::arg("path"), py::call_guard<py::gil_scoped_release>());
+      "load",
+      [](const std::filesystem::path& path, bool normals) -> std::shared_ptr<Scene> {
+        LoadOptions options;
+        options.normals = normals;
+        return load_gltf(path.string(), options);
+      },
+      py::arg("path"), py::arg("normals") = true, py::call_guard<py::gil_scoped_release>());
   m.def("cornell_box", []() -> std::shared_ptr<Scene> { return cornell_box(); },
         "The measured Cornell box (SPEC 3.4), in millimetres, with its own camera.");
 }

@@ -40,6 +40,13 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
       triangle_vertices_ = upload(context, queue, vertices);
       vertex_normals_ = upload(context, queue, normals);
     }
+    const AlphaMasks& masks = scene.masks();
+    if (!masks.empty()) {
+      triangle_masks_ = upload(context, queue, masks.triangle_mask);
+      masked_triangles_ = upload(context, queue, masks.triangles);
+      mask_textures_ = upload(context, queue, masks.textures);
+      mask_texels_ = upload(context, queue, masks.texels);
+    }
   } catch (const cl::Error& e) {
     throw_device_error("uploading " + scene.name() + " (" + std::to_string(mesh.triangles.size()) + " triangles)", e);
   }
@@ -48,20 +55,20 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
 }
 
 cl_uint DeviceScene::set_args(cl::Kernel& kernel) const {
-  kernel.setArg(0, nodes_);
-  kernel.setArg(1, leaf_triangles_);
-  kernel.setArg(2, triangle_corners_);
-  // Without normals both pointers are NULL in the kernel: geometric normals.
-  if (vertex_normals_()) {
-    kernel.setArg(3, triangle_vertices_);
-    kernel.setArg(4, vertex_normals_);
-  } else {
-    kernel.setArg(3, sizeof(cl_mem), nullptr);
-    kernel.setArg(4, sizeof(cl_mem), nullptr);
-  }
-  kernel.setArg(5, bounds_lo_);
-  kernel.setArg(6, bounds_hi_);
-  return 7;
+  cl_uint index = 0;
+  // A buffer the scene does not need is NULL in the kernel.
+  const auto set_buffer = [&](const cl::Buffer& buffer) {
+    if (buffer())
+      kernel.setArg(index++, buffer);
+    else
+      kernel.setArg(index++, sizeof(cl_mem), nullptr);
+  };
+  for (const cl::Buffer* buffer : {&nodes_, &leaf_triangles_, &triangle_corners_, &triangle_vertices_, &vertex_normals_,
+                                   &triangle_masks_, &masked_triangles_, &mask_textures_, &mask_texels_})
+    set_buffer(*buffer);
+  kernel.setArg(index++, bounds_lo_);
+  kernel.setArg(index++, bounds_hi_);
+  return index;
 }
 
 std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute,

@@ -13,8 +13,8 @@
 namespace mbao {
 
 // A scene's kd-tree and triangles in device memory, in the order the kernels'
-// MBAO_SCENE_PARAMS expect. Vertex normals are uploaded only when the
-// render uses them.
+// MBAO_SCENE_PARAMS expect. Vertex normals are uploaded only when the render
+// uses them, alpha masks only when the scene has them.
 class DeviceScene {
  public:
   DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
@@ -29,6 +29,7 @@ class DeviceScene {
   cl::Buffer upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data);
 
   cl::Buffer nodes_, leaf_triangles_, triangle_corners_, triangle_vertices_, vertex_normals_;
+  cl::Buffer triangle_masks_, masked_triangles_, mask_textures_, mask_texels_;
   cl_float4 bounds_lo_{}, bounds_hi_{};
   std::size_t bytes_ = 0;
 };

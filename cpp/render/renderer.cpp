@@ -16,8 +16,10 @@ namespace {
 constexpr std::size_t kMaxTileCameraSamples = std::size_t(1) << 20;
 constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 27;
 
-std::string program_options(Traversal traversal) {
-  return "-DMBAO_TRAVERSAL=" + std::to_string(traversal == Traversal::PushDown ? 1 : 0);
+// Kernels are specialized for what a scene and the settings need.
+std::string program_options(Traversal traversal, const Scene& scene) {
+  return "-DMBAO_TRAVERSAL=" + std::to_string(traversal == Traversal::PushDown ? 1 : 0) +
+         " -DMBAO_ALPHA_MASKS=" + std::to_string(scene.masks().empty() ? 0 : 1);
 }
 
 std::size_t tile_pixels_for(const RenderSettings& s, std::size_t pixels) {
@@ -59,7 +61,7 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, with_normals);
   stats.upload_ms = upload_clock.elapsed_ms();
 
-  const BuiltProgram built = compute_.programs().get("render.cl", program_options(settings.traversal));
+  const BuiltProgram built = compute_.programs().get("render.cl", program_options(settings.traversal, *scene));
   stats.kernel_build_ms = built.build_ms;
   stats.kernel_cache_hit = built.cache_hit;
 
@@ -107,7 +109,7 @@ std::vector<RayHit> Renderer::trace(const std::shared_ptr<const Scene>& scene, c
   if (origins.empty()) return hits;
   std::lock_guard<std::mutex> lock(mutex_);
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
-  const BuiltProgram built = compute_.programs().get("trace.cl", program_options(traversal));
+  const BuiltProgram built = compute_.programs().get("trace.cl", program_options(traversal, *scene));
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {
     const cl::Context& context = compute_.context();

@@ -15,193 +15,11 @@
 #include <set>
 
 #include "core/error.h"
+#include "scene/gltf_accessor_reader.h"
+#include "scene/gltf_alpha_masks.h"
 
 namespace mbao {
 namespace {
-
-// Images carry nothing AO needs: leave them undecoded.
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                void*) {
-  return true;
-}
-
-std::size_t component_size(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return 2;
-    case TINYGLTF_COMPONENT_TYPE_INT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return 4;
-    default:
-      return 0;
-  }
-}
-
-std::string component_name(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE: return "BYTE";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return "UNSIGNED_BYTE";
-    case TINYGLTF_COMPONENT_TYPE_SHORT: return "SHORT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return "UNSIGNED_SHORT";
-    case TINYGLTF_COMPONENT_TYPE_INT: return "INT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return "UNSIGNED_INT";
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
-    default: return "component type " + std::to_string(component_type);
-  }
-}
-
-// Reads the elements of one accessor, bounds-checked, sparse substitution
-// applied. Every element comes out as `components` values of type T.
-class AccessorReader {
- public:
-  AccessorReader(const tinygltf::Model& model, std::string path) : model_(model), path_(std::move(path)) {}
-
-  std::vector<float> floats(int index, int type, const std::string& role) const {
-    const tinygltf::Accessor& accessor = get(index, role);
-    expect_type(accessor, index, type, role);
-    if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-      fail(index, role, "has " + component_name(accessor.componentType) + " components; only FLOAT is supported");
-    return read<float>(accessor, index, role);
-  }
-
-  std::vector<std::uint32_t> indices(int index, const std::string& role) const {
-    const tinygltf::Accessor& accessor = get(index, role);
-    expect_type(accessor, index, TINYGLTF_TYPE_SCALAR, role);
-    switch (accessor.componentType) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-        return read<std::uint32_t>(accessor, index, role);
-      default:
-        fail(index, role,
-             "has " + component_name(accessor.componentType) +
-                 " components; indices must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
-    }
-  }
-
-  std::size_t count(int index, const std::string& role) const { return get(index, role).count; }
-
- private:
-  [[noreturn]] void fail(int index, const std::string& role, const std::string& problem) const {
-    throw LoadError(path_ + ": accessor " + std::to_string(index) + " (" + role + ") " + problem);
-  }
-
-  const tinygltf::Accessor& get(int index, const std::string& role) const {
-    if (index < 0 || std::size_t(index) >= model_.accessors.size())
-      throw LoadError(path_ + ": " + role + " refers to accessor " + std::to_string(index) + ", but the file has " +
-                      std::to_string(model_.accessors.size()));
-    return model_.accessors[std::size_t(index)];
-  }
-
-  void expect_type(const tinygltf::Accessor& accessor, int index, int type, const std::string& role) const {
-    if (accessor.type != type)
-      fail(index, role, "has " + std::to_string(tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type))) +
-                            " components per element, expected " +
-                            std::to_string(tinygltf::GetNumComponentsInType(std::uint32_t(type))));
-  }
-
-  // The bytes [offset, offset + stride * (count - 1) + element) of a buffer
-  // view, checked against the view and its buffer.
-  const unsigned char* view_bytes(int view_index, std::size_t offset, std::size_t stride, std::size_t count,
-                                  std::size_t element, int accessor_index, const std::string& role) const {
-    if (view_index < 0 || std::size_t(view_index) >= model_.bufferViews.size())
-      fail(accessor_index, role, "refers to bufferView " + std::to_string(view_index) + ", which does not exist");
-    const tinygltf::BufferView& view = model_.bufferViews[std::size_t(view_index)];
-    if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size())
-      fail(accessor_index, role, "uses bufferView " + std::to_string(view_index) + " of missing buffer " +
-                                     std::to_string(view.buffer));
-    const std::vector<unsigned char>& buffer = model_.buffers[std::size_t(view.buffer)].data;
-    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
-      fail(accessor_index, role, "uses bufferView " + std::to_string(view_index) + ", which runs past the end of buffer " +
-                                     std::to_string(view.buffer));
-    const std::size_t max = std::numeric_limits<std::size_t>::max();
-    const bool overflows = count > 0 && (count - 1 > (max - element) / std::max<std::size_t>(stride, 1));
-    const std::size_t span = count == 0 ? 0 : (count - 1) * stride + element;
-    if (overflows || offset > view.byteLength || span > view.byteLength - offset)
-      fail(accessor_index, role, "declares " + std::to_string(count) + " elements, more than bufferView " +
-                                     std::to_string(view_index) + " holds");
-    return buffer.data() + view.byteOffset + offset;
-  }
-
-  template <typename T>
-  static T component(const unsigned char* p, int component_type) {
-    switch (component_type) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return T(*p);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        std::uint16_t v;
-        std::memcpy(&v, p, 2);
-        return T(v);
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-        std::uint32_t v;
-        std::memcpy(&v, p, 4);
-        return T(v);
-      }
-      default: {
-        float v;
-        std::memcpy(&v, p, 4);
-        return T(v);
-      }
-    }
-  }
-
-  template <typename T>
-  std::vector<T> read(const tinygltf::Accessor& accessor, int index, const std::string& role) const {
-    const std::size_t components = std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type)));
-    const std::size_t size = component_size(accessor.componentType);
-    const std::size_t element = components * size;
-    std::vector<T> values(accessor.count * components, T(0));  // a missing bufferView means zeros
-    if (accessor.bufferView >= 0) {
-      if (std::size_t(accessor.bufferView) >= model_.bufferViews.size())
-        fail(index, role, "refers to bufferView " + std::to_string(accessor.bufferView) + ", which does not exist");
-      const tinygltf::BufferView& view = model_.bufferViews[std::size_t(accessor.bufferView)];
-      const std::size_t stride = view.byteStride ? view.byteStride : element;
-      const unsigned char* bytes =
-          view_bytes(accessor.bufferView, accessor.byteOffset, stride, accessor.count, element, index, role);
-      for (std::size_t i = 0; i < accessor.count; ++i)
-        for (std::size_t c = 0; c < components; ++c)
-          values[i * components + c] = component<T>(bytes + i * stride + c * size, accessor.componentType);
-    }
-    if (accessor.sparse.isSparse) apply_sparse(accessor, index, role, components, values);
-    return values;
-  }
-
-  template <typename T>
-  void apply_sparse(const tinygltf::Accessor& accessor, int index, const std::string& role, std::size_t components,
-                    std::vector<T>& values) const {
-    const auto& sparse = accessor.sparse;
-    const std::size_t n = std::size_t(std::max(sparse.count, 0));
-    const int index_type = sparse.indices.componentType;
-    const std::size_t index_size = component_size(index_type);
-    if (index_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && index_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-        index_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-      fail(index, role,
-           "has sparse indices of " + component_name(index_type) +
-               "; they must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
-    const std::size_t value_size = components * component_size(accessor.componentType);
-    const unsigned char* where = view_bytes(sparse.indices.bufferView, std::size_t(sparse.indices.byteOffset),
-                                            index_size, n, index_size, index, role + ", sparse indices");
-    const unsigned char* what = view_bytes(sparse.values.bufferView, std::size_t(sparse.values.byteOffset),
-                                           value_size, n, value_size, index, role + ", sparse values");
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t target = component<std::uint32_t>(where + i * index_size, index_type);
-      if (target >= accessor.count)
-        fail(index, role, "has sparse index " + std::to_string(target) + " past its " +
-                              std::to_string(accessor.count) + " elements");
-      for (std::size_t c = 0; c < components; ++c)
-        values[target * components + c] =
-            component<T>(what + i * value_size + c * component_size(accessor.componentType), accessor.componentType);
-    }
-  }
-
-  const tinygltf::Model& model_;
-  std::string path_;
-};
 
 glm::dmat4 local_transform(const tinygltf::Node& node) {
   if (node.matrix.size() == 16) return glm::make_mat4(node.matrix.data());
@@ -215,8 +33,9 @@ glm::dmat4 local_transform(const tinygltf::Node& node) {
 
 class SceneAssembler {
  public:
-  SceneAssembler(const tinygltf::Model& model, std::string path, const std::string& parser_warnings)
-      : model_(model), path_(std::move(path)), accessors_(model, path_) {
+  SceneAssembler(const tinygltf::Model& model, std::string path, const LoadOptions& options,
+                 const std::string& parser_warnings)
+      : model_(model), path_(std::move(path)), options_(options), accessors_(model, path_), masks_(model, accessors_, path_) {
     if (!parser_warnings.empty()) warnings_.push_back(path_ + ": " + parser_warnings);
   }
 
@@ -225,7 +44,7 @@ class SceneAssembler {
     for (int root : model_.scenes[std::size_t(scene_index)].nodes) visit(root, glm::dmat4(1.0), "scene");
     if (mesh_.triangles.empty())
       throw LoadError(path_ + ": the default scene has no triangles");
-    return std::make_shared<Scene>(std::move(mesh_), path_, camera_, std::move(warnings_));
+    return std::make_shared<Scene>(std::move(mesh_), path_, camera_, std::move(warnings_), masks_.take());
   }
 
  private:
@@ -291,23 +110,12 @@ class SceneAssembler {
       warnings_.push_back(path_ + ": " + what + " skipped: it has no POSITION attribute");
       return;
     }
+    const GltfAlphaMasks::Material material = masks_.material(primitive.material);
+    if (material.coverage == GltfAlphaMasks::Coverage::Transparent) return;  // cut away everywhere: no triangles
+
     const std::vector<float> positions = accessors_.floats(position->second, TINYGLTF_TYPE_VEC3, what + " POSITION");
     const std::size_t vertex_count = positions.size() / 3;
-    std::vector<std::uint32_t> indices;
-    if (primitive.indices >= 0) {
-      indices = accessors_.indices(primitive.indices, what + " indices");
-    } else {
-      indices.resize(vertex_count);
-      for (std::size_t i = 0; i < vertex_count; ++i) indices[i] = std::uint32_t(i);
-    }
-    if (indices.size() % 3 != 0)
-      throw LoadError(path_ + ": " + what + " has " + std::to_string(indices.size()) +
-                      " indices, not a multiple of 3");
-    for (std::uint32_t i : indices)
-      if (i >= vertex_count)
-        throw LoadError(path_ + ": " + what + " uses vertex " + std::to_string(i) + ", but POSITION has only " +
-                        std::to_string(vertex_count));
-
+    const std::vector<std::uint32_t> indices = triangle_indices(primitive, vertex_count, what);
     const auto base = std::uint32_t(mesh_.positions.size());
     for (std::size_t v = 0; v < vertex_count; ++v) {
       const glm::vec3 p(world * glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0));
@@ -318,7 +126,43 @@ class SceneAssembler {
     }
     for (std::size_t t = 0; t < indices.size(); t += 3)
       mesh_.triangles.push_back({base + indices[t], base + indices[t + 1], base + indices[t + 2]});
-    add_normals(primitive, world, what, vertex_count);
+    if (options_.normals) add_normals(primitive, world, what, vertex_count);
+    if (material.coverage == GltfAlphaMasks::Coverage::Masked)
+      masks_.add_masked(indices, texcoords(primitive, material.texcoord_set, vertex_count, what), material.texture);
+    else
+      masks_.add_opaque(indices.size() / 3);
+  }
+
+  // The primitive's triangles as vertex indices, checked against its vertex count.
+  std::vector<std::uint32_t> triangle_indices(const tinygltf::Primitive& primitive, std::size_t vertex_count,
+                                              const std::string& what) const {
+    std::vector<std::uint32_t> indices;
+    if (primitive.indices >= 0) {
+      indices = accessors_.indices(primitive.indices, what + " indices");
+    } else {
+      indices.resize(vertex_count);
+      for (std::size_t i = 0; i < vertex_count; ++i) indices[i] = std::uint32_t(i);
+    }
+    if (indices.size() % 3 != 0)
+      throw LoadError(path_ + ": " + what + " has " + std::to_string(indices.size()) + " indices, not a multiple of 3");
+    for (std::uint32_t i : indices)
+      if (i >= vertex_count)
+        throw LoadError(path_ + ": " + what + " uses vertex " + std::to_string(i) + ", but POSITION has only " +
+                        std::to_string(vertex_count));
+    return indices;
+  }
+
+  std::vector<float> texcoords(const tinygltf::Primitive& primitive, int set, std::size_t vertex_count,
+                               const std::string& what) const {
+    const std::string name = "TEXCOORD_" + std::to_string(set);
+    const auto attribute = primitive.attributes.find(name);
+    if (attribute == primitive.attributes.end())
+      throw LoadError(path_ + ": " + what + " has an alpha-masked material but no " + name + " attribute");
+    std::vector<float> uv = accessors_.texcoords(attribute->second, what + " " + name);
+    if (uv.size() / 2 != vertex_count)
+      throw LoadError(path_ + ": " + what + " has " + std::to_string(uv.size() / 2) + " " + name + " values for " +
+                      std::to_string(vertex_count) + " positions");
+    return uv;
   }
 
   // Normals are kept per vertex; vertices of primitives without normals get
@@ -345,7 +189,9 @@ class SceneAssembler {
 
   const tinygltf::Model& model_;
   std::string path_;
+  LoadOptions options_;
   AccessorReader accessors_;
+  GltfAlphaMasks masks_;
   TriangleMesh mesh_;
   std::optional<Camera> camera_;
   std::vector<std::string> warnings_;
@@ -361,16 +207,17 @@ bool has_glb_magic(const std::string& path) {
 
 }  // namespace
 
-std::shared_ptr<Scene> load_gltf(const std::string& path) {
+std::shared_ptr<Scene> load_gltf(const std::string& path, const LoadOptions& options) {
   if (!std::ifstream(path, std::ios::binary)) throw LoadError(path + ": cannot open file");
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(skip_image, nullptr);
+  // Images are not decoded here; GltfAlphaMasks decodes the alpha of the few that masks use.
+  loader.SetImageLoader(keep_data_uri_images, nullptr);
   tinygltf::Model model;
   std::string error, warning;
   const bool ok = has_glb_magic(path) ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
                                       : loader.LoadASCIIFromFile(&model, &error, &warning, path);
   if (!ok) throw LoadError(path + ": not a readable glTF 2.0 file: " + (error.empty() ? "unknown error" : error));
-  return SceneAssembler(model, path, warning).assemble();
+  return SceneAssembler(model, path, options, warning).assemble();
 }
 
 }  // namespace mbao

@@ -7,9 +7,15 @@
 
 namespace mbao {
 
+struct LoadOptions {
+  bool normals = true;  // read vertex normals (what normals="shading" uses)
+};
+
 // Loads a glTF 2.0 file (.gltf or .glb) per SPEC 3.2: every triangle mesh of
-// the default scene in world space, vertex normals where present, and the
-// first perspective camera. Throws LoadError naming the file and the element.
-std::shared_ptr<Scene> load_gltf(const std::string& path);
+// the default scene in world space, vertex normals where present, the alpha
+// masks of MASK materials and the first perspective camera. Nothing else is
+// read: no other attribute, and no image but the alpha of mask textures.
+// Throws LoadError naming the file and the element.
+std::shared_ptr<Scene> load_gltf(const std::string& path, const LoadOptions& options = {});
 
 }  // namespace mbao

@@ -9,23 +9,25 @@
 #include <vector>
 
 #include "accel/kd_tree.h"
+#include "scene/alpha_masks.h"
 #include "scene/camera.h"
 #include "scene/triangle_mesh.h"
 
 namespace mbao {
 
-// Geometry ready to render: the mesh, the camera it came with (if any) and its
-// kd-tree, built on first use and kept for every later render.
+// Geometry ready to render: the mesh, its alpha masks, the camera it came with
+// (if any) and its kd-tree, built on first use and kept for every later render.
 class Scene {
  public:
-  // Throws std::invalid_argument (naming `name`) for a mesh that cannot be rendered.
+  // Throws std::invalid_argument (naming `name`) for a mesh or masks that cannot be rendered.
   Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera = std::nullopt,
-        std::vector<std::string> warnings = {});
+        std::vector<std::string> warnings = {}, AlphaMasks masks = {});
   virtual ~Scene() = default;
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
 
   const TriangleMesh& mesh() const { return mesh_; }
+  const AlphaMasks& masks() const { return masks_; }
   const Bounds3& bounds() const { return bounds_; }
   const std::string& name() const { return name_; }
   const std::optional<Camera>& camera() const { return camera_; }
@@ -42,6 +44,7 @@ class Scene {
 
  private:
   TriangleMesh mesh_;
+  AlphaMasks masks_;
   Bounds3 bounds_;
   std::string name_;
   std::optional<Camera> camera_;

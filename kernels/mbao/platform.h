@@ -6,14 +6,21 @@
 
 #ifdef __OPENCL_VERSION__
 #define MBAO_FN static inline
+#define MBAO_GLOBAL __global
 typedef uint mbao_u32;
+typedef uchar mbao_u8;
 #define mbao_float_as_u32(x) as_uint(x)
 #define mbao_u32_as_float(x) as_float(x)
+#define mbao_floor(x) floor(x)
 #else
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #define MBAO_FN inline
+#define MBAO_GLOBAL
 typedef std::uint32_t mbao_u32;
+typedef std::uint8_t mbao_u8;
+inline float mbao_floor(float x) { return std::floor(x); }
 inline mbao_u32 mbao_float_as_u32(float x) {
   mbao_u32 u;
   std::memcpy(&u, &x, sizeof u);

@@ -1,0 +1,142 @@
+#include "scene/gltf_alpha_masks.h"
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "core/error.h"
+#include "scene/image_alpha.h"
+
+namespace mbao {
+namespace {
+
+std::uint32_t wrap_mode(int gltf_wrap) {
+  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return MBAO_WRAP_CLAMP_TO_EDGE;
+  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return MBAO_WRAP_MIRRORED_REPEAT;
+  return MBAO_WRAP_REPEAT;
+}
+
+// A URI's %XX escapes decoded (glTF URIs are percent-encoded).
+std::string percent_decoded(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+bool keep_data_uri_images(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                          const unsigned char* bytes, int size, void*) {
+  if (image->bufferView < 0 && image->uri.empty()) image->image.assign(bytes, bytes + size);
+  return true;
+}
+
+GltfAlphaMasks::GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path)
+    : model_(model), accessors_(accessors), path_(std::move(path)) {}
+
+GltfAlphaMasks::Material GltfAlphaMasks::material(int index) {
+  const auto found = materials_.find(index);
+  if (found != materials_.end()) return found->second;
+  return materials_[index] = resolve(index);
+}
+
+GltfAlphaMasks::Material GltfAlphaMasks::resolve(int index) {
+  if (index < 0) return {};
+  if (std::size_t(index) >= model_.materials.size())
+    throw LoadError(path_ + ": material " + std::to_string(index) + " does not exist");
+  const tinygltf::Material& m = model_.materials[std::size_t(index)];
+  if (m.alphaMode != "MASK") return {};
+  const std::string what = "material " + std::to_string(index);
+  const auto& base = m.pbrMetallicRoughness;
+  const float factor = base.baseColorFactor.size() == 4 ? float(base.baseColorFactor[3]) : 1.0f;
+  const float cutoff = float(m.alphaCutoff);
+  const auto constant = [&](float alpha) {
+    Material constant_material;
+    constant_material.coverage = alpha < cutoff ? Coverage::Transparent : Coverage::Opaque;
+    return constant_material;
+  };
+  if (base.baseColorTexture.index < 0) return constant(factor);
+  Material material;
+  material.coverage = Coverage::Masked;
+  material.texcoord_set = base.baseColorTexture.texCoord;
+  material.texture = mask_texture(base.baseColorTexture.index, factor, cutoff, what);
+  if (material.texture == MBAO_NOT_MASKED) return constant(factor);  // an image without alpha
+  return material;
+}
+
+std::uint32_t GltfAlphaMasks::mask_texture(int texture_index, float alpha_factor, float cutoff,
+                                           const std::string& what) {
+  if (std::size_t(texture_index) >= model_.textures.size())
+    throw LoadError(path_ + ": " + what + " uses texture " + std::to_string(texture_index) + ", which does not exist");
+  const tinygltf::Texture& texture = model_.textures[std::size_t(texture_index)];
+  const std::string texture_name = "texture " + std::to_string(texture_index);
+  if (texture.source < 0 || std::size_t(texture.source) >= model_.images.size())
+    throw LoadError(path_ + ": " + texture_name + " has no image (source " + std::to_string(texture.source) + ")");
+  std::uint32_t wrap = MBAO_WRAP_REPEAT | (MBAO_WRAP_REPEAT << 2);
+  if (texture.sampler >= 0) {
+    if (std::size_t(texture.sampler) >= model_.samplers.size())
+      throw LoadError(path_ + ": " + texture_name + " uses sampler " + std::to_string(texture.sampler) +
+                      ", which does not exist");
+    const tinygltf::Sampler& sampler = model_.samplers[std::size_t(texture.sampler)];
+    wrap = wrap_mode(sampler.wrapS) | (wrap_mode(sampler.wrapT) << 2);
+  }
+  const auto key = std::make_tuple(texture.source, wrap, alpha_factor, cutoff);
+  if (const auto found = textures_.find(key); found != textures_.end()) return found->second;
+
+  const std::string image_name = "image " + std::to_string(texture.source);
+  const std::vector<unsigned char> encoded = encoded_image(texture.source, image_name);
+  const AlphaImage image = decode_alpha(encoded.data(), encoded.size(), path_ + ": " + image_name);
+  if (!image.has_alpha) return textures_[key] = MBAO_NOT_MASKED;
+  MaskTexture mask{};
+  mask.first_texel = std::uint32_t(masks_.texels.size());
+  mask.width = std::uint32_t(image.width);
+  mask.height = std::uint32_t(image.height);
+  mask.wrap = wrap;
+  mask.alpha_factor = alpha_factor;
+  mask.cutoff = cutoff;
+  masks_.texels.insert(masks_.texels.end(), image.alpha.begin(), image.alpha.end());
+  masks_.textures.push_back(mask);
+  return textures_[key] = std::uint32_t(masks_.textures.size() - 1);
+}
+
+std::vector<unsigned char> GltfAlphaMasks::encoded_image(int image_index, const std::string& what) const {
+  const tinygltf::Image& image = model_.images[std::size_t(image_index)];
+  if (image.bufferView >= 0) return accessors_.view_bytes(image.bufferView, what);
+  if (image.uri.empty()) return image.image;  // a data URI, kept by keep_data_uri_images
+  const std::filesystem::path file = std::filesystem::path(path_).parent_path() / percent_decoded(image.uri);
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw LoadError(path_ + ": " + what + ": cannot read " + file.string());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void GltfAlphaMasks::add_opaque(std::size_t count) {
+  triangles_ += count;
+  if (!masks_.triangle_mask.empty()) masks_.triangle_mask.resize(triangles_, MBAO_NOT_MASKED);
+}
+
+void GltfAlphaMasks::add_masked(const std::vector<std::uint32_t>& indices, const std::vector<float>& uv,
+                                std::uint32_t texture) {
+  masks_.triangle_mask.resize(triangles_, MBAO_NOT_MASKED);
+  for (std::size_t t = 0; t < indices.size(); t += 3) {
+    MaskedTriangle triangle{};
+    for (int k = 0; k < 3; ++k) {
+      triangle.uv[2 * k] = uv[2 * std::size_t(indices[t + std::size_t(k)])];
+      triangle.uv[2 * k + 1] = uv[2 * std::size_t(indices[t + std::size_t(k)]) + 1];
+    }
+    triangle.texture = texture;
+    masks_.triangle_mask.push_back(std::uint32_t(masks_.triangles.size()));
+    masks_.triangles.push_back(triangle);
+  }
+  triangles_ += indices.size() / 3;
+}
+
+}  // namespace mbao

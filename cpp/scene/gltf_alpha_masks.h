@@ -1,0 +1,62 @@
+#pragma once
+
+#include <tiny_gltf.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "scene/alpha_masks.h"
+#include "scene/gltf_accessor_reader.h"
+
+namespace mbao {
+
+// Turns a glTF file's MASK materials into AlphaMasks (SPEC 3.2), decoding
+// only the images those materials use, and only their alpha.
+class GltfAlphaMasks {
+ public:
+  enum class Coverage { Opaque, Transparent, Masked };
+  struct Material {
+    Coverage coverage = Coverage::Opaque;
+    std::uint32_t texture = 0;  // with Masked: the MaskTexture
+    int texcoord_set = 0;       // with Masked: n of the TEXCOORD_n attribute
+  };
+
+  GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path);
+
+  // What material `index` (-1: none) means for AO: everything but a MASK
+  // material with an alpha texture, or with a constant alpha below the cutoff, is opaque.
+  Material material(int index);
+
+  // The next `count` triangles of the scene are opaque.
+  void add_opaque(std::size_t count);
+  // The next triangles are masked: their corners are `indices` into `uv`
+  // (2 floats per vertex), sampled from `texture`.
+  void add_masked(const std::vector<std::uint32_t>& indices, const std::vector<float>& uv, std::uint32_t texture);
+
+  AlphaMasks take() { return std::move(masks_); }
+
+ private:
+  Material resolve(int index);
+  std::uint32_t mask_texture(int texture_index, float alpha_factor, float cutoff, const std::string& what);
+  std::vector<unsigned char> encoded_image(int image_index, const std::string& what) const;
+
+  const tinygltf::Model& model_;
+  const AccessorReader& accessors_;
+  std::string path_;
+  AlphaMasks masks_;
+  std::size_t triangles_ = 0;
+  std::map<int, Material> materials_;
+  // (image, wrap, alpha factor, cutoff) -> MaskTexture, so an image decodes once per use.
+  std::map<std::tuple<int, std::uint32_t, float, float>, std::uint32_t> textures_;
+};
+
+// Keeps the encoded bytes of images embedded as data URIs (tinygltf decodes
+// the URI but keeps only what this returns); others are left unread or
+// undecoded. Install with TinyGLTF::SetImageLoader.
+bool keep_data_uri_images(tinygltf::Image* image, const int index, std::string* error, std::string* warning,
+                          int width, int height, const unsigned char* bytes, int size, void* user_data);
+
+}  // namespace mbao

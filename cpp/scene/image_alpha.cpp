@@ -1,0 +1,51 @@
+#include "scene/image_alpha.h"
+
+#include <stb/stb_image.h>
+
+#include <climits>
+#include <memory>
+
+#include "core/error.h"
+
+namespace mbao {
+namespace {
+
+struct StbFree {
+  void operator()(void* pixels) const { stbi_image_free(pixels); }
+};
+
+// Every `channels`-th value starting at the last channel, rescaled to 8 bits.
+template <typename T>
+std::vector<std::uint8_t> last_channel(const T* pixels, std::size_t texels, int channels, unsigned max) {
+  std::vector<std::uint8_t> alpha(texels);
+  for (std::size_t i = 0; i < texels; ++i)
+    alpha[i] = std::uint8_t((unsigned(pixels[i * std::size_t(channels) + std::size_t(channels - 1)]) * 255u + max / 2) / max);
+  return alpha;
+}
+
+}  // namespace
+
+AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std::string& what) {
+  if (size == 0 || size > std::size_t(INT_MAX)) throw LoadError(what + ": image data is empty or too large");
+  const int length = int(size);
+  AlphaImage image;
+  int channels = 0;
+  if (!stbi_info_from_memory(bytes, length, &image.width, &image.height, &channels))
+    throw LoadError(what + ": cannot decode the image (" + stbi_failure_reason() + ")");
+  image.has_alpha = channels == 2 || channels == 4;
+  if (!image.has_alpha) return image;  // alpha 1 everywhere: no texels needed
+  const std::size_t texels = std::size_t(image.width) * std::size_t(image.height);
+  int w = 0, h = 0;
+  if (stbi_is_16_bit_from_memory(bytes, length)) {
+    std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(bytes, length, &w, &h, &channels, 0));
+    if (!pixels) throw LoadError(what + ": cannot decode the image (" + stbi_failure_reason() + ")");
+    image.alpha = last_channel(pixels.get(), texels, channels, 65535u);
+  } else {
+    std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(bytes, length, &w, &h, &channels, 0));
+    if (!pixels) throw LoadError(what + ": cannot decode the image (" + stbi_failure_reason() + ")");
+    image.alpha = last_channel(pixels.get(), texels, channels, 255u);
+  }
+  return image;
+}
+
+}  // namespace mbao

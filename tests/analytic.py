@@ -1,0 +1,36 @@
+"""Closed-form answers and the statistics to compare estimates with them."""
+
+import math
+
+import numpy as np
+
+import mbao
+
+
+def polygon_occlusion(point, normal, polygon):
+    """The cosine-weighted fraction of the hemisphere a convex polygon covers,
+    seen from `point` (Lambert's formula for the form factor of a polygon)."""
+    v = np.asarray(polygon, float) - point
+    total = 0.0
+    for a, b in zip(v, np.roll(v, -1, axis=0)):
+        angle = math.acos(np.clip(np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1))
+        g = np.cross(a, b)
+        total += angle * np.dot(normal, g / np.linalg.norm(g))
+    return abs(total) / (2.0 * math.pi)
+
+
+def one_pixel_access(scene, eye, target, **settings):
+    """L at the point the camera ray through a 1x1 image meets (the pixel centre
+    looks straight at target)."""
+    camera = mbao.Camera(eye, target, up=(0, 1, 0), vfov_deg=10.0)
+    result = mbao.render(scene, camera=camera, width=1, height=1, **settings)
+    assert result.mask[0, 0]
+    return float(result.ao[0, 0]), result.stats
+
+
+def assert_within_standard_errors(estimate, expected, samples, k=4.0):
+    """A mean of `samples` Bernoulli(expected) outcomes lies within k standard errors."""
+    standard_error = math.sqrt(expected * (1.0 - expected) / samples)
+    assert abs(estimate - expected) <= k * standard_error, (
+        f"{estimate} is {abs(estimate - expected) / standard_error:.1f} standard errors from {expected}"
+    )
