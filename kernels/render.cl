@@ -2,6 +2,10 @@
 // item per pixel that runs the chosen estimator for each of its camera samples.
 #include "mbao/limits.h"
 #include "kd_traversal.h"
+
+#ifndef MBAO_UNLIMITED_DISTANCE
+#define MBAO_UNLIMITED_DISTANCE 0
+#endif
 #include "surface.h"
 #include "sampling.h"
 
@@ -38,6 +42,23 @@ typedef struct AoSettings {
   float max_distance;
   uint2 seed;
 } AoSettings;
+
+// The settings of a frame. Programs built for max_distance = inf have it as a
+// constant (MBAO_UNLIMITED_DISTANCE) and ignore the argument.
+static inline AoSettings ao_settings(uint bounces, uint samples, float rho, float max_distance,
+                                     uint2 seed) {
+  AoSettings s;
+  s.bounces = bounces;
+  s.samples = samples;
+  s.rho = rho;
+#if MBAO_UNLIMITED_DISTANCE
+  s.max_distance = INFINITY;
+#else
+  s.max_distance = max_distance;
+#endif
+  s.seed = seed;
+  return s;
+}
 
 #define MBAO_RAY_BLOCKED 0  // below the geometric surface: occluded, no bounce
 #define MBAO_RAY_ESCAPED 1  // nothing within max_distance
@@ -178,12 +199,7 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
     const uint pixel_index = get_global_id(0);                                                   \
     if (pixel_index >= pixel_count) return;                                                      \
     const SceneView scene = MBAO_SCENE_VIEW();                                                   \
-    AoSettings s;                                                                                \
-    s.bounces = bounces;                                                                         \
-    s.samples = samples;                                                                         \
-    s.rho = rho;                                                                                 \
-    s.max_distance = max_distance;                                                               \
-    s.seed = seed;                                                                               \
+    const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);                 \
     shade_pixel(&scene, estimator, eye, spp, &s, first_pixel, pixel_index, camera_hits, ao,      \
                 coverage, secondary_rays);                                                       \
   }

@@ -5,6 +5,11 @@
 
 #include "scene.h"
 
+// Compiled in only when the render uses shading normals and the scene has them.
+#ifndef MBAO_SHADING_NORMALS
+#define MBAO_SHADING_NORMALS 0
+#endif
+
 // How far a ray leaving a surface starts off it, in float steps of the
 // triangle's largest coordinate: far more than the rounding error with which a
 // ray/triangle test can place the ray's origin on the wrong side of that
@@ -36,7 +41,8 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
   s.geometric_normal = ng;
 
   s.shading_normal = ng;
-  if (scene->vertex_normals) {
+#if MBAO_SHADING_NORMALS
+  {
     const uint v = 3 * hit.triangle;
     const float3 n = b0 * scene->vertex_normals[scene->triangle_vertices[v]].xyz +
                      hit.b1 * scene->vertex_normals[scene->triangle_vertices[v + 1]].xyz +
@@ -48,6 +54,7 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
       s.shading_normal = dot(ns, ng) < 0.0f ? -ns : ns;
     }
   }
+#endif
   return s;
 }
 

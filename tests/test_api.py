@@ -26,7 +26,8 @@ STATS_KEYS = {
     "build_ms",
     "tree_reused",
     "kernel_build_ms",
-    "kernel_cache_hit",
+    "kernel_cache",
+    "kernel_options",
     "upload_ms",
     "frame_ms",
     "rays_primary",
@@ -96,7 +97,7 @@ def check_result(result, width, height, spp=1):
     assert isinstance(stats["rays_secondary"], int) and stats["rays_secondary"] >= 0
     assert isinstance(stats["memory_bytes"], int) and stats["memory_bytes"] > 0
     assert isinstance(stats["tiles"], int) and stats["tiles"] >= 1
-    assert isinstance(stats["tree_reused"], bool) and isinstance(stats["kernel_cache_hit"], bool)
+    assert isinstance(stats["tree_reused"], bool) and stats["kernel_cache"] in ("memory", "disk", "compiled")
     assert isinstance(stats["device"], str) and stats["device"]
 
 

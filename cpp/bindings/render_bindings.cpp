@@ -23,7 +23,8 @@ py::dict stats_dict(const RenderStats& s) {
   d["build_ms"] = s.build_ms;
   d["tree_reused"] = s.tree_reused;
   d["kernel_build_ms"] = s.kernel_build_ms;
-  d["kernel_cache_hit"] = s.kernel_cache_hit;
+  d["kernel_cache"] = s.kernel_cache;
+  d["kernel_options"] = s.kernel_options;
   d["upload_ms"] = s.upload_ms;
   d["frame_ms"] = s.frame_ms;
   d["rays_primary"] = s.rays_primary;

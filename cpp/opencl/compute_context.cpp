@@ -25,6 +25,6 @@ ComputeContext::ComputeContext(DeviceInfo device)
     : device_(std::move(device)),
       context_(make_context(device_)),
       queue_(make_queue(context_, device_)),
-      programs_(context_, device_.device) {}
+      programs_(context_, device_.device, ProgramBinaryStore(ProgramBinaryStore::default_directory())) {}
 
 }  // namespace mbao

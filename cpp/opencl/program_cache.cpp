@@ -5,18 +5,69 @@
 #include "opencl/kernel_sources.h"
 
 namespace mbao {
+namespace {
+
+std::string identity_of(const cl::Device& device) {
+  const cl::Platform platform(device.getInfo<CL_DEVICE_PLATFORM>());
+  return platform.getInfo<CL_PLATFORM_NAME>() + "\n" + platform.getInfo<CL_PLATFORM_VERSION>() + "\n" +
+         device.getInfo<CL_DEVICE_NAME>() + "\n" + device.getInfo<CL_DEVICE_VERSION>() + "\n" +
+         device.getInfo<CL_DRIVER_VERSION>();
+}
+
+}  // namespace
+
+std::string to_string(ProgramOrigin origin) {
+  switch (origin) {
+    case ProgramOrigin::Memory: return "memory";
+    case ProgramOrigin::Disk: return "disk";
+    default: return "compiled";
+  }
+}
+
+ProgramCache::ProgramCache(cl::Context context, cl::Device device, ProgramBinaryStore store)
+    : context_(std::move(context)), device_(std::move(device)), store_(std::move(store)), device_identity_(identity_of(device_)) {}
 
 BuiltProgram ProgramCache::get(const std::string& source_name, const std::string& options) {
   std::string source = kernel_program_source(source_name);
   std::lock_guard<std::mutex> lock(mutex_);
   auto key = std::make_pair(std::move(source), options);
-  if (const auto found = programs_.find(key); found != programs_.end()) return {found->second, 0.0, true};
+  if (const auto found = programs_.find(key); found != programs_.end())
+    return {found->second, 0.0, ProgramOrigin::Memory};
 
   Stopwatch clock;
-  cl::Program program;
+  const std::string disk_key = device_identity_ + "\n" + options + "\n" + key.first;
+  BuiltProgram built;
+  if (const auto binary = store_.load(disk_key)) {
+    built.program = from_binary(*binary, options);
+    built.origin = ProgramOrigin::Disk;
+  }
+  if (!built.program()) {  // nothing on disk, or a binary this driver no longer takes
+    built.program = compile(source_name, key.first, options);
+    built.origin = ProgramOrigin::Compiled;
+    const auto binaries = built.program.getInfo<CL_PROGRAM_BINARIES>();
+    if (!binaries.empty() && !binaries.front().empty()) store_.save(disk_key, binaries.front());
+  }
+  built.build_ms = clock.elapsed_ms();
+  programs_.emplace(std::move(key), built.program);
+  return built;
+}
+
+cl::Program ProgramCache::from_binary(const std::vector<unsigned char>& binary, const std::string& options) const {
   try {
-    program = cl::Program(context_, key.first);
+    cl::Program program(context_, {device_}, cl::Program::Binaries{binary});
     program.build(device_, options.c_str());
+    return program;
+  } catch (const cl::Error&) {
+    return {};
+  }
+}
+
+cl::Program ProgramCache::compile(const std::string& source_name, const std::string& source,
+                                  const std::string& options) const {
+  try {
+    cl::Program program(context_, source);
+    program.build(device_, options.c_str());
+    return program;
   } catch (const cl::BuildError& e) {
     std::string log;
     for (const auto& entry : e.getBuildLog()) log += entry.second;
@@ -24,9 +75,6 @@ BuiltProgram ProgramCache::get(const std::string& source_name, const std::string
   } catch (const cl::Error& e) {
     throw_device_error("building kernels/" + source_name, e);
   }
-  const double build_ms = clock.elapsed_ms();
-  programs_.emplace(std::move(key), program);
-  return {program, build_ms, false};
 }
 
 }  // namespace mbao

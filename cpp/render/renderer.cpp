@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "core/error.h"
@@ -16,10 +17,35 @@ namespace {
 constexpr std::size_t kMaxTileCameraSamples = std::size_t(1) << 20;
 constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 27;
 
-// Kernels are specialized for what a scene and the settings need.
-std::string program_options(Traversal traversal, const Scene& scene) {
-  return "-DMBAO_TRAVERSAL=" + std::to_string(traversal == Traversal::PushDown ? 1 : 0) +
-         " -DMBAO_ALPHA_MASKS=" + std::to_string(scene.masks().empty() ? 0 : 1);
+// What a program is built for: code that a scene or the settings do not need
+// is compiled out (no mask lookups without masks, no normals without shading
+// normals, no distance limit for max_distance = inf).
+struct ProgramFeatures {
+  Traversal traversal = Traversal::PushDown;
+  bool alpha_masks = false;
+  bool shading_normals = false;
+  bool unlimited_distance = true;
+
+  std::string options() const {
+    return "-DMBAO_TRAVERSAL=" + std::to_string(traversal == Traversal::PushDown ? 1 : 0) +
+           " -DMBAO_ALPHA_MASKS=" + std::to_string(int(alpha_masks)) +
+           " -DMBAO_SHADING_NORMALS=" + std::to_string(int(shading_normals)) +
+           " -DMBAO_UNLIMITED_DISTANCE=" + std::to_string(int(unlimited_distance));
+  }
+};
+
+ProgramFeatures features_for(const Scene& scene, Traversal traversal) {
+  ProgramFeatures features;
+  features.traversal = traversal;
+  features.alpha_masks = !scene.masks().empty();
+  return features;
+}
+
+ProgramFeatures features_for(const Scene& scene, const RenderSettings& settings) {
+  ProgramFeatures features = features_for(scene, settings.traversal);
+  features.shading_normals = settings.normals == NormalMode::Shading && scene.mesh().has_normals();
+  features.unlimited_distance = std::isinf(settings.max_distance);
+  return features;
 }
 
 std::size_t tile_pixels_for(const RenderSettings& s, std::size_t pixels) {
@@ -56,14 +82,15 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   stats.tree = scene->kd_tree()->stats;
   stats.build_ms = stats.tree.build_ms;
 
-  const bool with_normals = settings.normals == NormalMode::Shading && scene->mesh().has_normals();
+  const ProgramFeatures features = features_for(*scene, settings);
   Stopwatch upload_clock;
-  const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, with_normals);
+  const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, features.shading_normals);
   stats.upload_ms = upload_clock.elapsed_ms();
 
-  const BuiltProgram built = compute_.programs().get("render.cl", program_options(settings.traversal, *scene));
+  const BuiltProgram built = compute_.programs().get("render.cl", features.options());
   stats.kernel_build_ms = built.build_ms;
-  stats.kernel_cache_hit = built.cache_hit;
+  stats.kernel_cache = to_string(built.origin);
+  stats.kernel_options = features.options();
 
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
@@ -109,7 +136,7 @@ std::vector<RayHit> Renderer::trace(const std::shared_ptr<const Scene>& scene, c
   if (origins.empty()) return hits;
   std::lock_guard<std::mutex> lock(mutex_);
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
-  const BuiltProgram built = compute_.programs().get("trace.cl", program_options(traversal, *scene));
+  const BuiltProgram built = compute_.programs().get("trace.cl", features_for(*scene, traversal).options());
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {
     const cl::Context& context = compute_.context();

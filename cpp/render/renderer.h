@@ -19,8 +19,9 @@ namespace mbao {
 struct RenderStats {
   double build_ms = 0.0;         // kd-tree build (done once per scene; see tree_reused)
   bool tree_reused = false;      // the tree existed before this render
-  double kernel_build_ms = 0.0;  // program builds in this render; 0 when cached
-  bool kernel_cache_hit = false;
+  double kernel_build_ms = 0.0;  // getting the program (and, on first launch, its kernels) ready
+  std::string kernel_cache;      // where the program came from: "memory", "disk" or "compiled"
+  std::string kernel_options;    // what it was built for (SPEC features compiled in or out)
   double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
   double frame_ms = 0.0;         // camera rays, AO and read-back of the image
   std::uint64_t rays_primary = 0;

@@ -118,6 +118,11 @@ std::vector<unsigned char> GltfAlphaMasks::encoded_image(int image_index, const 
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+void GltfAlphaMasks::reserve(std::size_t masked, std::size_t triangles) {
+  masks_.triangles.reserve(masked);
+  expected_triangles_ = triangles;
+}
+
 void GltfAlphaMasks::add_opaque(std::size_t count) {
   triangles_ += count;
   if (!masks_.triangle_mask.empty()) masks_.triangle_mask.resize(triangles_, MBAO_NOT_MASKED);
@@ -125,6 +130,7 @@ void GltfAlphaMasks::add_opaque(std::size_t count) {
 
 void GltfAlphaMasks::add_masked(const std::vector<std::uint32_t>& indices, const std::vector<float>& uv,
                                 std::uint32_t texture) {
+  if (masks_.triangle_mask.empty()) masks_.triangle_mask.reserve(expected_triangles_);
   masks_.triangle_mask.resize(triangles_, MBAO_NOT_MASKED);
   for (std::size_t t = 0; t < indices.size(); t += 3) {
     MaskedTriangle triangle{};

@@ -30,6 +30,8 @@ class GltfAlphaMasks {
   // material with an alpha texture, or with a constant alpha below the cutoff, is opaque.
   Material material(int index);
 
+  // Room for the masks of `masked` of the scene's `triangles` triangles.
+  void reserve(std::size_t masked, std::size_t triangles);
   // The next `count` triangles of the scene are opaque.
   void add_opaque(std::size_t count);
   // The next triangles are masked: their corners are `indices` into `uv`
@@ -48,6 +50,7 @@ class GltfAlphaMasks {
   std::string path_;
   AlphaMasks masks_;
   std::size_t triangles_ = 0;
+  std::size_t expected_triangles_ = 0;
   std::map<int, Material> materials_;
   // (image, wrap, alpha factor, cutoff) -> MaskTexture, so an image decodes once per use.
   std::map<std::tuple<int, std::uint32_t, float, float>, std::uint32_t> textures_;

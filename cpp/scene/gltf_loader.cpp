@@ -42,6 +42,8 @@ class SceneAssembler {
   std::shared_ptr<Scene> assemble() {
     const int scene_index = pick_scene();
     for (int root : model_.scenes[std::size_t(scene_index)].nodes) visit(root, glm::dmat4(1.0), "scene");
+    reserve();
+    for (const Instance& instance : instances_) add_primitive(*instance.primitive, instance.world, instance.what);
     if (mesh_.triangles.empty())
       throw LoadError(path_ + ": the default scene has no triangles");
     return std::make_shared<Scene>(std::move(mesh_), path_, camera_, std::move(warnings_), masks_.take());
@@ -96,7 +98,32 @@ class SceneAssembler {
       throw LoadError(path_ + ": " + node + " refers to mesh " + std::to_string(index) + ", which does not exist");
     const tinygltf::Mesh& mesh = model_.meshes[std::size_t(index)];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p)
-      add_primitive(mesh.primitives[p], world, "mesh " + std::to_string(index) + " primitive " + std::to_string(p));
+      instances_.push_back({&mesh.primitives[p], world, "mesh " + std::to_string(index) + " primitive " + std::to_string(p)});
+  }
+
+  // Room for every instance's vertices and triangles up front, so the arrays
+  // are not copied as they grow. The accessors' declared counts are checked
+  // when read; here they only size the arrays, capped by what the buffers hold.
+  void reserve() {
+    std::size_t vertices = 0, indices = 0, buffer_bytes = 0;
+    for (const tinygltf::Buffer& buffer : model_.buffers) buffer_bytes += buffer.data.size();
+    const auto declared = [&](int accessor) {
+      return accessor >= 0 && std::size_t(accessor) < model_.accessors.size() ? model_.accessors[std::size_t(accessor)].count : 0;
+    };
+    std::size_t masked_indices = 0;
+    for (const Instance& instance : instances_) {
+      const auto position = instance.primitive->attributes.find("POSITION");
+      if (position == instance.primitive->attributes.end()) continue;
+      vertices += declared(position->second);
+      const std::size_t count =
+          instance.primitive->indices >= 0 ? declared(instance.primitive->indices) : declared(position->second);
+      indices += count;
+      if (masks_.material(instance.primitive->material).coverage == GltfAlphaMasks::Coverage::Masked)
+        masked_indices += count;
+    }
+    mesh_.positions.reserve(std::min(vertices, buffer_bytes / 12));
+    mesh_.triangles.reserve(std::min(indices / 3, buffer_bytes / 3));
+    masks_.reserve(std::min(masked_indices / 3, buffer_bytes / 3), std::min(indices / 3, buffer_bytes / 3));
   }
 
   void add_primitive(const tinygltf::Primitive& primitive, const glm::dmat4& world, const std::string& what) {
@@ -178,6 +205,7 @@ class SceneAssembler {
     if (normals.size() / 3 != vertex_count)
       throw LoadError(path_ + ": " + what + " has " + std::to_string(normals.size() / 3) + " normals for " +
                       std::to_string(vertex_count) + " positions");
+    if (!mesh_.has_normals()) mesh_.normals.reserve(mesh_.positions.capacity());
     mesh_.normals.resize(mesh_.positions.size() - vertex_count, glm::vec3(0.0f));
     const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));
     for (std::size_t v = 0; v < vertex_count; ++v) {
@@ -187,9 +215,17 @@ class SceneAssembler {
     }
   }
 
+  // A mesh primitive where the default scene places it.
+  struct Instance {
+    const tinygltf::Primitive* primitive;
+    glm::dmat4 world;
+    std::string what;  // "mesh M primitive P", for messages
+  };
+
   const tinygltf::Model& model_;
   std::string path_;
   LoadOptions options_;
+  std::vector<Instance> instances_;
   AccessorReader accessors_;
   GltfAlphaMasks masks_;
   TriangleMesh mesh_;

@@ -85,8 +85,7 @@ def _render(args):
         f"kd-tree      {tree['build_ms']:.1f} ms: {tree['nodes']} nodes, {tree['leaves']} leaves, "
         f"depth {tree['max_depth']}, {tree['mean_triangles_per_leaf']:.2f} triangles per leaf, SAH {tree['sah_cost']:.1f}"
     )
-    cache = "cached" if s["kernel_cache_hit"] else "built"
-    print(f"kernels      {s['kernel_build_ms']:.1f} ms ({cache})")
+    print(f"kernels      {s['kernel_build_ms']:.1f} ms ({s['kernel_cache']}: {s['kernel_options']})")
     print(f"frame        {s['frame_ms']:.1f} ms in {s['tiles']} tile(s)")
     print(
         f"rays         {s['rays_primary']} primary + {s['rays_secondary']} secondary = "

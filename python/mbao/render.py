@@ -20,8 +20,9 @@ class Result:
     ao: (height, width) float32, the b-bounce access (1 = open), row 0 at the top;
         pixels whose camera rays all missed are 1.
     mask: (height, width) bool, True where any camera sample hit geometry.
-    stats: build_ms, tree_reused, kernel_build_ms, kernel_cache_hit, upload_ms,
-        frame_ms, rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
+    stats: build_ms, tree_reused, kernel_build_ms, kernel_cache ("memory", "disk"
+        or "compiled"), kernel_options, upload_ms, frame_ms, rays_primary,
+        rays_secondary, memory_bytes, tiles, device, tree.
     """
 
     ao: np.ndarray

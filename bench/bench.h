@@ -1,0 +1,60 @@
+// The benchmark's parts. Each section measures one thing, prints a markdown
+// table and returns its figures as JSON for bench/results/.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace bench {
+
+using nlohmann::json;
+
+struct Options {
+  std::string scenes_dir;
+  std::string json_path;
+  std::string device;
+  int frames = 5;
+  mbao::RenderSettings settings;  // the Table 1 configuration, with --width/--height/--samples/--traversal
+  std::string self;               // this executable, for the measurements that need a fresh process
+  std::string command_line;
+};
+
+struct BenchScene {
+  std::string name;
+  std::shared_ptr<mbao::Scene> scene;
+  mbao::Camera camera;
+  std::filesystem::path file;  // empty for the built-in Cornell box
+  double load_ms = 0.0;
+};
+
+// The seed paper's Table 1: every scene, b = 1 and 2, max_distance inf and the scene's own.
+json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
+// The Cornell box with its kernels built without and with the alpha-mask path.
+json mask_overhead(mbao::Renderer& renderer, const Options& options);
+// Kernel build time in a fresh process: with empty caches, then with warm ones.
+json kernel_builds(const Options& options);
+// Load time and peak memory of each glTF scene: mbao's loader against loading everything.
+json loading(const std::vector<BenchScene>& scenes, const Options& options);
+
+// What the child processes run (mbao_bench --child-load / --child-build-kernels).
+int child_load(const std::string& path, bool everything);
+int child_build_kernels(const std::string& device);
+
+// Shared helpers.
+double median(std::vector<double> values);
+std::string fixed(double value, int digits);
+// Median frame over `frames` renders, after one untimed render that builds the
+// kernels and uploads the scene.
+json measure_frames(mbao::Renderer& renderer, const BenchScene& scene, const mbao::RenderSettings& settings,
+                    int frames);
+// Runs `command` in a shell and parses the last line it prints as JSON.
+json run_child(const std::string& command);
+std::string shell_quoted(const std::string& text);
+
+}  // namespace bench

@@ -1,0 +1,65 @@
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "bench.h"
+
+namespace bench {
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+std::string fixed(double value, int digits) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(digits) << value;
+  return out.str();
+}
+
+json measure_frames(mbao::Renderer& renderer, const BenchScene& scene, const mbao::RenderSettings& settings,
+                    int frames) {
+  renderer.render(scene.scene, scene.camera, settings);
+  std::vector<double> times;
+  mbao::RenderStats stats;
+  for (int f = 0; f < frames; ++f) {
+    const mbao::RenderResult result = renderer.render(scene.scene, scene.camera, settings);
+    times.push_back(result.stats.frame_ms);
+    stats = result.stats;
+  }
+  const double frame_ms = median(times);
+  const double rays = double(stats.rays_primary + stats.rays_secondary);
+  return {{"bounces", settings.bounces},
+          {"frame_ms", frame_ms},
+          {"frame_ms_all", times},
+          {"rays_primary", stats.rays_primary},
+          {"rays_secondary", stats.rays_secondary},
+          {"mrays_per_s", rays / frame_ms / 1e3},
+          {"memory_bytes", stats.memory_bytes},
+          {"kernel_options", stats.kernel_options}};
+}
+
+std::string shell_quoted(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+json run_child(const std::string& command) {
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) throw std::runtime_error("cannot run: " + command);
+  std::string output, last_line;
+  std::array<char, 4096> chunk;
+  while (std::fgets(chunk.data(), int(chunk.size()), pipe)) output += chunk.data();
+  if (pclose(pipe) != 0) throw std::runtime_error("failed: " + command + "\n" + output);
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty()) last_line = line;
+  return json::parse(last_line);
+}
+
+}  // namespace bench

@@ -1,0 +1,55 @@
+#include <cmath>
+#include <iostream>
+#include <limits>
+
+#include "bench.h"
+
+namespace bench {
+
+json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options) {
+  std::cout << "| scene | triangles | max_distance | build ms | b=1 ms | b=2 ms | b=1 Mrays/s | b=2 Mrays/s | device |\n"
+            << "|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
+  json rows = json::array();
+  for (const BenchScene& s : scenes) {
+    std::vector<float> radii = {std::numeric_limits<float>::infinity()};
+    if (s.camera.max_distance) radii.push_back(*s.camera.max_distance);
+    const mbao::KdTreeStats tree = s.scene->kd_tree()->stats;
+    for (float radius : radii) {
+      mbao::RenderSettings settings = options.settings;
+      settings.max_distance = radius;
+      json row = {{"scene", s.name},
+                  {"triangles", s.scene->mesh().triangles.size()},
+                  {"masked_triangles", s.scene->masks().triangles.size()},
+                  {"max_distance", std::isinf(radius) ? json("inf") : json(radius)},
+                  {"build_ms", tree.build_ms},
+                  {"tree",
+                   {{"nodes", tree.nodes},
+                    {"leaves", tree.leaves},
+                    {"empty_leaves", tree.empty_leaves},
+                    {"max_depth", tree.max_depth},
+                    {"mean_triangles_per_leaf", tree.mean_triangles_per_leaf},
+                    {"leaf_references", tree.leaf_references},
+                    {"sah_cost", tree.sah_cost},
+                    {"memory_bytes", tree.memory_bytes}}},
+                  {"frames", json::array()}};
+      for (int bounces : {1, 2}) {
+        settings.bounces = bounces;
+        row["frames"].push_back(measure_frames(renderer, s, settings, options.frames));
+      }
+      const json& b1 = row["frames"][0];
+      const json& b2 = row["frames"][1];
+      std::cout << "| " << s.name << " | " << s.scene->mesh().triangles.size() << " | "
+                << (std::isinf(radius) ? std::string("inf") : fixed(radius, 1)) << " | " << fixed(tree.build_ms, 1)
+                << " | " << fixed(b1["frame_ms"], 1) << " | " << fixed(b2["frame_ms"], 1) << " | "
+                << fixed(b1["mrays_per_s"], 1) << " | " << fixed(b2["mrays_per_s"], 1) << " | "
+                << renderer.device().name << " |" << std::endl;
+      rows.push_back(row);
+    }
+  }
+  std::cout << "\n" << options.settings.width << "x" << options.settings.height << ", r=" << options.settings.samples
+            << ", branching, rho=1, spp=1; frame = median of " << options.frames
+            << " (camera rays + AO + read-back); Mrays/s counts primary and secondary rays.\n\n";
+  return rows;
+}
+
+}  // namespace bench
