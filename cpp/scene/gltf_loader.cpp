@@ -144,8 +144,10 @@ class SceneAssembler {
     const std::size_t vertex_count = positions.size() / 3;
     const std::vector<std::uint32_t> indices = triangle_indices(primitive, vertex_count, what);
     const auto base = std::uint32_t(mesh_.positions.size());
+    const bool in_place = world == glm::dmat4(1.0);  // the usual case: no transform to apply
     for (std::size_t v = 0; v < vertex_count; ++v) {
-      const glm::vec3 p(world * glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0));
+      const glm::vec3 local(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+      const glm::vec3 p = in_place ? local : glm::vec3(world * glm::dvec4(local, 1.0));
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
         throw LoadError(path_ + ": " + what + " vertex " + std::to_string(v) +
                         " is not finite in world space (its POSITION or a node transform is not finite or too large)");

@@ -34,9 +34,8 @@ Scene::Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera, 
       camera_(std::move(camera)),
       warnings_(std::move(warnings)),
       id_(next_scene_id()) {
-  mesh_.validate(name_);
+  bounds_ = mesh_.checked_bounds(name_);
   validate_masks(masks_, mesh_.triangles.size(), name_);
-  bounds_ = mesh_.bounds();
 }
 
 Camera Scene::default_camera(float aspect) const { return camera_ ? *camera_ : Camera::framing(bounds_, aspect); }

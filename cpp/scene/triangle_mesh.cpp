@@ -17,23 +17,27 @@ Bounds3 TriangleMesh::bounds() const {
   return box;
 }
 
-void TriangleMesh::validate(const std::string& what) const {
+Bounds3 TriangleMesh::checked_bounds(const std::string& what) const {
   if (triangles.empty()) throw std::invalid_argument(what + " has no triangles");
   if (!normals.empty() && normals.size() != positions.size())
     throw std::invalid_argument(what + " has " + std::to_string(normals.size()) + " normals for " +
                                 std::to_string(positions.size()) + " vertices");
-  for (size_t i = 0; i < triangles.size(); ++i)
-    for (int k = 0; k < 3; ++k)
-      if (triangles[i][k] >= positions.size())
-        throw std::invalid_argument(what + ": triangle " + std::to_string(i) + " uses vertex " +
-                                    std::to_string(triangles[i][k]) + ", but there are only " +
-                                    std::to_string(positions.size()) + " vertices");
   for (size_t i = 0; i < positions.size(); ++i)
     if (!is_finite(positions[i]))
       throw std::invalid_argument(what + ": vertex " + std::to_string(i) + " is not finite");
   for (size_t i = 0; i < normals.size(); ++i)
     if (!is_finite(normals[i]))
       throw std::invalid_argument(what + ": normal " + std::to_string(i) + " is not finite");
+  Bounds3 box;
+  for (size_t i = 0; i < triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (triangles[i][k] >= positions.size())
+        throw std::invalid_argument(what + ": triangle " + std::to_string(i) + " uses vertex " +
+                                    std::to_string(triangles[i][k]) + ", but there are only " +
+                                    std::to_string(positions.size()) + " vertices");
+      box.extend(positions[triangles[i][k]]);
+    }
+  return box;
 }
 
 }  // namespace mbao

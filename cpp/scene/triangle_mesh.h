@@ -18,10 +18,10 @@ struct TriangleMesh {
   bool has_normals() const { return !normals.empty(); }
   // The box around the vertices the triangles use.
   Bounds3 bounds() const;
-  // Throws std::invalid_argument, naming `what` and the offending element, for
-  // a mesh the renderer cannot use: no triangles, an index out of range, a
-  // non-finite vertex position or normal, a normals array of the wrong length.
-  void validate(const std::string& what) const;
+  // bounds(), for a mesh the renderer can use; else throws std::invalid_argument
+  // naming `what` and the offending element: no triangles, an index out of
+  // range, a non-finite vertex position or normal, a normals array of the wrong length.
+  Bounds3 checked_bounds(const std::string& what) const;
 };
 
 }  // namespace mbao
