@@ -14,7 +14,7 @@
 __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
                                 float4 up, float2 film_scale, uint width, uint height, uint spp,
                                 uint2 seed, uint first_pixel, uint pixel_count,
-                                __global uint4* camera_hits) {
+                                __global uint4* camera_hits, __global ulong* traversal_totals) {
   const uint sample_index = get_global_id(0);
   if (sample_index >= pixel_count * spp) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -31,8 +31,12 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
   const float3 dir = normalize(forward.xyz + u * film_scale.x * right.xyz + v * film_scale.y * up.xyz);
 
   Hit hit;
-  trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit);
+  TraversalCounts counts = no_traversal_counts();
+  trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit, &counts);
   camera_hits[sample_index] = (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
+#if MBAO_COUNT_TRAVERSAL
+  add_traversal_counts(traversal_totals, &counts);
+#endif
 }
 
 typedef struct AoSettings {
@@ -68,14 +72,16 @@ static inline AoSettings ao_settings(uint bounces, uint samples, float rho, floa
 // only needed where the estimator bounces on; elsewhere any hit will do.
 static inline int cast_ao_ray(const SceneView* scene, const Surface* from, const AoSettings* s,
                               uint pixel, uint camera_sample, uint bounce, uint node,
-                              int need_hit_point, float3* dir, Hit* hit, uint* rays) {
+                              int need_hit_point, float3* dir, Hit* hit, uint* rays,
+                              TraversalCounts* counts) {
   const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s->seed);
   *dir = cosine_direction(from->shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
   if (dot(*dir, from->geometric_normal) <= 0.0f) return MBAO_RAY_BLOCKED;
   ++*rays;
   const float3 origin = offset_origin(from, *dir);
-  return trace_ray(scene, origin, *dir, s->max_distance, !need_hit_point, hit) ? MBAO_RAY_HIT
-                                                                              : MBAO_RAY_ESCAPED;
+  return trace_ray(scene, origin, *dir, s->max_distance, !need_hit_point, hit, counts)
+             ? MBAO_RAY_HIT
+             : MBAO_RAY_ESCAPED;
 }
 
 static inline int bounces_on(const AoSettings* s, uint bounce) {
@@ -88,7 +94,8 @@ static inline int bounces_on(const AoSettings* s, uint bounce) {
 // bounce and weighed once at the end: the sum of b + 1 bounces then starts
 // with the exact sum of b bounces, and L_b <= L_(b+1) holds sample by sample.
 static float branching_estimate(const SceneView* scene, const Surface* primary,
-                                const AoSettings* s, uint pixel, uint camera_sample, uint* rays) {
+                                const AoSettings* s, uint pixel, uint camera_sample, uint* rays,
+                                TraversalCounts* counts) {
   Surface surface[MBAO_MAX_BRANCHING_BOUNCES];
   uint next_child[MBAO_MAX_BRANCHING_BOUNCES];
   uint node[MBAO_MAX_BRANCHING_BOUNCES];
@@ -110,7 +117,7 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
     float3 dir;
     Hit hit;
     const int outcome = cast_ao_ray(scene, &surface[level], s, pixel, camera_sample, bounce, child,
-                                    bounce_on, &dir, &hit, rays);
+                                    bounce_on, &dir, &hit, rays, counts);
     if (outcome == MBAO_RAY_ESCAPED) {
       ++escapes[level];
     } else if (outcome == MBAO_RAY_HIT && bounce_on) {
@@ -133,7 +140,7 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
 // r paths of up to b segments, one direction per further bounce; an escape at
 // bounce k adds rho^(k-1), and the sum is divided by r once.
 static float path_estimate(const SceneView* scene, const Surface* primary, const AoSettings* s,
-                           uint pixel, uint camera_sample, uint* rays) {
+                           uint pixel, uint camera_sample, uint* rays, TraversalCounts* counts) {
   float sum = 0.0f;
   for (uint path = 0; path < s->samples; ++path) {
     Surface surface = *primary;
@@ -143,7 +150,7 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
       float3 dir;
       Hit hit;
       const int outcome = cast_ao_ray(scene, &surface, s, pixel, camera_sample, bounce, path,
-                                      bounce_on, &dir, &hit, rays);
+                                      bounce_on, &dir, &hit, rays, counts);
       if (outcome == MBAO_RAY_ESCAPED) sum += weight;
       if (outcome != MBAO_RAY_HIT || !bounce_on) break;
       surface = make_surface(scene, hit, dir);
@@ -161,10 +168,12 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
 static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye, uint spp,
                                const AoSettings* s, uint first_pixel, uint pixel_index,
                                __global const uint4* camera_hits, __global float* ao,
-                               __global uchar* coverage, __global uint* secondary_rays) {
+                               __global uchar* coverage, __global uint* secondary_rays,
+                               __global ulong* traversal_totals) {
   const uint pixel = first_pixel + pixel_index;
   float sum = 0.0f;
   uint covered = 0, rays = 0;
+  TraversalCounts counts = no_traversal_counts();
   for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
     const uint4 bits = camera_hits[pixel_index * spp + camera_sample];
     Hit hit;
@@ -183,25 +192,29 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
     const float3 hit_point = (1.0f - hit.b1 - hit.b2) * p0 + hit.b1 * p1 + hit.b2 * p2;
     const Surface primary = make_surface(scene, hit, hit_point - eye.xyz);
     sum += estimator == MBAO_ESTIMATOR_BRANCHING
-               ? branching_estimate(scene, &primary, s, pixel, camera_sample, &rays)
-               : path_estimate(scene, &primary, s, pixel, camera_sample, &rays);
+               ? branching_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts)
+               : path_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts);
   }
   ao[pixel] = sum / (float)spp;
   coverage[pixel] = (uchar)covered;
   secondary_rays[pixel] = rays;
+#if MBAO_COUNT_TRAVERSAL
+  add_traversal_counts(traversal_totals, &counts);
+#endif
 }
 
 #define MBAO_AO_KERNEL(name, estimator)                                                          \
   __kernel void name(MBAO_SCENE_PARAMS, float4 eye, uint spp, uint bounces, uint samples,       \
                      float rho, float max_distance, uint2 seed, uint first_pixel,               \
                      uint pixel_count, __global const uint4 *camera_hits, __global float *ao,   \
-                     __global uchar *coverage, __global uint *secondary_rays) {                 \
+                     __global uchar *coverage, __global uint *secondary_rays,                   \
+                     __global ulong *traversal_totals) {                                        \
     const uint pixel_index = get_global_id(0);                                                   \
     if (pixel_index >= pixel_count) return;                                                      \
     const SceneView scene = MBAO_SCENE_VIEW();                                                   \
     const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);                 \
     shade_pixel(&scene, estimator, eye, spp, &s, first_pixel, pixel_index, camera_hits, ao,      \
-                coverage, secondary_rays);                                                       \
+                coverage, secondary_rays, traversal_totals);                                     \
   }
 
 MBAO_AO_KERNEL(ao_branching, MBAO_ESTIMATOR_BRANCHING)

@@ -101,7 +101,7 @@ def test_the_seed_alone_decides_the_noise(cornell):
     assert not np.array_equal(a, mbao.render(cornell, width=16, height=16, seed=1 + 2**40).ao)
 
 
-@pytest.mark.parametrize("traversal", ["pushdown", "restart"])
+@pytest.mark.parametrize("traversal", ["pushdown", "restart", "short-stack", "stack"])
 def test_traversals_render_the_same_image(cornell, traversal):
     settings = dict(width=20, height=20, bounces=2, samples=4, seed=5)
     np.testing.assert_array_equal(

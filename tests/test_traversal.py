@@ -1,6 +1,7 @@
-"""kd push-down and kd-restart against brute force: same closest hits, same
+"""The four kd-tree traversals against brute force: same closest hits, same
 any-hit answers, on random and structured meshes, for random rays, rays that
-start on split planes and rays parallel to the axes."""
+start on split planes and rays parallel to the axes; and the same hits as
+each other, bit for bit."""
 
 import numpy as np
 import pytest
@@ -9,7 +10,7 @@ import mbao
 from meshes import box, box_grid, merge, plane, random_soup, sphere
 from oracle import BruteForce
 
-TRAVERSALS = ("pushdown", "restart")
+TRAVERSALS = ("pushdown", "restart", "short-stack", "stack")
 
 
 def split_planes(scene):
@@ -71,8 +72,9 @@ def assert_matches_brute_force(scene, oracle, origins, directions, t_max=np.inf)
         assert np.all(np.abs(t[hit] - expected_t[hit]) <= tolerance), f"{name}: wrong distance"
         assert np.all(np.isinf(t[missed]))
         assert np.all(barycentrics[hit] >= 0) and np.all(barycentrics[hit].sum(axis=1) <= 1 + 1e-6)
-    for a, b in zip(results["pushdown"], results["restart"]):
-        np.testing.assert_array_equal(a, b, err_msg="push-down and restart return different hits")
+    for name in TRAVERSALS[1:]:
+        for a, b in zip(results[TRAVERSALS[0]], results[name]):
+            np.testing.assert_array_equal(a, b, err_msg=f"{TRAVERSALS[0]} and {name} return different hits")
     return expected_triangle >= 0
 
 
@@ -177,3 +179,21 @@ def test_no_ray_leaves_a_closed_box(rng, traversal):
         for directions in (random_directions(rng, 2 * n), targets - starts):
             _, triangle, _ = mbao.trace(scene, starts, directions, any_hit=any_hit, traversal=traversal)
             assert np.all(triangle >= 0), f"{np.sum(triangle < 0)} rays escaped the closed box"
+
+
+def test_what_the_traversals_count(rng):
+    """Counting builds report, per ray, the nodes and leaves visited, the
+    triangles tested and the restarts: the same leaves and tests for all four
+    traversals, fewer nodes with a stack, and no restarts with a full one."""
+    scene = mbao.Mesh(*box_grid(4))
+    n = 3000
+    origins, directions = points_in(rng, scene, n), random_directions(rng, n)
+    counts = {name: mbao.trace(scene, origins, directions, traversal=name, traversal_stats=True)[3] for name in TRAVERSALS}
+    for name, c in counts.items():
+        nodes, leaves, triangles, restarts = c.T.astype(np.int64)
+        assert np.all(leaves <= nodes) and np.all(restarts < np.maximum(leaves, 1)), name
+    for name in TRAVERSALS[1:]:
+        np.testing.assert_array_equal(counts[name][:, 1:3], counts["pushdown"][:, 1:3], err_msg=name)
+    assert not counts["stack"][:, 3].any()
+    assert counts["stack"][:, 0].sum() < counts["pushdown"][:, 0].sum() <= counts["restart"][:, 0].sum()
+    assert counts["short-stack"][:, 3].sum() < counts["pushdown"][:, 3].sum()

@@ -15,7 +15,7 @@ struct KdBuildOptions {
   double traversal_cost = 1.0;     // K_T: one traversal step
   double intersection_cost = 1.5;  // K_I: one ray/triangle test
   double empty_bonus = 0.5;        // cost discount of a split that cuts off empty space (as pbrt)
-  int max_depth = 0;               // 0: 8 + 1.3 log2(N), as pbrt
+  int max_depth = 0;               // 0: 8 + 1.3 log2(N), as pbrt; at most MBAO_KD_MAX_DEPTH
 };
 
 struct KdTreeStats {

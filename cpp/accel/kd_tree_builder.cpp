@@ -19,6 +19,7 @@
 
 #include "accel/kd_tree.h"
 #include "accel/triangle_clip.h"
+#include "mbao/limits.h"
 #include "core/error.h"
 #include "core/timer.h"
 
@@ -93,6 +94,7 @@ class Builder {
     max_depth_ = options_.max_depth > 0
                      ? options_.max_depth
                      : int(std::lround(8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1)))));
+    max_depth_ = std::min(max_depth_, MBAO_KD_MAX_DEPTH);  // the full-stack traversal's stack depth
     const glm::vec3 extent = tree.bounds.extent();
     const float largest = std::max({extent.x, extent.y, extent.z});
     const glm::vec3 far_corner = glm::max(glm::abs(tree.bounds.lo), glm::abs(tree.bounds.hi));

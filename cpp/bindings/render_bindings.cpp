@@ -33,14 +33,23 @@ py::dict stats_dict(const RenderStats& s) {
   d["tiles"] = s.tiles;
   d["device"] = s.device;
   d["tree"] = tree_stats_dict(s.tree);
+  if (s.traversal) {
+    const double rays = double(s.rays_primary + s.rays_secondary);
+    py::dict traversal;
+    traversal["nodes_per_ray"] = double(s.traversal->nodes) / rays;
+    traversal["leaves_per_ray"] = double(s.traversal->leaves) / rays;
+    traversal["triangles_per_ray"] = double(s.traversal->triangles) / rays;
+    traversal["restarts_per_ray"] = double(s.traversal->restarts) / rays;
+    d["traversal"] = traversal;
+  }
   return d;
 }
 
 py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera>& camera, const DeviceInfo& device,
                  std::int64_t width, std::int64_t height, std::int64_t bounces, std::int64_t samples,
                  const std::string& estimator, float rho, float max_distance, std::int64_t spp,
-                 const std::string& normals, std::uint64_t seed, const std::string& traversal, std::size_t tile_pixels,
-                 std::size_t work_group_size) {
+                 const std::string& normals, std::uint64_t seed, const std::string& traversal, bool traversal_stats,
+                 std::size_t tile_pixels, std::size_t work_group_size) {
   RenderSettings settings;
   settings.width = width;
   settings.height = height;
@@ -53,6 +62,7 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
   settings.normals = parse_normal_mode(normals);
   settings.seed = seed;
   settings.traversal = parse_traversal(traversal);
+  settings.count_traversal = traversal_stats;
   settings.tile_pixels = tile_pixels;
   settings.work_group_size = work_group_size;
   settings.validate();
@@ -69,7 +79,7 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
 
 py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py::array::c_style>& origins,
                 const py::array_t<float, py::array::c_style>& directions, const DeviceInfo& device, bool any_hit,
-                const std::string& traversal) {
+                const std::string& traversal, bool traversal_stats) {
   const std::size_t n = std::size_t(origins.shape(0));
   std::vector<cl_float4> o(n), d(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -77,11 +87,12 @@ py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py
     d[i] = {{directions.at(i, 0), directions.at(i, 1), directions.at(i, 2), directions.at(i, 3)}};
   }
   const Traversal mode = parse_traversal(traversal);
-  std::vector<RayHit> hits;
+  TraceResult traced;
   {
     py::gil_scoped_release release;
-    hits = Renderer::for_device(device).trace(scene, o, d, any_hit, mode);
+    traced = Renderer::for_device(device).trace(scene, o, d, any_hit, mode, traversal_stats);
   }
+  const std::vector<RayHit>& hits = traced.hits;
   std::vector<float> t(n), barycentrics(2 * n);
   std::vector<std::int64_t> triangle(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -91,8 +102,13 @@ py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py
     barycentrics[2 * i + 1] = hits[i].b2;
   }
   const auto rows = py::ssize_t(n);
-  return py::make_tuple(adopt(std::move(t), {rows}), adopt(std::move(triangle), {rows}),
-                        adopt(std::move(barycentrics), {rows, 2}));
+  py::tuple result = py::make_tuple(adopt(std::move(t), {rows}), adopt(std::move(triangle), {rows}),
+                                    adopt(std::move(barycentrics), {rows, 2}));
+  if (!traversal_stats) return result;
+  std::vector<std::uint32_t> counts(4 * n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 4; ++k) counts[4 * i + std::size_t(k)] = traced.counts[i].s[k];
+  return py::make_tuple(result[0], result[1], result[2], adopt(std::move(counts), {rows, 4}));
 }
 
 }  // namespace
@@ -101,10 +117,10 @@ void bind_render(py::module_& m) {
   m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("width"),
         py::arg("height"), py::arg("bounces"), py::arg("samples"), py::arg("estimator"), py::arg("rho"),
         py::arg("max_distance"), py::arg("spp"), py::arg("normals"), py::arg("seed"), py::arg("traversal"),
-        py::arg("tile_pixels"), py::arg("work_group_size"),
+        py::arg("traversal_stats"), py::arg("tile_pixels"), py::arg("work_group_size"),
         "Renders; returns (ao, mask, stats). Use mbao.render, which checks and documents the arguments.");
   m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"), py::arg("device"),
-        py::arg("any_hit"), py::arg("traversal"),
+        py::arg("any_hit"), py::arg("traversal"), py::arg("traversal_stats"),
         "Traces (N, 3) origins along (N, 4) direction + t_max rows; returns (t, triangle, barycentrics).");
 }
 

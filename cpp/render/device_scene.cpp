@@ -1,5 +1,7 @@
 #include "render/device_scene.h"
 
+#include "opencl/launch.h"
+
 
 namespace mbao {
 namespace {
@@ -57,15 +59,9 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
 cl_uint DeviceScene::set_args(cl::Kernel& kernel) const {
   cl_uint index = 0;
   // A buffer the scene does not need is NULL in the kernel.
-  const auto set_buffer = [&](const cl::Buffer& buffer) {
-    if (buffer())
-      kernel.setArg(index++, buffer);
-    else
-      kernel.setArg(index++, sizeof(cl_mem), nullptr);
-  };
   for (const cl::Buffer* buffer : {&nodes_, &leaf_triangles_, &triangle_corners_, &triangle_vertices_, &vertex_normals_,
                                    &triangle_masks_, &masked_triangles_, &mask_textures_, &mask_texels_})
-    set_buffer(*buffer);
+    set_buffer_or_null(kernel, index++, *buffer);
   kernel.setArg(index++, bounds_lo_);
   kernel.setArg(index++, bounds_hi_);
   return index;

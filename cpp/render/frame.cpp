@@ -20,6 +20,10 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   coverage_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
   secondary_rays_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
   bytes_ = hit_bytes + pixels_ * (sizeof(cl_float) + sizeof(cl_uchar) + sizeof(cl_uint));
+  if (s.count_traversal) {
+    const cl_ulong zeros[4] = {0, 0, 0, 0};
+    traversal_totals_ = cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zeros, const_cast<cl_ulong*>(zeros));
+  }
 
   const CameraBasis basis(camera);
   const float aspect = float(s.width) / float(s.height);
@@ -36,6 +40,7 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   camera_rays_.setArg(arg++, seed_words(s.seed));
   camera_tile_arg_ = arg;
   camera_rays_.setArg(arg + 2, camera_hits_);
+  set_buffer_or_null(camera_rays_, arg + 3, traversal_totals_);
 
   ao_kernel_ = cl::Kernel(program, s.estimator == Estimator::Branching ? "ao_branching" : "ao_path");
   arg = scene.set_args(ao_kernel_);
@@ -51,6 +56,7 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   ao_kernel_.setArg(arg + 3, ao_);
   ao_kernel_.setArg(arg + 4, coverage_);
   ao_kernel_.setArg(arg + 5, secondary_rays_);
+  set_buffer_or_null(ao_kernel_, arg + 6, traversal_totals_);
 
   camera_group_ = work_group_size_for(camera_rays_, device, s.work_group_size);
   ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
@@ -73,6 +79,12 @@ void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* 
   queue.enqueueReadBuffer(ao_, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao);
   queue.enqueueReadBuffer(coverage_, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), mask);
   queue.enqueueReadBuffer(secondary_rays_, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
+}
+
+TraversalTotals Frame::traversal_totals(cl::CommandQueue& queue) const {
+  cl_ulong totals[4];
+  queue.enqueueReadBuffer(traversal_totals_, CL_TRUE, 0, sizeof totals, totals);
+  return {totals[0], totals[1], totals[2], totals[3]};
 }
 
 std::string Frame::launch_signature() const {

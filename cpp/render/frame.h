@@ -8,6 +8,7 @@
 #include "opencl/opencl.h"
 #include "render/device_scene.h"
 #include "render/render_settings.h"
+#include "render/render_stats.h"
 #include "scene/camera.h"
 
 namespace mbao {
@@ -24,6 +25,8 @@ class Frame {
   void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
   // Copies the image and the per-pixel secondary ray counts back (non-blocking).
   void enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask, cl_uint* secondary_rays);
+  // The frame's traversal counts (programs built with MBAO_COUNT_TRAVERSAL), once it has finished.
+  TraversalTotals traversal_totals(cl::CommandQueue& queue) const;
 
   // Device memory of the frame's own buffers.
   std::size_t bytes() const { return bytes_; }
@@ -35,6 +38,7 @@ class Frame {
 
   std::size_t pixels_, spp_;
   cl::Buffer camera_hits_, ao_, coverage_, secondary_rays_;
+  cl::Buffer traversal_totals_;  // 4 x ulong, only when counting
   cl::Kernel camera_rays_, ao_kernel_;
   cl_uint camera_tile_arg_ = 0, ao_tile_arg_ = 0;
   std::size_t camera_group_ = 0, ao_group_ = 0;

@@ -34,12 +34,21 @@ NormalMode parse_normal_mode(const std::string& name) {
 Traversal parse_traversal(const std::string& name) {
   if (name == "pushdown") return Traversal::PushDown;
   if (name == "restart") return Traversal::Restart;
-  bad("traversal must be \"pushdown\" or \"restart\", got \"" + name + "\"");
+  if (name == "short-stack") return Traversal::ShortStack;
+  if (name == "stack") return Traversal::Stack;
+  bad("traversal must be \"pushdown\", \"restart\", \"short-stack\" or \"stack\", got \"" + name + "\"");
 }
 
 std::string to_string(Estimator estimator) { return estimator == Estimator::Branching ? "branching" : "path"; }
 std::string to_string(NormalMode mode) { return mode == NormalMode::Shading ? "shading" : "geometric"; }
-std::string to_string(Traversal traversal) { return traversal == Traversal::PushDown ? "pushdown" : "restart"; }
+std::string to_string(Traversal traversal) {
+  switch (traversal) {
+    case Traversal::Restart: return "restart";
+    case Traversal::PushDown: return "pushdown";
+    case Traversal::ShortStack: return "short-stack";
+    default: return "stack";
+  }
+}
 
 std::uint64_t RenderSettings::max_rays_per_camera_sample() const {
   if (estimator == Estimator::Path) return std::uint64_t(samples) * std::uint64_t(bounces);

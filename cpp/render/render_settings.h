@@ -11,7 +11,7 @@ namespace mbao {
 
 enum class Estimator { Branching, Path };
 enum class NormalMode { Shading, Geometric };
-enum class Traversal { Restart, PushDown };
+enum class Traversal { Restart, PushDown, ShortStack, Stack };
 
 // Names as the Python API spells them; parse_* throw std::invalid_argument
 // listing the allowed names.
@@ -36,6 +36,7 @@ struct RenderSettings {
   NormalMode normals = NormalMode::Shading;
   std::uint64_t seed = 0;
   Traversal traversal = Traversal::PushDown;
+  bool count_traversal = false;  // build the kernels that count nodes, leaves, triangle tests and restarts
   // How the work is cut up; neither changes the image.
   std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory
   std::size_t work_group_size = 0;  // 0 lets the OpenCL driver choose

@@ -21,28 +21,31 @@ constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 27;
 // is compiled out (no mask lookups without masks, no normals without shading
 // normals, no distance limit for max_distance = inf).
 struct ProgramFeatures {
-  Traversal traversal = Traversal::PushDown;
+  Traversal traversal = Traversal::PushDown;  // its value is the kernels' MBAO_TRAVERSAL
+  bool count_traversal = false;
   bool alpha_masks = false;
   bool shading_normals = false;
   bool unlimited_distance = true;
 
   std::string options() const {
-    return "-DMBAO_TRAVERSAL=" + std::to_string(traversal == Traversal::PushDown ? 1 : 0) +
+    return "-DMBAO_TRAVERSAL=" + std::to_string(int(traversal)) +
+           " -DMBAO_COUNT_TRAVERSAL=" + std::to_string(int(count_traversal)) +
            " -DMBAO_ALPHA_MASKS=" + std::to_string(int(alpha_masks)) +
            " -DMBAO_SHADING_NORMALS=" + std::to_string(int(shading_normals)) +
            " -DMBAO_UNLIMITED_DISTANCE=" + std::to_string(int(unlimited_distance));
   }
 };
 
-ProgramFeatures features_for(const Scene& scene, Traversal traversal) {
+ProgramFeatures features_for(const Scene& scene, Traversal traversal, bool count_traversal) {
   ProgramFeatures features;
   features.traversal = traversal;
+  features.count_traversal = count_traversal;
   features.alpha_masks = !scene.masks().empty();
   return features;
 }
 
 ProgramFeatures features_for(const Scene& scene, const RenderSettings& settings) {
-  ProgramFeatures features = features_for(scene, settings.traversal);
+  ProgramFeatures features = features_for(scene, settings.traversal, settings.count_traversal);
   features.shading_normals = settings.normals == NormalMode::Shading && scene.mesh().has_normals();
   features.unlimited_distance = std::isinf(settings.max_distance);
   return features;
@@ -119,6 +122,7 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
     frame.enqueue_read_back(queue, result.ao.data(), result.mask.data(), secondary_rays.data());
     queue.finish();
     stats.frame_ms = clock.elapsed_ms();
+    if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
   } catch (const cl::Error& e) {
     throw_device_error("rendering " + scene->name() + " on " + device().description(), e);
   }
@@ -127,16 +131,20 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   return result;
 }
 
-std::vector<RayHit> Renderer::trace(const std::shared_ptr<const Scene>& scene, const std::vector<cl_float4>& origins,
-                                    const std::vector<cl_float4>& directions, bool any_hit, Traversal traversal) {
+TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std::vector<cl_float4>& origins,
+                            const std::vector<cl_float4>& directions, bool any_hit, Traversal traversal,
+                            bool count_traversal) {
   if (origins.size() != directions.size())
     throw std::invalid_argument("trace: " + std::to_string(origins.size()) + " origins but " +
                                 std::to_string(directions.size()) + " directions");
-  std::vector<RayHit> hits(origins.size());
-  if (origins.empty()) return hits;
+  TraceResult result;
+  result.hits.resize(origins.size());
+  if (count_traversal) result.counts.resize(origins.size());
+  if (origins.empty()) return result;
   std::lock_guard<std::mutex> lock(mutex_);
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
-  const BuiltProgram built = compute_.programs().get("trace.cl", features_for(*scene, traversal).options());
+  const BuiltProgram built =
+      compute_.programs().get("trace.cl", features_for(*scene, traversal, count_traversal).options());
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {
     const cl::Context& context = compute_.context();
@@ -147,6 +155,8 @@ std::vector<RayHit> Renderer::trace(const std::shared_ptr<const Scene>& scene, c
     cl::Buffer direction_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_float4),
                                 const_cast<cl_float4*>(directions.data()));
     cl::Buffer hit_buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
+    cl::Buffer count_buffer;
+    if (count_traversal) count_buffer = cl::Buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
     cl::Kernel kernel(built.program, "trace_rays");
     cl_uint arg = device_scene->set_args(kernel);
     kernel.setArg(arg++, origin_buffer);
@@ -154,12 +164,15 @@ std::vector<RayHit> Renderer::trace(const std::shared_ptr<const Scene>& scene, c
     kernel.setArg(arg++, cl_uint(n));
     kernel.setArg(arg++, cl_int(any_hit));
     kernel.setArg(arg++, hit_buffer);
+    set_buffer_or_null(kernel, arg++, count_buffer);
     launch(queue, kernel, n, work_group_size_for(kernel, device().device, 0));
-    queue.enqueueReadBuffer(hit_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), hits.data());
+    queue.enqueueReadBuffer(hit_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), result.hits.data());
+    if (count_traversal)
+      queue.enqueueReadBuffer(count_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), result.counts.data());
   } catch (const cl::Error& e) {
     throw_device_error("tracing rays in " + scene->name() + " on " + device().description(), e);
   }
-  return hits;
+  return result;
 }
 
 }  // namespace mbao

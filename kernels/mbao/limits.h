@@ -6,4 +6,8 @@
 // bounce in private memory; the path estimator keeps one, whatever b is.
 #define MBAO_MAX_BRANCHING_BOUNCES 16
 
+// The deepest kd-tree the builder makes: the full-stack traversal's stack
+// holds this many entries (a power of two).
+#define MBAO_KD_MAX_DEPTH 64
+
 #endif

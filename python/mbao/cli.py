@@ -42,6 +42,7 @@ def _parser():
     r.add_argument("--normals", choices=NORMAL_MODES, default="shading")
     r.add_argument("--traversal", choices=TRAVERSALS, default="pushdown")
     r.add_argument("--seed", type=int, default=0)
+    r.add_argument("--traversal-stats", action="store_true", help="count nodes, leaves, triangle tests per ray")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
     commands.add_parser("devices", help="list the OpenCL devices")
@@ -70,6 +71,7 @@ def _render(args):
         seed=args.seed,
         traversal=args.traversal,
         device=_device_argument(args.device),
+        traversal_stats=args.traversal_stats,
     )
     save_image(args.output, result.ao)
     s = result.stats
@@ -91,6 +93,12 @@ def _render(args):
         f"rays         {s['rays_primary']} primary + {s['rays_secondary']} secondary = "
         f"{rays / s['frame_ms'] / 1e3:.2f} Mrays/s"
     )
+    if "traversal" in s:
+        t = s["traversal"]
+        print(
+            f"per ray      {t['nodes_per_ray']:.1f} nodes, {t['leaves_per_ray']:.1f} leaves, "
+            f"{t['triangles_per_ray']:.1f} triangle tests, {t['restarts_per_ray']:.2f} restarts ({args.traversal})"
+        )
     print(f"memory       {s['memory_bytes'] / 2**20:.1f} MiB on the device")
     print(f"wrote        {args.output}")
     return 0

@@ -10,7 +10,7 @@ from .devices import resolve
 
 ESTIMATORS = ("branching", "path")
 NORMAL_MODES = ("shading", "geometric")
-TRAVERSALS = ("pushdown", "restart")
+TRAVERSALS = ("pushdown", "restart", "short-stack", "stack")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -55,6 +55,7 @@ def render(
     seed=0,
     traversal="pushdown",
     device=None,
+    traversal_stats=False,
     tile_pixels=None,
     work_group_size=None,
 ):
@@ -71,8 +72,11 @@ def render(
     normals: "shading" (interpolated vertex normals where the mesh has them) or "geometric".
     seed: any integer in [0, 2^64); the image is a pure function of the seed and
         the settings, whatever the device, tiling or work-group size.
-    traversal: "pushdown" (Horn et al. 2007) or "restart" (Foley and Sugerman 2005).
+    traversal: how rays walk the kd-tree: "pushdown" or "short-stack" (Horn et al. 2007),
+        "restart" (Foley and Sugerman 2005) or "stack" (a full stack). Same image either way.
     device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
+    traversal_stats: count nodes, leaves, triangle tests and restarts per ray into
+        stats["traversal"] (kernels built to count, somewhat slower).
     tile_pixels, work_group_size: how the work is cut up (None: automatic); they do not change the image.
 
     The GIL is released while rendering.
@@ -96,6 +100,7 @@ def render(
         normals=_checks.choice("normals", normals, NORMAL_MODES),
         seed=seed,
         traversal=_checks.choice("traversal", traversal, TRAVERSALS),
+        traversal_stats=_checks.boolean("traversal_stats", traversal_stats),
         tile_pixels=_optional_count("tile_pixels", tile_pixels),
         work_group_size=_optional_count("work_group_size", work_group_size),
     )
@@ -111,7 +116,8 @@ def _optional_count(name, value):
     return value
 
 
-def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversal="pushdown", device=None):
+def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversal="pushdown", device=None,
+          traversal_stats=False):
     """Traces rays through the scene's kd-tree.
 
     origins, directions: (N, 3) arrays (directions need not be unit length; t is
@@ -120,15 +126,16 @@ def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversa
 
     Returns (t, triangle, barycentrics): t (N,) float32, inf for a miss; triangle
     (N,) int64 index into scene.indices, -1 for a miss; barycentrics (N, 2)
-    float32, the weights of the triangle's second and third vertex.
+    float32, the weights of the triangle's second and third vertex. With
+    traversal_stats, a fourth (N, 4) uint32 array: per ray the nodes and leaves
+    visited, the triangles tested and the restarts.
     """
     _check_scene(scene)
     origins = _checks.rows("origins", origins, 3, "fiu", np.float32)
     directions = _checks.rows("directions", directions, 3, "fiu", np.float32)
     if len(origins) != len(directions):
         raise ValueError(f"origins has {len(origins)} rows but directions has {len(directions)}")
-    if not isinstance(any_hit, (bool, np.bool_)):
-        raise TypeError(f"any_hit must be a bool, got {type(any_hit).__name__}")
+    any_hit = _checks.boolean("any_hit", any_hit)
     try:
         limits = np.broadcast_to(np.asarray(t_max, dtype=np.float32), (len(origins),))
     except (TypeError, ValueError):
@@ -137,5 +144,11 @@ def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversa
         raise ValueError("t_max must be > 0 (inf for unlimited)")
     rays = np.ascontiguousarray(np.column_stack([directions, limits]), dtype=np.float32)
     return _core.trace(
-        scene, origins, rays, resolve(device), bool(any_hit), _checks.choice("traversal", traversal, TRAVERSALS)
+        scene,
+        origins,
+        rays,
+        resolve(device),
+        any_hit,
+        _checks.choice("traversal", traversal, TRAVERSALS),
+        _checks.boolean("traversal_stats", traversal_stats),
     )

@@ -75,9 +75,10 @@ TEST(RenderSettings, ExplodingBranchingWorkIsRefusedWithTheRayCountAndTheAlterna
 TEST(RenderSettings, NamesParseAndPrintBothWays) {
   for (const char* name : {"branching", "path"}) EXPECT_EQ(to_string(parse_estimator(name)), name);
   for (const char* name : {"shading", "geometric"}) EXPECT_EQ(to_string(parse_normal_mode(name)), name);
-  for (const char* name : {"pushdown", "restart"}) EXPECT_EQ(to_string(parse_traversal(name)), name);
+  for (const char* name : {"pushdown", "restart", "short-stack", "stack"})
+    EXPECT_EQ(to_string(parse_traversal(name)), name);
   EXPECT_THROW(parse_estimator("Branching"), std::invalid_argument);
-  EXPECT_THROW(parse_traversal("stack"), std::invalid_argument);
+  EXPECT_THROW(parse_traversal("short_stack"), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,0 +1,41 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "accel/kd_tree.h"
+
+namespace mbao {
+
+// What the traversals of a frame cost, summed over its rays (counting builds only).
+struct TraversalTotals {
+  std::uint64_t nodes = 0, leaves = 0, triangles = 0, restarts = 0;
+};
+
+struct RenderStats {
+  double build_ms = 0.0;         // kd-tree build (done once per scene; see tree_reused)
+  bool tree_reused = false;      // the tree existed before this render
+  double kernel_build_ms = 0.0;  // getting the program (and, on first launch, its kernels) ready
+  std::string kernel_cache;      // where the program came from: "memory", "disk" or "compiled"
+  std::string kernel_options;    // what it was built for (SPEC features compiled in or out)
+  double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
+  double frame_ms = 0.0;         // camera rays, AO and read-back of the image
+  std::uint64_t rays_primary = 0;
+  std::uint64_t rays_secondary = 0;
+  std::size_t memory_bytes = 0;  // device memory: scene, tile buffers and image
+  std::size_t tiles = 0;
+  std::string device;
+  KdTreeStats tree;
+  std::optional<TraversalTotals> traversal;  // with RenderSettings::count_traversal
+};
+
+struct RenderResult {
+  int width = 0, height = 0;
+  std::vector<float> ao;              // row-major, row 0 at the top; 1 = open
+  std::vector<std::uint8_t> mask;     // 1 where any camera sample hit geometry
+  RenderStats stats;
+};
+
+}  // namespace mbao
