@@ -39,6 +39,8 @@ json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, con
 json mask_overhead(mbao::Renderer& renderer, const Options& options);
 // Kernel build time in a fresh process: with empty caches, then with warm ones.
 json kernel_builds(const Options& options);
+// mbao beside Embree 3 on the same workload (only in builds with Embree).
+json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 // Load time and peak memory of each glTF scene: mbao's loader against loading everything.
 json loading(const std::vector<BenchScene>& scenes, const Options& options);
 

@@ -113,6 +113,11 @@ int run(const bench::Options& options) {
                    {"traversal", mbao::to_string(options.settings.traversal)},
                    {"frames", options.frames}}}};
   report["results"] = bench::table1(renderer, scenes, options);
+#ifdef MBAO_BENCH_EMBREE
+  report["embree"] = bench::embree_comparison(renderer, scenes, options);
+#else
+  std::cout << "(Built without Embree: no side-by-side comparison. Debian: libembree-dev.)\n\n";
+#endif
   report["mask_overhead"] = bench::mask_overhead(renderer, options);
   report["kernel_builds"] = bench::kernel_builds(options);
   report["loading"] = bench::loading(scenes, options);

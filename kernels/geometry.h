@@ -38,26 +38,27 @@ static inline Hit no_hit(void) {
 // Per-ray setup of the watertight test (Woop, Benthin and Wald, JCGT 2013): the
 // ray is turned into +z of a sheared frame where the triangle test is 2D.
 typedef struct WatertightRay {
-  float3 origin;
-  int kx, ky, kz;
+  float4 origin;
+  uint4 axes;  // (kx, ky, kz, 3): one shuffle turns a vector into the ray's frame
   float shear_x, shear_y, shear_z;
 } WatertightRay;
 
 static inline WatertightRay make_watertight_ray(float3 origin, float3 dir) {
   WatertightRay ray;
   const float3 a = fabs(dir);
-  ray.kz = (a.x > a.y) ? ((a.x > a.z) ? 0 : 2) : ((a.y > a.z) ? 1 : 2);
-  ray.kx = ray.kz == 2 ? 0 : ray.kz + 1;
-  ray.ky = ray.kx == 2 ? 0 : ray.kx + 1;
-  const float dz = component(dir, ray.kz);
+  const uint kz = (a.x > a.y) ? ((a.x > a.z) ? 0 : 2) : ((a.y > a.z) ? 1 : 2);
+  uint kx = kz == 2 ? 0 : kz + 1;
+  uint ky = kx == 2 ? 0 : kx + 1;
+  const float dz = component(dir, (int)kz);
   if (dz < 0.0f) {  // keep the winding, so edge functions keep their signs
-    const int k = ray.kx;
-    ray.kx = ray.ky;
-    ray.ky = k;
+    const uint k = kx;
+    kx = ky;
+    ky = k;
   }
-  ray.origin = origin;
-  ray.shear_x = component(dir, ray.kx) / dz;
-  ray.shear_y = component(dir, ray.ky) / dz;
+  ray.origin = (float4)(origin, 0.0f);
+  ray.axes = (uint4)(kx, ky, kz, 3);
+  ray.shear_x = component(dir, (int)kx) / dz;
+  ray.shear_y = component(dir, (int)ky) / dz;
   ray.shear_z = 1.0f / dz;
   return ray;
 }
@@ -77,16 +78,19 @@ static inline float edge_function(float ax, float ay, float bx, float by) {
 // positive t counts, however close: rays leaving a surface start far enough
 // off it (surface.h) that they need no minimum distance, and so a surface
 // just in front of a ray's origin is never skipped.
-static inline int intersect_triangle(const WatertightRay* ray, float3 p0, float3 p1, float3 p2,
+static inline int intersect_triangle(const WatertightRay* ray, float4 p0, float4 p1, float4 p2,
                                      float t_max, float* t_out, float* b1_out, float* b2_out) {
-  const float3 a = p0 - ray->origin, b = p1 - ray->origin, c = p2 - ray->origin;
-  const float az = component(a, ray->kz), bz = component(b, ray->kz), cz = component(c, ray->kz);
-  const float ax = component(a, ray->kx) - ray->shear_x * az;
-  const float ay = component(a, ray->ky) - ray->shear_y * az;
-  const float bx = component(b, ray->kx) - ray->shear_x * bz;
-  const float by = component(b, ray->ky) - ray->shear_y * bz;
-  const float cx = component(c, ray->kx) - ray->shear_x * cz;
-  const float cy = component(c, ray->ky) - ray->shear_y * cz;
+  // The corners relative to the origin, in the ray's frame (x, y across, z along).
+  const float4 a = shuffle(p0 - ray->origin, ray->axes);
+  const float4 b = shuffle(p1 - ray->origin, ray->axes);
+  const float4 c = shuffle(p2 - ray->origin, ray->axes);
+  const float az = a.z, bz = b.z, cz = c.z;
+  const float ax = a.x - ray->shear_x * az;
+  const float ay = a.y - ray->shear_y * az;
+  const float bx = b.x - ray->shear_x * bz;
+  const float by = b.y - ray->shear_y * bz;
+  const float cx = c.x - ray->shear_x * cz;
+  const float cy = c.y - ray->shear_y * cz;
 
   const float e0 = edge_function(bx, by, cx, cy);  // weight of p0
   const float e1 = edge_function(cx, cy, ax, ay);  // weight of p1

@@ -86,8 +86,8 @@ static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, Kd
   for (uint entry = first_entry; entry < end_entry; ++entry) {
     const uint triangle = scene->leaf_triangles[entry];
     float t, b1, b2;
-    if (!intersect_triangle(ray, triangle_corner(scene, triangle, 0), triangle_corner(scene, triangle, 1),
-                            triangle_corner(scene, triangle, 2), best->t, &t, &b1, &b2) ||
+    __global const float4* corners = scene->triangle_corners + 3 * triangle;
+    if (!intersect_triangle(ray, corners[0], corners[1], corners[2], best->t, &t, &b1, &b2) ||
         !hit_is_solid(scene, triangle, b1, b2))
       continue;
     if (t < best->t || triangle < best->triangle) {
@@ -113,6 +113,11 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
                    &t_exit))
     return 0;
   const WatertightRay ray = make_watertight_ray(origin, dir);
+  // Per axis, for the descent: indexing an array costs one load, picking a
+  // vector component by a run-time axis a chain of selects.
+  const float origin_of[3] = {origin.x, origin.y, origin.z};
+  const float dir_of[3] = {dir.x, dir.y, dir.z};
+  const float inv_dir_of[3] = {inv_dir.x, inv_dir.y, inv_dir.z};
 
   Hit best = no_hit();
   best.t = t_max;
@@ -148,11 +153,11 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
     KdNode node = scene->nodes[index];
     MBAO_COUNT(counts, nodes, 1);
     while (!kd_is_leaf(node)) {
-      const int axis = (int)kd_axis(node);
+      const uint axis = kd_axis(node);
       const float split = kd_split(node);
-      const float o = component(origin, axis);
-      const float d = component(dir, axis);
-      const float t_split = (split - o) * component(inv_dir, axis);
+      const float o = origin_of[axis];
+      const float d = dir_of[axis];
+      const float t_split = (split - o) * inv_dir_of[axis];
       const int below_first = (o < split) || (o == split && d <= 0.0f);
       const uint below = index + 1;
       const uint above = kd_above_child(node);
