@@ -19,6 +19,7 @@ struct KdBuildOptions {
   double intersection_cost = 0.5;  // K_I: one ray/triangle test
   double empty_bonus = 0.2;        // cost discount of a split that cuts off empty space
   int max_depth = 0;               // 0: 8 + 1.3 log2(N), as pbrt; at most MBAO_KD_MAX_DEPTH
+  int threads = 0;                 // 0: one per hardware thread; the tree is the same for any number
 };
 
 struct KdTreeStats {
@@ -45,7 +46,8 @@ struct KdTree {
   KdTreeStats stats;
 };
 
-// Builds the tree in O(N log N) with sorted split events (Wald and Havran 2006).
+// Builds the tree in O(N log N) with sorted split events (Wald and Havran 2006),
+// subtrees in parallel.
 KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {});
 
 }  // namespace mbao

@@ -11,53 +11,40 @@
 //   axis it was split on: a ray cannot skip a cell because the distances to its
 //   two walls round to the same float. A planar triangle on the node boundary
 //   (the Cornell box walls) is cut off into a cell of that width.
+//
+// Subtrees big enough to pay for a thread are built on spare threads into
+// arrays of their own and appended in depth-first order, so the tree does not
+// depend on the number of threads.
 #include <algorithm>
-#include <array>
+#include <atomic>
 #include <cmath>
+#include <future>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <memory>
+#include <thread>
 
 #include "accel/kd_tree.h"
+#include "accel/split_events.h"
 #include "accel/triangle_clip.h"
-#include "mbao/limits.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "mbao/limits.h"
 
 namespace mbao {
 namespace {
 
-enum class EventType : std::uint8_t { End, Planar, Start };
+// Below this many triangles a subtree is built by the thread that split its
+// parent: starting a thread would cost more than the subtree takes.
+constexpr std::size_t kMinTrianglesPerThread = 2048;
 
-struct Event {
-  float position;
-  std::uint32_t triangle;
-  EventType type;
-};
-
-bool operator<(const Event& a, const Event& b) {
-  return a.position < b.position || (a.position == b.position && a.type < b.type);
-}
-
-using EventLists = std::array<std::vector<Event>, 3>;
-
-enum Side : std::uint8_t { Left, Right, Both };
+enum Side : std::uint8_t { Below, Above, Both };
 
 struct Split {
   int axis = -1;
   float position = 0.0f;
   double cost = std::numeric_limits<double>::infinity();
 };
-
-void append_events(const Bounds3& box, std::uint32_t triangle, EventLists& events) {
-  for (int axis = 0; axis < 3; ++axis) {
-    if (box.lo[axis] == box.hi[axis]) {
-      events[axis].push_back({box.lo[axis], triangle, EventType::Planar});
-    } else {
-      events[axis].push_back({box.lo[axis], triangle, EventType::Start});
-      events[axis].push_back({box.hi[axis], triangle, EventType::End});
-    }
-  }
-}
 
 // Exact for float input: the differences and products of floats are exact in
 // double, so only a triangle whose corners are collinear gets a zero cross product.
@@ -70,27 +57,66 @@ bool has_zero_area(const TriangleMesh& mesh, std::uint32_t t) {
   return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
 }
 
+// What a thread needs while it splits a node, reused from node to node.
+struct Scratch {
+  // Written for every triangle of a node before it is read: no need to clear.
+  explicit Scratch(std::size_t triangles) : side(new Side[triangles]) {}
+
+  std::unique_ptr<Side[]> side;  // by triangle index
+  std::array<std::vector<Event>, 3> clipped_below, clipped_above;
+};
+
+struct Children {
+  NodeEvents below, above;
+  std::size_t n_below = 0, n_above = 0;
+};
+
+// Appends a subtree built in arrays of its own: its child and leaf-list
+// indices move by the sizes of what is already there. (Indices past the
+// format's range wrap here; build() then throws.)
+void append_subtree(KdTree& tree, const KdTree& part) {
+  const auto node_offset = std::uint32_t(tree.nodes.size());
+  const auto leaf_offset = std::uint32_t(tree.leaf_triangles.size());
+  tree.nodes.reserve(tree.nodes.size() + part.nodes.size());
+  for (const KdNode node : part.nodes)
+    tree.nodes.push_back(kd_is_leaf(node)
+                             ? kd_make_leaf(kd_triangle_count(node), kd_first_index(node) + leaf_offset)
+                             : kd_make_interior(kd_axis(node), kd_split(node), kd_above_child(node) + node_offset));
+  tree.leaf_triangles.insert(tree.leaf_triangles.end(), part.leaf_triangles.begin(), part.leaf_triangles.end());
+  tree.stats.leaves += part.stats.leaves;
+  tree.stats.empty_leaves += part.stats.empty_leaves;
+  tree.stats.max_depth = std::max(tree.stats.max_depth, part.stats.max_depth);
+  tree.stats.sah_cost += part.stats.sah_cost;
+}
+
+// Runs f(0), f(1), f(2), on three threads when `parallel`.
+template <class AxisFunction>
+void for_each_axis(bool parallel, const AxisFunction& f) {
+  if (!parallel) {
+    for (int axis = 0; axis < 3; ++axis) f(axis);
+    return;
+  }
+  auto y = std::async(std::launch::async, f, 1);
+  auto z = std::async(std::launch::async, f, 2);
+  f(0);
+  y.get();
+  z.get();
+}
+
 class Builder {
  public:
   Builder(const TriangleMesh& mesh, const KdBuildOptions& options)
       : mesh_(mesh),
         options_(options),
-        side_(mesh.triangles.size()),
-        extent_lo_(mesh.triangles.size()),
-        extent_hi_(mesh.triangles.size()) {
-    triangle_boxes_.reserve(mesh.triangles.size());
-    for (const glm::uvec3& t : mesh.triangles) {
-      Bounds3 box;
-      for (int k = 0; k < 3; ++k) box.extend(mesh.positions[t[k]]);
-      triangle_boxes_.push_back(box);
-    }
-  }
+        threads_(options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()))),
+        spare_threads_(threads_ - 1) {}
 
   KdTree build() {
     Stopwatch clock;
     KdTree tree;
     tree.bounds = mesh_.bounds();
     const std::size_t n = mesh_.triangles.size();
+    if (n > std::size_t(kMaxEventTriangle) + 1) throw Error("kd-tree: more than 2^30 triangles");
     max_depth_ = options_.max_depth > 0
                      ? options_.max_depth
                      : int(std::lround(8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1)))));
@@ -103,17 +129,15 @@ class Builder {
     min_width_ = std::max(largest * 0x1p-17f, magnitude * 8.0f * std::numeric_limits<float>::epsilon());
     root_area_ = tree.bounds.surface_area();
 
-    EventLists events;
     std::size_t placed = 0;
-    for (std::uint32_t i = 0; i < n; ++i) {
-      if (has_zero_area(mesh_, i)) continue;
-      append_events(triangle_boxes_[i], i, events);
-      ++placed;
-    }
+    NodeEvents events = root_events(placed);
     tree.stats.degenerate_triangles = n - placed;
-    for (auto& list : events) std::sort(list.begin(), list.end());
-    build_node(tree, tree.bounds, std::move(events), placed, 0);
+    Scratch scratch(n);
+    build_node(tree, scratch, tree.bounds, std::move(events), placed, 0);
 
+    if (tree.nodes.size() > MBAO_KD_MAX_INDEX) throw Error("kd-tree: more nodes than the node format can address");
+    if (tree.leaf_triangles.size() > std::numeric_limits<std::uint32_t>::max())
+      throw Error("kd-tree: more leaf entries than the node format can address");
     tree.stats.nodes = tree.nodes.size();
     tree.stats.leaf_references = tree.leaf_triangles.size();
     const std::size_t filled = tree.stats.leaves - tree.stats.empty_leaves;
@@ -124,145 +148,216 @@ class Builder {
   }
 
  private:
+  Bounds3 triangle_box(std::uint32_t t) const {
+    Bounds3 box;
+    for (int k = 0; k < 3; ++k) box.extend(mesh_.positions[mesh_.triangles[t][k]]);
+    return box;
+  }
+
+  std::array<glm::vec3, 3> corners(std::uint32_t t) const {
+    const glm::uvec3& v = mesh_.triangles[t];
+    return {mesh_.positions[v[0]], mesh_.positions[v[1]], mesh_.positions[v[2]]};
+  }
+
+  // Every triangle of non-zero area, its events sorted (one axis per thread).
+  NodeEvents root_events(std::size_t& placed) const {
+    std::vector<std::uint32_t> kept;
+    std::vector<Bounds3> boxes;
+    for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
+      if (has_zero_area(mesh_, t)) continue;
+      kept.push_back(t);
+      boxes.push_back(triangle_box(t));
+    }
+    placed = kept.size();
+    NodeEvents events(6 * kept.size());
+    for (int axis = 0; axis < 3; ++axis) {
+      for (std::size_t i = 0; i < kept.size(); ++i) events.push_box(axis, boxes[i], kept[i]);
+      events.close_axis(axis);
+    }
+    for_each_axis(threads_ > 1, [&events](int axis) { std::sort(events.begin(axis), events.end(axis)); });
+    return events;
+  }
+
   double area_fraction(const Bounds3& box) const { return root_area_ > 0.0 ? box.surface_area() / root_area_ : 0.0; }
 
-  double split_cost(const Bounds3& box, int axis, float position, std::size_t n_left, std::size_t n_right) const {
-    Bounds3 left = box, right = box;
-    left.hi[axis] = position;
-    right.lo[axis] = position;
-    const double area = box.surface_area();
-    const double p_left = left.surface_area() / area, p_right = right.surface_area() / area;
-    const double lambda = (n_left == 0 || n_right == 0) ? 1.0 - options_.empty_bonus : 1.0;
-    return lambda * (options_.traversal_cost +
-                     options_.intersection_cost * (p_left * double(n_left) + p_right * double(n_right)));
+  void build_node(KdTree& tree, Scratch& scratch, const Bounds3& box, NodeEvents events, std::size_t n, int depth) {
+    tree.stats.max_depth = std::max(tree.stats.max_depth, depth);
+    const Split split = n > 0 && depth < max_depth_ ? find_split(box, events, n) : Split{};
+    if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
+      make_leaf(tree, box, events);
+      return;
+    }
+    tree.stats.sah_cost += area_fraction(box) * options_.traversal_cost;
+    const std::size_t index = tree.nodes.size();
+    tree.nodes.push_back(kd_make_interior(std::uint32_t(split.axis), split.position, 0));
+
+    Bounds3 below_box = box, above_box = box;
+    below_box.hi[split.axis] = split.position;
+    above_box.lo[split.axis] = split.position;
+    Children children = partition(events, split, below_box, above_box, scratch);
+    events = NodeEvents{};  // release the parent's events before going deeper
+
+    std::future<KdTree> above_part = build_on_spare_thread(above_box, children.above, children.n_above, depth + 1);
+    build_node(tree, scratch, below_box, std::move(children.below), children.n_below, depth + 1);
+    tree.nodes[index] = kd_make_interior(std::uint32_t(split.axis), split.position, std::uint32_t(tree.nodes.size()));
+    if (above_part.valid()) {
+      append_subtree(tree, above_part.get());
+    } else {
+      build_node(tree, scratch, above_box, std::move(children.above), children.n_above, depth + 1);
+    }
+  }
+
+  // A subtree on a thread of its own, when one is spare and the subtree is
+  // big enough to pay for it; else an empty future and `events` untouched.
+  std::future<KdTree> build_on_spare_thread(const Bounds3& box, NodeEvents& events, std::size_t n, int depth) {
+    if (n < kMinTrianglesPerThread || !take_spare_thread()) return {};
+    return std::async(std::launch::async, [this, box, events = std::move(events), n, depth]() mutable {
+      struct GiveBack {
+        std::atomic<int>& spare;
+        ~GiveBack() { spare.fetch_add(1); }
+      } give_back{spare_threads_};
+      KdTree part;
+      Scratch scratch(mesh_.triangles.size());
+      build_node(part, scratch, box, std::move(events), n, depth);
+      return part;
+    });
+  }
+
+  bool take_spare_thread() {
+    int spare = spare_threads_.load();
+    while (spare > 0 && !spare_threads_.compare_exchange_weak(spare, spare - 1)) {
+    }
+    return spare > 0;
   }
 
   // Sweeps each axis's sorted events. At an event position p two planes are
-  // tried: p - min_width (what starts at p goes right) and p + min_width
-  // (what ends at p goes left). The counts treat them as just below and just
-  // above p; the partition itself is exact.
-  Split find_split(const Bounds3& box, const EventLists& events, std::size_t n) const {
+  // tried: p - min_width (what starts at p goes above) and p + min_width
+  // (what ends at p goes below). The counts treat them as just below and just
+  // above p; the partition itself is exact. Costs are compared times the
+  // node's half area, which saves a division per candidate.
+  Split find_split(const Bounds3& box, const NodeEvents& events, std::size_t n) const {
     Split best;
+    const glm::dvec3 extent = glm::dvec3(box.hi) - glm::dvec3(box.lo);
+    const double half_area = extent.x * extent.y + extent.y * extent.z + extent.z * extent.x;
+    if (!(half_area > 0.0)) return best;
+    const double traversal = options_.traversal_cost * half_area, intersection = options_.intersection_cost;
+    const double empty_factor = 1.0 - options_.empty_bonus;
     for (int axis = 0; axis < 3; ++axis) {
       const float lo = box.lo[axis], hi = box.hi[axis];
       if (hi - lo < 2.0f * min_width_) continue;
-      const std::vector<Event>& list = events[axis];
+      // A child's half area is cap + (its width along axis) * girth.
+      const double cap = extent[(axis + 1) % 3] * extent[(axis + 2) % 3];
+      const double girth = extent[(axis + 1) % 3] + extent[(axis + 2) % 3];
+      const auto consider = [&](float position, std::size_t n_below, std::size_t n_above) {
+        if (!(position - lo >= min_width_ && hi - position >= min_width_)) return;
+        const double area_below = cap + (double(position) - double(lo)) * girth;
+        const double area_above = cap + (double(hi) - double(position)) * girth;
+        const double lambda = (n_below == 0 || n_above == 0) ? empty_factor : 1.0;
+        const double cost =
+            lambda * (traversal + intersection * (area_below * double(n_below) + area_above * double(n_above)));
+        if (cost < best.cost) best = {axis, position, cost};
+      };
       std::size_t starts_before = 0, ends_before = 0;
-      for (std::size_t i = 0; i < list.size();) {
-        const float p = list[i].position;
-        std::size_t ending = 0, planar = 0, starting = 0;
-        for (; i < list.size() && list[i].position == p; ++i) {
-          ending += list[i].type == EventType::End;
-          planar += list[i].type == EventType::Planar;
-          starting += list[i].type == EventType::Start;
-        }
-        consider(box, axis, p - min_width_, starts_before, n - ends_before, best);
-        starts_before += starting + planar;
-        ends_before += ending + planar;
-        consider(box, axis, p + min_width_, starts_before, n - ends_before, best);
+      for (const Event *e = events.begin(axis), *end = events.end(axis); e != end;) {
+        const float p = e->position;
+        std::array<std::size_t, 3> count{};  // by EventType
+        for (; e != end && e->position == p; ++e) ++count[e->key >> 30];
+        const std::size_t planar = count[std::size_t(EventType::Planar)];
+        consider(p - min_width_, starts_before, n - ends_before);
+        starts_before += count[std::size_t(EventType::Start)] + planar;
+        ends_before += count[std::size_t(EventType::End)] + planar;
+        consider(p + min_width_, starts_before, n - ends_before);
       }
     }
+    best.cost /= half_area;
     return best;
-  }
-
-  void consider(const Bounds3& box, int axis, float position, std::size_t n_left, std::size_t n_right,
-                Split& best) const {
-    if (!(position - box.lo[axis] >= min_width_ && box.hi[axis] - position >= min_width_)) return;
-    const double cost = split_cost(box, axis, position, n_left, n_right);
-    if (cost < best.cost) best = {axis, position, cost};
-  }
-
-  std::uint32_t build_node(KdTree& tree, const Bounds3& box, EventLists events, std::size_t n, int depth) {
-    tree.stats.max_depth = std::max(tree.stats.max_depth, depth);
-    const std::uint32_t index = std::uint32_t(tree.nodes.size());
-    const Split split = n > 0 && depth < max_depth_ ? find_split(box, events, n) : Split{};
-    if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
-      make_leaf(tree, box, events[0]);
-      return index;
-    }
-    tree.stats.sah_cost += area_fraction(box) * options_.traversal_cost;
-    tree.nodes.push_back(kd_make_interior(std::uint32_t(split.axis), split.position, 0));
-
-    Bounds3 left_box = box, right_box = box;
-    left_box.hi[split.axis] = split.position;
-    right_box.lo[split.axis] = split.position;
-    EventLists left, right;
-    std::size_t n_left = 0, n_right = 0;
-    partition(events, split, left_box, right_box, left, right, n_left, n_right);
-    events = EventLists{};  // release the parent's lists before going deeper
-
-    build_node(tree, left_box, std::move(left), n_left, depth + 1);
-    const std::uint32_t above = std::uint32_t(tree.nodes.size());
-    if (above > MBAO_KD_MAX_INDEX) throw Error("kd-tree: more nodes than the node format can address");
-    tree.nodes[index] = kd_make_interior(std::uint32_t(split.axis), split.position, above);
-    build_node(tree, right_box, std::move(right), n_right, depth + 1);
-    return index;
   }
 
   // Splits the events between the children, keeping their order. A triangle
   // on both sides is clipped to each child: where it misses a child's cell it
   // stays out of it, elsewhere it gets new events for its clipped box, sorted
   // and merged in.
-  void partition(const EventLists& events, const Split& split, const Bounds3& left_box, const Bounds3& right_box,
-                 EventLists& left, EventLists& right, std::size_t& n_left, std::size_t& n_right) {
-    // The triangles' extent in this node along the split axis, from their events.
-    for (const Event& e : events[split.axis]) {
-      if (e.type != EventType::End) extent_lo_[e.triangle] = e.position;
-      if (e.type != EventType::Start) extent_hi_[e.triangle] = e.position;
-    }
-    std::vector<std::uint32_t> straddling;
-    std::size_t left_only = 0, right_only = 0;
-    for (const Event& e : events[split.axis]) {
-      if (e.type == EventType::End) continue;
-      const Side side = extent_hi_[e.triangle] < split.position  ? Left
-                        : extent_lo_[e.triangle] > split.position ? Right
-                                                                  : Both;
-      side_[e.triangle] = side;
-      left_only += side == Left;
-      right_only += side == Right;
-      if (side == Both) straddling.push_back(e.triangle);
-    }
-    EventLists new_left, new_right;
-    for (std::uint32_t t : straddling) {
-      const std::array<glm::vec3, 3> corners = {mesh_.positions[mesh_.triangles[t][0]],
-                                                 mesh_.positions[mesh_.triangles[t][1]],
-                                                 mesh_.positions[mesh_.triangles[t][2]]};
-      if (const auto box = clipped_bounds(corners, left_box)) {
-        append_events(*box, t, new_left);
-        ++n_left;
-      }
-      if (const auto box = clipped_bounds(corners, right_box)) {
-        append_events(*box, t, new_right);
-        ++n_right;
-      }
-    }
-    n_left += left_only;
-    n_right += right_only;
+  Children partition(const NodeEvents& events, const Split& split, const Bounds3& below_box,
+                     const Bounds3& above_box, Scratch& scratch) const {
+    Side* side = scratch.side.get();
+    classify(events, split, side);
     for (int axis = 0; axis < 3; ++axis) {
-      std::vector<Event> left_events, right_events;
-      left_events.reserve(2 * left_only);
-      right_events.reserve(2 * right_only);
-      for (const Event& e : events[axis]) {
-        if (side_[e.triangle] == Left) left_events.push_back(e);
-        if (side_[e.triangle] == Right) right_events.push_back(e);
+      scratch.clipped_below[axis].clear();
+      scratch.clipped_above[axis].clear();
+    }
+    Children children;
+    for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
+      if (e->type() == EventType::End) continue;
+      const std::uint32_t t = e->triangle();
+      if (side[t] == Below) {
+        ++children.n_below;
+      } else if (side[t] == Above) {
+        ++children.n_above;
+      } else {
+        children.n_below += clip_into(t, below_box, scratch.clipped_below);
+        children.n_above += clip_into(t, above_box, scratch.clipped_above);
       }
-      left[axis] = merged(left_events, new_left[axis]);
-      right[axis] = merged(right_events, new_right[axis]);
+    }
+    children.below = NodeEvents(6 * children.n_below);
+    children.above = NodeEvents(6 * children.n_above);
+    for (int axis = 0; axis < 3; ++axis)
+      merge_sides(events, axis, side, scratch.clipped_below[axis], scratch.clipped_above[axis], children);
+    return children;
+  }
+
+  // Which side of the split each triangle of the node is on, from one pass
+  // over the split axis's events in order: a start below the split makes a
+  // triangle straddle until its end, if that is below too, makes it Below.
+  static void classify(const NodeEvents& events, const Split& split, Side* side) {
+    for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
+      const std::uint32_t t = e->triangle();
+      const EventType type = e->type();
+      if (e->position < split.position) {
+        side[t] = type == EventType::Start ? Both : Below;
+      } else if (type != EventType::End) {
+        side[t] = e->position > split.position ? Above : Both;
+      }
     }
   }
 
-  // The union of a sorted list and an unsorted one, sorted.
-  static std::vector<Event> merged(const std::vector<Event>& sorted, std::vector<Event>& extra) {
-    std::sort(extra.begin(), extra.end());
-    std::vector<Event> out(sorted.size() + extra.size());
-    std::merge(sorted.begin(), sorted.end(), extra.begin(), extra.end(), out.begin());
-    return out;
+  // Adds the events of the part of triangle t inside `cell`, if any; returns
+  // whether there was one.
+  bool clip_into(std::uint32_t t, const Bounds3& cell, std::array<std::vector<Event>, 3>& out) const {
+    const std::optional<Bounds3> box = clipped_bounds(corners(t), cell);
+    if (!box) return false;
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      for_box_events(int(axis), *box, t, [&](const Event& e) { out[axis].push_back(e); });
+    return true;
   }
 
-  void make_leaf(KdTree& tree, const Bounds3& box, const std::vector<Event>& events) {
+  // The children's events along `axis`: the parent's events of triangles
+  // wholly on one side go to that side, merged with the clipped triangles'
+  // new events. One pass over the parent's events fills both children.
+  static void merge_sides(const NodeEvents& parent, int axis, const Side* side, std::vector<Event>& clipped_below,
+                          std::vector<Event>& clipped_above, Children& children) {
+    std::sort(clipped_below.begin(), clipped_below.end());
+    std::sort(clipped_above.begin(), clipped_above.end());
+    auto extra_below = clipped_below.begin(), extra_above = clipped_above.begin();
+    for (const Event *e = parent.begin(axis), *end = parent.end(axis); e != end; ++e) {
+      const Side s = side[e->triangle()];
+      if (s == Below) {
+        for (; extra_below != clipped_below.end() && *extra_below < *e; ++extra_below) children.below.push(*extra_below);
+        children.below.push(*e);
+      } else if (s == Above) {
+        for (; extra_above != clipped_above.end() && *extra_above < *e; ++extra_above) children.above.push(*extra_above);
+        children.above.push(*e);
+      }
+    }
+    for (; extra_below != clipped_below.end(); ++extra_below) children.below.push(*extra_below);
+    for (; extra_above != clipped_above.end(); ++extra_above) children.above.push(*extra_above);
+    children.below.close_axis(axis);
+    children.above.close_axis(axis);
+  }
+
+  void make_leaf(KdTree& tree, const Bounds3& box, const NodeEvents& events) const {
     const std::size_t first = tree.leaf_triangles.size();
-    for (const Event& e : events)
-      if (e.type != EventType::End) tree.leaf_triangles.push_back(e.triangle);
+    for (const Event *e = events.begin(0), *end = events.end(0); e != end; ++e)
+      if (e->type() != EventType::End) tree.leaf_triangles.push_back(e->triangle());
     std::sort(tree.leaf_triangles.begin() + std::ptrdiff_t(first), tree.leaf_triangles.end());
     const std::size_t count = tree.leaf_triangles.size() - first;
     if (count > MBAO_KD_MAX_INDEX) throw Error("kd-tree: leaf too large for the node format");
@@ -274,10 +369,8 @@ class Builder {
 
   const TriangleMesh& mesh_;
   const KdBuildOptions& options_;
-  std::vector<Bounds3> triangle_boxes_;
-  // Scratch, per triangle, for the node being split.
-  std::vector<Side> side_;
-  std::vector<float> extent_lo_, extent_hi_;
+  const int threads_;
+  std::atomic<int> spare_threads_;
   int max_depth_ = 0;
   float min_width_ = 0.0f;
   double root_area_ = 0.0;

@@ -14,21 +14,37 @@ struct Polygon {
   int size = 0;
 };
 
-// Keeps the part of `in` with sign * (p[axis] - plane) <= 0.
-Polygon clip(const Polygon& in, int axis, double plane, double sign) {
-  Polygon out;
+// Keeps the part of `polygon` with sign * (p[axis] - plane) <= 0.
+void clip(Polygon& polygon, int axis, double plane, double sign) {
+  const Polygon in = polygon;
+  polygon.size = 0;
   for (int i = 0; i < in.size; ++i) {
     const glm::dvec3& a = in.points[i];
     const glm::dvec3& b = in.points[(i + 1) % in.size];
     const double da = sign * (a[axis] - plane), db = sign * (b[axis] - plane);
-    if (da <= 0.0) out.points[out.size++] = a;
+    if (da <= 0.0) polygon.points[polygon.size++] = a;
     if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) {
       glm::dvec3 crossing = a + (b - a) * (da / (da - db));
       crossing[axis] = plane;  // exactly on the plane, whatever the rounding above
-      out.points[out.size++] = crossing;
+      polygon.points[polygon.size++] = crossing;
     }
   }
-  return out;
+}
+
+// Clips `polygon` to lo <= p[axis] <= hi. Most triangles a split straddles
+// cross only the split plane: planes the polygon does not cross cost nothing.
+void clip_to_slab(Polygon& polygon, int axis, double lo, double hi) {
+  double min = polygon.points[0][axis], max = min;
+  for (int i = 1; i < polygon.size; ++i) {
+    min = std::min(min, polygon.points[i][axis]);
+    max = std::max(max, polygon.points[i][axis]);
+  }
+  if (max < lo || min > hi) {
+    polygon.size = 0;
+    return;
+  }
+  if (min < lo) clip(polygon, axis, lo, -1.0);
+  if (max > hi) clip(polygon, axis, hi, 1.0);
 }
 
 float round_down(double x) {
@@ -51,8 +67,7 @@ std::optional<Bounds3> clipped_bounds(const std::array<glm::vec3, 3>& triangle, 
     // rounding of the crossings, far less than anything a float ray resolves.
     const double margin = 1e-3 * std::numeric_limits<float>::epsilon() *
                           std::max(std::abs(double(cell.lo[axis])), std::abs(double(cell.hi[axis])));
-    polygon = clip(polygon, axis, double(cell.lo[axis]) - margin, -1.0);
-    polygon = clip(polygon, axis, double(cell.hi[axis]) + margin, 1.0);
+    clip_to_slab(polygon, axis, double(cell.lo[axis]) - margin, double(cell.hi[axis]) + margin);
   }
   if (polygon.size == 0) return std::nullopt;
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());

@@ -291,6 +291,26 @@ TEST(KdTree, DepthStaysWithinTheLimit) {
   EXPECT_LE(tree.stats.max_depth, 3);
 }
 
+TEST(KdTree, TheTreeDoesNotDependOnTheNumberOfThreads) {
+  // Big enough for subtrees on spare threads (2048 triangles and more).
+  const TriangleMesh mesh = random_soup(30000, 21);
+  KdBuildOptions one_thread, four_threads;
+  one_thread.threads = 1;
+  four_threads.threads = 4;
+  const KdTree serial = build_kd_tree(mesh, one_thread);
+  const KdTree parallel = build_kd_tree(mesh, four_threads);
+  ASSERT_EQ(serial.nodes.size(), parallel.nodes.size());
+  for (std::size_t i = 0; i < serial.nodes.size(); ++i) {
+    ASSERT_EQ(serial.nodes[i].header, parallel.nodes[i].header) << "node " << i;
+    ASSERT_EQ(serial.nodes[i].payload, parallel.nodes[i].payload) << "node " << i;
+  }
+  EXPECT_EQ(serial.leaf_triangles, parallel.leaf_triangles);
+  EXPECT_EQ(serial.stats.max_depth, parallel.stats.max_depth);
+  EXPECT_EQ(serial.stats.leaves, parallel.stats.leaves);
+  // Subtrees' costs are summed in another order.
+  EXPECT_NEAR(serial.stats.sah_cost, parallel.stats.sah_cost, 1e-12 * serial.stats.sah_cost);
+}
+
 TEST(KdTree, SingleTriangleAndDegenerateTriangles) {
   TriangleMesh one;
   one.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 1}};
