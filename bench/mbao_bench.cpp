@@ -3,13 +3,15 @@
 //   scene under --scenes (512x512, r = 4, branching, b = 1 and 2, rho = 1,
 //   spp = 1), with max_distance = inf and again with the radius a scene's
 //   camera.json suggests;
+// * the four kd traversals' frame times and per-ray counts, at b = 2;
+// * mbao beside Embree 3 on the same workload (builds with Embree);
 // * the Cornell box with kernels built without and with the alpha-mask path;
 // * kernel build time in a fresh process, cold and warm;
 // * load time and peak memory of each scene against loading everything.
 // Prints markdown tables and writes everything as JSON.
 //
 //   mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]
-//              [--width W] [--height H] [--samples R] [--traversal pushdown|restart]
+//              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]
 #include <algorithm>
 #include <ctime>
 #include <filesystem>
@@ -30,7 +32,7 @@ namespace {
 [[noreturn]] void usage(const std::string& problem) {
   std::cerr << "mbao_bench: " << problem
             << "\nusage: mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]"
-               " [--width W] [--height H] [--samples R] [--traversal pushdown|restart]\n";
+               " [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]\n";
   std::exit(2);
 }
 
@@ -94,8 +96,9 @@ std::string iso_date() {
   return text;
 }
 
-int run(const bench::Options& options) {
+int run(bench::Options options) {
   const mbao::DeviceInfo device = pick_device(options.device);
+  options.settings.traversal = mbao::traversal_for(options.settings.traversal, device);
   mbao::Renderer& renderer = mbao::Renderer::for_device(device);
   const std::vector<bench::BenchScene> scenes = load_scenes(options.scenes_dir);
   std::cout << "Device: " << device.description() << " (" << device.version << ")\n\n";
@@ -113,6 +116,7 @@ int run(const bench::Options& options) {
                    {"traversal", mbao::to_string(options.settings.traversal)},
                    {"frames", options.frames}}}};
   report["results"] = bench::table1(renderer, scenes, options);
+  report["traversals"] = bench::traversals(renderer, scenes, options);
 #ifdef MBAO_BENCH_EMBREE
   report["embree"] = bench::embree_comparison(renderer, scenes, options);
 #else

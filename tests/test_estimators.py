@@ -109,6 +109,14 @@ def test_traversals_render_the_same_image(cornell, traversal):
     )
 
 
+def test_auto_traversal_is_the_full_stack_on_cpus_and_the_short_stack_elsewhere(cornell):
+    device = mbao.devices()[0]
+    settings = dict(width=8, height=8, device=device)
+    expected = "stack" if device.type == "CPU" else "short-stack"
+    assert mbao.render(cornell, **settings).stats["traversal_mode"] == expected
+    assert mbao.render(cornell, traversal="restart", **settings).stats["traversal_mode"] == "restart"
+
+
 def test_camera_samples_average_over_the_pixel():
     """spp > 1 jitters the camera rays uniformly over the pixel and averages
     (a box filter). Seen from straight above, a half-plane x <= 0 whose shading

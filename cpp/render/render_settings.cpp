@@ -36,7 +36,8 @@ Traversal parse_traversal(const std::string& name) {
   if (name == "restart") return Traversal::Restart;
   if (name == "short-stack") return Traversal::ShortStack;
   if (name == "stack") return Traversal::Stack;
-  bad("traversal must be \"pushdown\", \"restart\", \"short-stack\" or \"stack\", got \"" + name + "\"");
+  if (name == "auto") return Traversal::Auto;
+  bad("traversal must be \"auto\", \"pushdown\", \"restart\", \"short-stack\" or \"stack\", got \"" + name + "\"");
 }
 
 std::string to_string(Estimator estimator) { return estimator == Estimator::Branching ? "branching" : "path"; }
@@ -46,7 +47,8 @@ std::string to_string(Traversal traversal) {
     case Traversal::Restart: return "restart";
     case Traversal::PushDown: return "pushdown";
     case Traversal::ShortStack: return "short-stack";
-    default: return "stack";
+    case Traversal::Stack: return "stack";
+    default: return "auto";
   }
 }
 

@@ -11,7 +11,8 @@ namespace mbao {
 
 enum class Estimator { Branching, Path };
 enum class NormalMode { Shading, Geometric };
-enum class Traversal { Restart, PushDown, ShortStack, Stack };
+// Auto: the fastest measured for the device's type (see traversal_for).
+enum class Traversal { Restart, PushDown, ShortStack, Stack, Auto };
 
 // Names as the Python API spells them; parse_* throw std::invalid_argument
 // listing the allowed names.
@@ -35,7 +36,7 @@ struct RenderSettings {
   std::int64_t spp = 1;
   NormalMode normals = NormalMode::Shading;
   std::uint64_t seed = 0;
-  Traversal traversal = Traversal::PushDown;
+  Traversal traversal = Traversal::Auto;
   bool count_traversal = false;  // build the kernels that count nodes, leaves, triangle tests and restarts
   // How the work is cut up; neither changes the image.
   std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory

@@ -20,6 +20,7 @@ struct RenderStats {
   double kernel_build_ms = 0.0;  // getting the program (and, on first launch, its kernels) ready
   std::string kernel_cache;      // where the program came from: "memory", "disk" or "compiled"
   std::string kernel_options;    // what it was built for (SPEC features compiled in or out)
+  std::string traversal_mode;    // the kd traversal the kernels ran ("auto" resolved for the device)
   double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
   double frame_ms = 0.0;         // camera rays, AO and read-back of the image
   std::uint64_t rays_primary = 0;

@@ -44,8 +44,8 @@ ProgramFeatures features_for(const Scene& scene, Traversal traversal, bool count
   return features;
 }
 
-ProgramFeatures features_for(const Scene& scene, const RenderSettings& settings) {
-  ProgramFeatures features = features_for(scene, settings.traversal, settings.count_traversal);
+ProgramFeatures features_for(const Scene& scene, const RenderSettings& settings, Traversal traversal) {
+  ProgramFeatures features = features_for(scene, traversal, settings.count_traversal);
   features.shading_normals = settings.normals == NormalMode::Shading && scene.mesh().has_normals();
   features.unlimited_distance = std::isinf(settings.max_distance);
   return features;
@@ -60,6 +60,11 @@ std::size_t tile_pixels_for(const RenderSettings& s, std::size_t pixels) {
 }
 
 }  // namespace
+
+Traversal traversal_for(Traversal requested, const DeviceInfo& device) {
+  if (requested != Traversal::Auto) return requested;
+  return device.type == "CPU" ? Traversal::Stack : Traversal::ShortStack;
+}
 
 Renderer& Renderer::for_device(const DeviceInfo& device) {
   static std::mutex mutex;
@@ -85,7 +90,9 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   stats.tree = scene->kd_tree()->stats;
   stats.build_ms = stats.tree.build_ms;
 
-  const ProgramFeatures features = features_for(*scene, settings);
+  const Traversal traversal = traversal_for(settings.traversal, device());
+  stats.traversal_mode = to_string(traversal);
+  const ProgramFeatures features = features_for(*scene, settings, traversal);
   Stopwatch upload_clock;
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, features.shading_normals);
   stats.upload_ms = upload_clock.elapsed_ms();
@@ -144,7 +151,7 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
   std::lock_guard<std::mutex> lock(mutex_);
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
   const BuiltProgram built =
-      compute_.programs().get("trace.cl", features_for(*scene, traversal, count_traversal).options());
+      compute_.programs().get("trace.cl", features_for(*scene, traversal_for(traversal, device()), count_traversal).options());
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {
     const cl::Context& context = compute_.context();

@@ -30,6 +30,13 @@ struct TraceResult {
   std::vector<cl_uint4> counts;  // per ray: nodes, leaves, triangle tests, restarts (when counted)
 };
 
+// What `requested` means on `device`: Auto is the full stack on CPUs (the
+// fewest nodes per ray and the fastest frames on PoCL: mbao_bench's
+// "traversals" section) and the short stack on other devices, Horn et al.'s
+// choice for GPUs, where a 64-entry stack per ray spills out of registers
+// (not measured here yet).
+Traversal traversal_for(Traversal requested, const DeviceInfo& device);
+
 // Renders and traces on one OpenCL device, keeping its built programs and the
 // scenes uploaded to it. One per device for the life of the process (for_device);
 // calls are serialized.

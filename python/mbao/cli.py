@@ -40,7 +40,7 @@ def _parser():
     )
     r.add_argument("--spp", type=int, default=1, help="camera samples per pixel")
     r.add_argument("--normals", choices=NORMAL_MODES, default="shading")
-    r.add_argument("--traversal", choices=TRAVERSALS, default="pushdown")
+    r.add_argument("--traversal", choices=TRAVERSALS, default="auto")
     r.add_argument("--seed", type=int, default=0)
     r.add_argument("--traversal-stats", action="store_true", help="count nodes, leaves, triangle tests per ray")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
@@ -97,7 +97,7 @@ def _render(args):
         t = s["traversal"]
         print(
             f"per ray      {t['nodes_per_ray']:.1f} nodes, {t['leaves_per_ray']:.1f} leaves, "
-            f"{t['triangles_per_ray']:.1f} triangle tests, {t['restarts_per_ray']:.2f} restarts ({args.traversal})"
+            f"{t['triangles_per_ray']:.1f} triangle tests, {t['restarts_per_ray']:.2f} restarts ({s['traversal_mode']})"
         )
     print(f"memory       {s['memory_bytes'] / 2**20:.1f} MiB on the device")
     print(f"wrote        {args.output}")

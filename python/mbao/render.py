@@ -10,7 +10,7 @@ from .devices import resolve
 
 ESTIMATORS = ("branching", "path")
 NORMAL_MODES = ("shading", "geometric")
-TRAVERSALS = ("pushdown", "restart", "short-stack", "stack")
+TRAVERSALS = ("auto", "pushdown", "restart", "short-stack", "stack")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -53,7 +53,7 @@ def render(
     spp=1,
     normals="shading",
     seed=0,
-    traversal="pushdown",
+    traversal="auto",
     device=None,
     traversal_stats=False,
     tile_pixels=None,
@@ -73,7 +73,9 @@ def render(
     seed: any integer in [0, 2^64); the image is a pure function of the seed and
         the settings, whatever the device, tiling or work-group size.
     traversal: how rays walk the kd-tree: "pushdown" or "short-stack" (Horn et al. 2007),
-        "restart" (Foley and Sugerman 2005) or "stack" (a full stack). Same image either way.
+        "restart" (Foley and Sugerman 2005), "stack" (a full stack), or "auto": "stack"
+        on CPUs, "short-stack" on GPUs (stats["traversal_mode"] says which ran). Same image
+        either way.
     device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
     traversal_stats: count nodes, leaves, triangle tests and restarts per ray into
         stats["traversal"] (kernels built to count, somewhat slower).
@@ -116,7 +118,7 @@ def _optional_count(name, value):
     return value
 
 
-def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversal="pushdown", device=None,
+def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversal="auto", device=None,
           traversal_stats=False):
     """Traces rays through the scene's kd-tree.
 
