@@ -13,7 +13,8 @@ namespace mbao {
 namespace {
 
 // Tiles are sized so one launch holds at most this many camera samples (16 MiB
-// of hit records) and traces at most this many rays, whatever r^b is.
+// of hit records) and traces at most this many rays, whatever r^b is; the
+// wavefront's queues hold at most kMaxWavefrontQueueEntries.
 constexpr std::size_t kMaxTileCameraSamples = std::size_t(1) << 20;
 constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 27;
 
@@ -56,7 +57,12 @@ std::size_t tile_pixels_for(const RenderSettings& s, std::size_t pixels) {
   const std::uint64_t rays_per_pixel = std::max<std::uint64_t>(1, s.max_rays_per_camera_sample()) * std::uint64_t(s.spp);
   const std::size_t by_memory = kMaxTileCameraSamples / std::size_t(s.spp);
   const std::size_t by_rays = std::size_t(std::max<std::uint64_t>(1, kMaxTileRays / rays_per_pixel));
-  return std::max<std::size_t>(1, std::min({pixels, by_memory, by_rays}));
+  std::size_t by_queues = pixels;
+  if (s.organisation == KernelOrganisation::Wavefront) {
+    const std::uint64_t per_pixel = std::max<std::uint64_t>(1, s.max_queue_entries_per_camera_sample()) * std::uint64_t(s.spp);
+    by_queues = std::size_t(kMaxWavefrontQueueEntries / per_pixel);  // >= 1: validate() refuses more per pixel
+  }
+  return std::max<std::size_t>(1, std::min({pixels, by_memory, by_rays, by_queues}));
 }
 
 }  // namespace
