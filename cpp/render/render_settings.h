@@ -43,7 +43,7 @@ struct RenderSettings {
   Traversal traversal = Traversal::PushDown;
   bool count_traversal = false;  // build the kernels that count nodes, leaves, triangle tests and restarts
   // How the work is cut up; none of these changes the image.
-  std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory
+  std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory (the wavefront's always)
   std::size_t work_group_size = 0;  // 0 lets the OpenCL driver choose
   KernelOrganisation organisation = KernelOrganisation::Megakernel;  // wavefront: branching estimator only
 

@@ -91,6 +91,21 @@ TEST(Wavefront, SponzaIsTheMegakernelsImageBitForBit) {
   }
 }
 
+// With rho = 0 nothing bounces on, but the queues are sized for r^5 + r^4
+// surfaces per pixel: a whole-frame tile would pass kMaxWavefrontQueueEntries.
+TEST(Wavefront, QueuesStayBoundedWhateverTileIsAskedFor) {
+  const auto cornell = cornell_box();
+  RenderSettings s = small(6);
+  s.rho = 0.0f;
+  s.tile_pixels = std::size_t(s.width * s.height);
+  const std::uint64_t queue_per_pixel = s.max_queue_entries_per_camera_sample();
+  ASSERT_GT(s.tile_pixels * queue_per_pixel, kMaxWavefrontQueueEntries);
+  const RenderResult wave = render(cornell, *cornell->camera(), s, KernelOrganisation::Wavefront);
+  const std::size_t tile = std::size_t(kMaxWavefrontQueueEntries / queue_per_pixel);
+  EXPECT_EQ(wave.stats.tiles, (s.tile_pixels + tile - 1) / tile);
+  expect_same_render(cornell, *cornell->camera(), s);
+}
+
 TEST(Wavefront, TracesTheMegakernelsRaysNodeForNode) {
   const auto cornell = cornell_box();
   RenderSettings s = small(2);
