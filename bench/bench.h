@@ -21,6 +21,8 @@ struct Options {
   std::string device;
   int frames = 5;
   mbao::RenderSettings settings;  // the Table 1 configuration, with --width/--height/--samples/--traversal
+  std::vector<std::string> sections;           // --sections; empty: all of them
+  std::vector<std::size_t> work_groups = {0};  // --work-groups, for the organisation section; 0: the default
   std::string self;               // this executable, for the measurements that need a fresh process
   std::string command_line;
 };
@@ -45,6 +47,8 @@ json kernel_builds(const Options& options);
 json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 // Load time and peak memory of each glTF scene: mbao's loader against loading everything.
 json loading(const std::vector<BenchScene>& scenes, const Options& options);
+// Megakernel against wavefront on the Table 1 workload, interleaved, at each of --work-groups.
+json organisation(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 
 // What the child processes run (mbao_bench --child-load / --child-build-kernels).
 int child_load(const std::string& path, bool everything);

@@ -7,16 +7,22 @@
 // * mbao beside Embree 3 on the same workload (builds with Embree);
 // * the Cornell box with kernels built without and with the alpha-mask path;
 // * kernel build time in a fresh process, cold and warm;
-// * load time and peak memory of each scene against loading everything.
-// Prints markdown tables and writes everything as JSON.
+// * load time and peak memory of each scene against loading everything;
+// * the Table 1 workload with the megakernel and the wavefront, interleaved, at
+//   each work-group size of --work-groups (default: the default size).
+// Prints markdown tables and writes everything as JSON. --sections picks some
+// of table1, traversals, embree, masks, kernel-builds, loading, organisation
+// (default: all).
 //
 //   mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]
 //              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]
+//              [--sections A,B,...] [--work-groups N,M,...]
 #include <algorithm>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "bench.h"
 #include "core/timer.h"
@@ -32,8 +38,32 @@ namespace {
 [[noreturn]] void usage(const std::string& problem) {
   std::cerr << "mbao_bench: " << problem
             << "\nusage: mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]"
-               " [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]\n";
+               " [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]"
+               " [--sections A,B,...] [--work-groups N,M,...]\n";
   std::exit(2);
+}
+
+const std::vector<std::string> kSections = {"table1", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation"};
+
+std::vector<std::string> split_commas(const std::string& list) {
+  std::vector<std::string> items;
+  std::istringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
+  return items;
+}
+
+std::vector<std::string> parse_sections(const std::string& list) {
+  const std::vector<std::string> sections = split_commas(list);
+  for (const std::string& section : sections)
+    if (std::find(kSections.begin(), kSections.end(), section) == kSections.end()) usage("unknown section " + section);
+  return sections;
+}
+
+std::vector<std::size_t> parse_work_groups(const std::string& list) {
+  std::vector<std::size_t> sizes;
+  for (const std::string& size : split_commas(list)) sizes.push_back(std::size_t(std::stoul(size)));
+  if (sizes.empty()) usage("--work-groups needs at least one size");
+  return sizes;
 }
 
 bench::Options parse(int argc, char** argv) {
@@ -55,6 +85,8 @@ bench::Options parse(int argc, char** argv) {
       else if (flag == "--height") options.settings.height = std::stoi(value);
       else if (flag == "--samples") options.settings.samples = std::stoi(value);
       else if (flag == "--traversal") options.settings.traversal = mbao::parse_traversal(value);
+      else if (flag == "--sections") options.sections = parse_sections(value);
+      else if (flag == "--work-groups") options.work_groups = parse_work_groups(value);
       else usage("unknown option " + flag);
     } catch (const std::logic_error&) {
       usage("bad value for " + flag + ": " + value);
@@ -96,6 +128,11 @@ std::string iso_date() {
   return text;
 }
 
+bool wanted(const bench::Options& options, const std::string& section) {
+  return options.sections.empty() ||
+         std::find(options.sections.begin(), options.sections.end(), section) != options.sections.end();
+}
+
 int run(bench::Options options) {
   const mbao::DeviceInfo device = pick_device(options.device);
   options.settings.traversal = mbao::traversal_for(options.settings.traversal, device);
@@ -114,17 +151,20 @@ int run(bench::Options options) {
                    {"rho", 1.0},
                    {"spp", 1},
                    {"traversal", mbao::to_string(options.settings.traversal)},
-                   {"frames", options.frames}}}};
-  report["results"] = bench::table1(renderer, scenes, options);
-  report["traversals"] = bench::traversals(renderer, scenes, options);
+                   {"frames", options.frames},
+                   {"sections", options.sections.empty() ? kSections : options.sections},
+                   {"work_groups", options.work_groups}}}};
+  if (wanted(options, "table1")) report["results"] = bench::table1(renderer, scenes, options);
+  if (wanted(options, "traversals")) report["traversals"] = bench::traversals(renderer, scenes, options);
 #ifdef MBAO_BENCH_EMBREE
-  report["embree"] = bench::embree_comparison(renderer, scenes, options);
+  if (wanted(options, "embree")) report["embree"] = bench::embree_comparison(renderer, scenes, options);
 #else
-  std::cout << "(Built without Embree: no side-by-side comparison. Debian: libembree-dev.)\n\n";
+  if (wanted(options, "embree")) std::cout << "(Built without Embree: no side-by-side comparison. Debian: libembree-dev.)\n\n";
 #endif
-  report["mask_overhead"] = bench::mask_overhead(renderer, options);
-  report["kernel_builds"] = bench::kernel_builds(options);
-  report["loading"] = bench::loading(scenes, options);
+  if (wanted(options, "masks")) report["mask_overhead"] = bench::mask_overhead(renderer, options);
+  if (wanted(options, "kernel-builds")) report["kernel_builds"] = bench::kernel_builds(options);
+  if (wanted(options, "loading")) report["loading"] = bench::loading(scenes, options);
+  if (wanted(options, "organisation")) report["organisation"] = bench::organisation(renderer, scenes, options);
   if (!options.json_path.empty()) {
     const fs::path path(options.json_path);
     if (path.has_parent_path()) fs::create_directories(path.parent_path());

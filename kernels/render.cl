@@ -1,5 +1,7 @@
-// Multi-bounce ambient occlusion (SPEC 1-2): camera rays first, then one work
-// item per pixel that runs the chosen estimator for each of its camera samples.
+// Multi-bounce ambient occlusion (SPEC 1-2): camera rays first, then either one
+// work item per pixel that runs the chosen estimator for each of its camera
+// samples (the megakernel) or, for the branching estimator, one launch per
+// bounce over the surfaces still bouncing (the wavefront, at the end).
 #include "mbao/limits.h"
 #include "kd_traversal.h"
 
@@ -8,6 +10,7 @@
 #endif
 #include "surface.h"
 #include "sampling.h"
+#include "mbao/wavefront.h"
 
 // Camera rays (SPEC 3.1). One work item per camera sample of the tile; the
 // closest hit is stored as (t, triangle, b1, b2) bits.
@@ -88,11 +91,24 @@ static inline int bounces_on(const AoSettings* s, uint bounce) {
   return bounce < s->bounces && s->rho > 0.0f;
 }
 
+// The value of one camera sample from its escapes per bounce: every escape
+// at bounce k weighs rho^(k-1) / r^k. Both organisations end here, so their
+// images agree bit for bit.
+static float branching_value(const uint* escapes, const AoSettings* s) {
+  const float inv_samples = 1.0f / (float)s->samples;
+  float value = 0.0f, weight = inv_samples;
+  for (uint k = 0; k < s->bounces; ++k) {
+    value += (float)escapes[k] * weight;
+    weight *= s->rho * inv_samples;
+  }
+  return fmin(value, 1.0f);  // rounding of the weights must not lift it past 1
+}
+
 // The paper's estimator: r new directions at every hit of every bounce but the
 // last, r + r^2 + ... + r^b rays, walked depth first with one surface per level.
-// Every escape at bounce k weighs rho^(k-1) / r^k, so escapes are counted per
-// bounce and weighed once at the end: the sum of b + 1 bounces then starts
-// with the exact sum of b bounces, and L_b <= L_(b+1) holds sample by sample.
+// Escapes are counted per bounce and weighed once at the end: the sum of b + 1
+// bounces then starts with the exact sum of b bounces, and L_b <= L_(b+1)
+// holds sample by sample.
 static float branching_estimate(const SceneView* scene, const Surface* primary,
                                 const AoSettings* s, uint pixel, uint camera_sample, uint* rays,
                                 TraversalCounts* counts) {
@@ -127,14 +143,7 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
       node[level] = child;
     }
   }
-
-  const float inv_samples = 1.0f / (float)s->samples;
-  float value = 0.0f, weight = inv_samples;
-  for (uint k = 0; k < s->bounces; ++k) {
-    value += (float)escapes[k] * weight;
-    weight *= s->rho * inv_samples;
-  }
-  return fmin(value, 1.0f);  // rounding of the weights must not lift it past 1
+  return branching_value(escapes, s);
 }
 
 // r paths of up to b segments, one direction per further bounce; an escape at
@@ -160,6 +169,33 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
   return fmin(sum / (float)s->samples, 1.0f);
 }
 
+static inline Hit camera_hit(__global const uint4* camera_hits, uint index) {
+  const uint4 bits = camera_hits[index];
+  Hit hit;
+  hit.t = as_float(bits.x);
+  hit.triangle = bits.y;
+  hit.b1 = as_float(bits.z);
+  hit.b2 = as_float(bits.w);
+  return hit;
+}
+
+static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 eye) {
+  const float3 p0 = triangle_corner(scene, hit.triangle, 0);
+  const float3 p1 = triangle_corner(scene, hit.triangle, 1);
+  const float3 p2 = triangle_corner(scene, hit.triangle, 2);
+  const float3 hit_point = (1.0f - hit.b1 - hit.b2) * p0 + hit.b1 * p1 + hit.b2 * p2;
+  return make_surface(scene, hit, hit_point - eye.xyz);
+}
+
+// A pixel from the sum of its camera samples' values (1 for each that missed).
+static inline void store_pixel(uint pixel, float sum, uint spp, uint covered, uint rays,
+                               __global float* ao, __global uchar* coverage,
+                               __global uint* secondary_rays) {
+  ao[pixel] = sum / (float)spp;
+  coverage[pixel] = (uchar)covered;
+  secondary_rays[pixel] = rays;
+}
+
 #define MBAO_ESTIMATOR_BRANCHING 0
 #define MBAO_ESTIMATOR_PATH 1
 
@@ -175,38 +211,31 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
   uint covered = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
   for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
-    const uint4 bits = camera_hits[pixel_index * spp + camera_sample];
-    Hit hit;
-    hit.t = as_float(bits.x);
-    hit.triangle = bits.y;
-    hit.b1 = as_float(bits.z);
-    hit.b2 = as_float(bits.w);
+    const Hit hit = camera_hit(camera_hits, pixel_index * spp + camera_sample);
     if (hit.triangle == MBAO_NO_TRIANGLE) {
       sum += 1.0f;
       continue;
     }
     covered = 1;
-    const float3 p0 = triangle_corner(scene, hit.triangle, 0);
-    const float3 p1 = triangle_corner(scene, hit.triangle, 1);
-    const float3 p2 = triangle_corner(scene, hit.triangle, 2);
-    const float3 hit_point = (1.0f - hit.b1 - hit.b2) * p0 + hit.b1 * p1 + hit.b2 * p2;
-    const Surface primary = make_surface(scene, hit, hit_point - eye.xyz);
+    const Surface primary = primary_surface(scene, hit, eye);
     sum += estimator == MBAO_ESTIMATOR_BRANCHING
                ? branching_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts)
                : path_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts);
   }
-  ao[pixel] = sum / (float)spp;
-  coverage[pixel] = (uchar)covered;
-  secondary_rays[pixel] = rays;
+  store_pixel(pixel, sum, spp, covered, rays, ao, coverage, secondary_rays);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
 }
 
+// The settings every AO kernel takes (after the scene, where it takes one), in this order.
+#define MBAO_AO_PARAMS                                                                         \
+  float4 eye, uint spp, uint bounces, uint samples, float rho, float max_distance, uint2 seed
+
+// The megakernel: one work item per pixel runs the whole estimator.
 #define MBAO_AO_KERNEL(name, estimator)                                                          \
-  __kernel void name(MBAO_SCENE_PARAMS, float4 eye, uint spp, uint bounces, uint samples,       \
-                     float rho, float max_distance, uint2 seed, uint first_pixel,               \
-                     uint pixel_count, __global const uint4 *camera_hits, __global float *ao,   \
+  __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pixel, uint pixel_count,      \
+                     __global const uint4 *camera_hits, __global float *ao,                     \
                      __global uchar *coverage, __global uint *secondary_rays,                   \
                      __global ulong *traversal_totals) {                                        \
     const uint pixel_index = get_global_id(0);                                                   \
@@ -219,3 +248,135 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
 
 MBAO_AO_KERNEL(ao_branching, MBAO_ESTIMATOR_BRANCHING)
 MBAO_AO_KERNEL(ao_path, MBAO_ESTIMATOR_PATH)
+
+// The wavefront organisation of the branching estimator: one launch per bounce
+// over a queue of the surfaces that bounce on, so that escaped and blocked rays
+// stop costing work items and neighbouring work items trace rays of the same
+// bounce. It keeps the megakernel's random numbers (keyed by pixel, camera
+// sample, bounce and node, not by order) and its escape counts per bounce, so
+// its image is the megakernel's bit for bit. Per camera sample of the tile the
+// kernels keep escape_counts[sample * bounces + bounce - 1] and sample_rays[sample];
+// queue k holds the surfaces that bounce k hit and that bounce k + 1 leaves
+// from, queue_lengths[k] entries of it.
+
+static inline QueuedSurface queued_surface(Hit hit, float3 incoming, uint sample, uint node) {
+  QueuedSurface q;
+  q.triangle = hit.triangle;
+  q.b1 = hit.b1;
+  q.b2 = hit.b2;
+  q.incoming_x = incoming.x;
+  q.incoming_y = incoming.y;
+  q.incoming_z = incoming.z;
+  q.sample = sample;
+  q.node = node;
+  return q;
+}
+
+static inline Surface dequeued_surface(const SceneView* scene, QueuedSurface q) {
+  Hit hit;
+  hit.t = 0.0f;  // make_surface interpolates the corners; t is not needed
+  hit.triangle = q.triangle;
+  hit.b1 = q.b1;
+  hit.b2 = q.b2;
+  return make_surface(scene, hit, (float3)(q.incoming_x, q.incoming_y, q.incoming_z));
+}
+
+// The r rays from one surface of a tile's camera sample `sample`; hits that
+// bounce on are appended to queue `bounce` (in no particular order: nothing
+// depends on it).
+static void cast_children(const SceneView* scene, const Surface* from, const AoSettings* s,
+                          uint spp, uint first_pixel, uint sample, uint bounce, uint node,
+                          __global QueuedSurface* next, __global uint* queue_lengths,
+                          uint* escapes, uint* rays, TraversalCounts* counts) {
+  const uint pixel = first_pixel + sample / spp;
+  const uint camera_sample = sample % spp;
+  const int bounce_on = bounces_on(s, bounce);
+  for (uint i = 0; i < s->samples; ++i) {
+    const uint child = node * s->samples + i;
+    float3 dir;
+    Hit hit;
+    const int outcome = cast_ao_ray(scene, from, s, pixel, camera_sample, bounce, child, bounce_on,
+                                    &dir, &hit, rays, counts);
+    if (outcome == MBAO_RAY_ESCAPED)
+      ++*escapes;
+    else if (outcome == MBAO_RAY_HIT && bounce_on)
+      next[atomic_inc(&queue_lengths[bounce])] = queued_surface(hit, dir, sample, child);
+  }
+}
+
+// Bounce 1, one work item per camera sample of the tile. It starts the
+// sample's counts, so they need no clearing and here no atomics.
+__kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pixel,
+                                     uint sample_count, __global const uint4* camera_hits,
+                                     __global uint* escape_counts, __global uint* sample_rays,
+                                     __global QueuedSurface* next, __global uint* queue_lengths,
+                                     __global ulong* traversal_totals) {
+  const uint sample = get_global_id(0);
+  if (sample >= sample_count) return;
+  const SceneView scene = MBAO_SCENE_VIEW();
+  const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);
+  uint escapes = 0, rays = 0;
+  TraversalCounts counts = no_traversal_counts();
+  const Hit hit = camera_hit(camera_hits, sample);
+  if (hit.triangle != MBAO_NO_TRIANGLE) {
+    const Surface primary = primary_surface(&scene, hit, eye);
+    cast_children(&scene, &primary, &s, spp, first_pixel, sample, 1, 0, next, queue_lengths,
+                  &escapes, &rays, &counts);
+  }
+  escape_counts[sample * bounces] = escapes;
+  for (uint k = 1; k < bounces; ++k) escape_counts[sample * bounces + k] = 0;
+  sample_rays[sample] = rays;
+#if MBAO_COUNT_TRAVERSAL
+  add_traversal_counts(traversal_totals, &counts);
+#endif
+}
+
+// Bounce 2 and on, one work item per surface in queue bounce - 1 (the launch
+// has at least that many).
+__kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pixel, uint bounce,
+                               __global const QueuedSurface* queue, __global uint* escape_counts,
+                               __global uint* sample_rays, __global QueuedSurface* next,
+                               __global uint* queue_lengths, __global ulong* traversal_totals) {
+  const uint index = get_global_id(0);
+  if (index >= queue_lengths[bounce - 1]) return;
+  const SceneView scene = MBAO_SCENE_VIEW();
+  const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);
+  const QueuedSurface entry = queue[index];
+  const Surface from = dequeued_surface(&scene, entry);
+  uint escapes = 0, rays = 0;
+  TraversalCounts counts = no_traversal_counts();
+  cast_children(&scene, &from, &s, spp, first_pixel, entry.sample, bounce, entry.node, next,
+                queue_lengths, &escapes, &rays, &counts);
+  if (escapes) atomic_add(&escape_counts[entry.sample * bounces + bounce - 1], escapes);
+  if (rays) atomic_add(&sample_rays[entry.sample], rays);
+#if MBAO_COUNT_TRAVERSAL
+  add_traversal_counts(traversal_totals, &counts);
+#endif
+}
+
+// One work item per pixel of the tile: its camera samples' values, summed in
+// the megakernel's order.
+__kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_pixel, uint pixel_count,
+                               __global const uint4* camera_hits,
+                               __global const uint* escape_counts,
+                               __global const uint* sample_rays, __global float* ao,
+                               __global uchar* coverage, __global uint* secondary_rays) {
+  const uint pixel_index = get_global_id(0);
+  if (pixel_index >= pixel_count) return;
+  const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);
+  float sum = 0.0f;
+  uint covered = 0, rays = 0;
+  for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
+    const uint sample = pixel_index * spp + camera_sample;
+    rays += sample_rays[sample];
+    if (camera_hits[sample].y == MBAO_NO_TRIANGLE) {
+      sum += 1.0f;
+      continue;
+    }
+    covered = 1;
+    uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
+    for (uint k = 0; k < bounces; ++k) escapes[k] = escape_counts[sample * bounces + k];
+    sum += branching_value(escapes, &s);
+  }
+  store_pixel(first_pixel + pixel_index, sum, spp, covered, rays, ao, coverage, secondary_rays);
+}

@@ -3,26 +3,20 @@
 #include "opencl/launch.h"
 
 namespace mbao {
-namespace {
-
-cl_float4 to_float4(const glm::vec3& v) { return {{v.x, v.y, v.z, 0.0f}}; }
-
-cl_uint2 seed_words(std::uint64_t seed) { return {{cl_uint(seed & 0xFFFFFFFFu), cl_uint(seed >> 32)}}; }
-
-}  // namespace
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
              const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels)
     : pixels_(std::size_t(s.width) * std::size_t(s.height)), spp_(std::size_t(s.spp)) {
   const std::size_t hit_bytes = tile_pixels * spp_ * sizeof(cl_uint4);
-  camera_hits_ = cl::Buffer(context, CL_MEM_READ_WRITE, hit_bytes);
-  ao_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
-  coverage_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
-  secondary_rays_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
+  buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, hit_bytes);
+  buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
+  buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
+  buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
   bytes_ = hit_bytes + pixels_ * (sizeof(cl_float) + sizeof(cl_uchar) + sizeof(cl_uint));
   if (s.count_traversal) {
     const cl_ulong zeros[4] = {0, 0, 0, 0};
-    traversal_totals_ = cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zeros, const_cast<cl_ulong*>(zeros));
+    buffers_.traversal_totals =
+        cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zeros, const_cast<cl_ulong*>(zeros));
   }
 
   const CameraBasis basis(camera);
@@ -39,59 +33,61 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   camera_rays_.setArg(arg++, cl_uint(spp_));
   camera_rays_.setArg(arg++, seed_words(s.seed));
   camera_tile_arg_ = arg;
-  camera_rays_.setArg(arg + 2, camera_hits_);
-  set_buffer_or_null(camera_rays_, arg + 3, traversal_totals_);
-
-  ao_kernel_ = cl::Kernel(program, s.estimator == Estimator::Branching ? "ao_branching" : "ao_path");
-  arg = scene.set_args(ao_kernel_);
-  ao_kernel_.setArg(arg++, to_float4(camera.eye));
-  ao_kernel_.setArg(arg++, cl_uint(spp_));
-  ao_kernel_.setArg(arg++, cl_uint(s.bounces));
-  ao_kernel_.setArg(arg++, cl_uint(s.samples));
-  ao_kernel_.setArg(arg++, s.rho);
-  ao_kernel_.setArg(arg++, s.max_distance);
-  ao_kernel_.setArg(arg++, seed_words(s.seed));
-  ao_tile_arg_ = arg;
-  ao_kernel_.setArg(arg + 2, camera_hits_);
-  ao_kernel_.setArg(arg + 3, ao_);
-  ao_kernel_.setArg(arg + 4, coverage_);
-  ao_kernel_.setArg(arg + 5, secondary_rays_);
-  set_buffer_or_null(ao_kernel_, arg + 6, traversal_totals_);
-
+  camera_rays_.setArg(arg + 2, buffers_.camera_hits);
+  set_buffer_or_null(camera_rays_, arg + 3, buffers_.traversal_totals);
   camera_group_ = work_group_size_for(camera_rays_, device, s.work_group_size);
+
+  if (s.organisation == KernelOrganisation::Wavefront) {
+    wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, camera, s, tile_pixels, buffers_);
+    bytes_ += wavefront_->bytes();
+  } else {
+    set_up_megakernel(device, program, scene, camera, s);
+  }
+}
+
+void Frame::set_up_megakernel(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
+                              const Camera& camera, const RenderSettings& s) {
+  ao_kernel_ = cl::Kernel(program, s.estimator == Estimator::Branching ? "ao_branching" : "ao_path");
+  const cl_uint arg = set_ao_args(ao_kernel_, scene.set_args(ao_kernel_), camera, s);
+  ao_tile_arg_ = arg;
+  ao_kernel_.setArg(arg + 2, buffers_.camera_hits);
+  ao_kernel_.setArg(arg + 3, buffers_.ao);
+  ao_kernel_.setArg(arg + 4, buffers_.coverage);
+  ao_kernel_.setArg(arg + 5, buffers_.secondary_rays);
+  set_buffer_or_null(ao_kernel_, arg + 6, buffers_.traversal_totals);
   ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
 }
 
-void Frame::set_tile(std::size_t first, std::size_t count) {
+void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   camera_rays_.setArg(camera_tile_arg_, cl_uint(first));
   camera_rays_.setArg(camera_tile_arg_ + 1, cl_uint(count));
+  launch(queue, camera_rays_, count * spp_, camera_group_);
+  if (wavefront_) {
+    wavefront_->enqueue_tile(queue, first, count);
+    return;
+  }
   ao_kernel_.setArg(ao_tile_arg_, cl_uint(first));
   ao_kernel_.setArg(ao_tile_arg_ + 1, cl_uint(count));
-}
-
-void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
-  set_tile(first, count);
-  launch(queue, camera_rays_, count * spp_, camera_group_);
   launch(queue, ao_kernel_, count, ao_group_);
 }
 
 void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask, cl_uint* secondary_rays) {
-  queue.enqueueReadBuffer(ao_, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao);
-  queue.enqueueReadBuffer(coverage_, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), mask);
-  queue.enqueueReadBuffer(secondary_rays_, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
+  queue.enqueueReadBuffer(buffers_.ao, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao);
+  queue.enqueueReadBuffer(buffers_.coverage, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), mask);
+  queue.enqueueReadBuffer(buffers_.secondary_rays, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
 }
 
 TraversalTotals Frame::traversal_totals(cl::CommandQueue& queue) const {
   cl_ulong totals[4];
-  queue.enqueueReadBuffer(traversal_totals_, CL_TRUE, 0, sizeof totals, totals);
+  queue.enqueueReadBuffer(buffers_.traversal_totals, CL_TRUE, 0, sizeof totals, totals);
   return {totals[0], totals[1], totals[2], totals[3]};
 }
 
 std::string Frame::launch_signature() const {
-  const cl::Program program = ao_kernel_.getInfo<CL_KERNEL_PROGRAM>();
-  return std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " " +
-         ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(camera_group_) + " " +
-         std::to_string(ao_group_);
+  const cl::Program program = camera_rays_.getInfo<CL_KERNEL_PROGRAM>();
+  const std::string ao = wavefront_ ? wavefront_->launch_signature()
+                                    : ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(ao_group_);
+  return std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " " + std::to_string(camera_group_) + " " + ao;
 }
 
 }  // namespace mbao

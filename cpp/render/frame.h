@@ -2,20 +2,23 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "opencl/opencl.h"
+#include "render/ao_kernel_args.h"
 #include "render/device_scene.h"
 #include "render/render_settings.h"
 #include "render/render_stats.h"
+#include "render/wavefront.h"
 #include "scene/camera.h"
 
 namespace mbao {
 
-// The device side of one render: its buffers and its two kernels (render.cl's
-// camera rays and AO), set up for everything but the tile. Pixels are
-// numbered row by row from the top left; a tile is a range of them.
+// The device side of one render: its buffers and kernels (render.cl's camera
+// rays, then the AO megakernel or the wavefront), set up for everything but
+// the tile. Pixels are numbered row by row from the top left; a tile is a range of them.
 class Frame {
  public:
   Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
@@ -30,18 +33,23 @@ class Frame {
 
   // Device memory of the frame's own buffers.
   std::size_t bytes() const { return bytes_; }
-  // What decides whether the kernels have been launched before: program, AO kernel and work-group sizes.
+  // What decides whether the kernels have been launched before: program, AO kernels and work-group sizes.
   std::string launch_signature() const;
 
  private:
-  void set_tile(std::size_t first, std::size_t count);
+  void set_up_megakernel(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
+                         const Camera& camera, const RenderSettings& s);
 
   std::size_t pixels_, spp_;
-  cl::Buffer camera_hits_, ao_, coverage_, secondary_rays_;
-  cl::Buffer traversal_totals_;  // 4 x ulong, only when counting
-  cl::Kernel camera_rays_, ao_kernel_;
-  cl_uint camera_tile_arg_ = 0, ao_tile_arg_ = 0;
-  std::size_t camera_group_ = 0, ao_group_ = 0;
+  FrameBuffers buffers_;
+  cl::Kernel camera_rays_;
+  cl_uint camera_tile_arg_ = 0;
+  std::size_t camera_group_ = 0;
+  // The megakernel, or else the wavefront.
+  cl::Kernel ao_kernel_;
+  cl_uint ao_tile_arg_ = 0;
+  std::size_t ao_group_ = 0;
+  std::unique_ptr<Wavefront> wavefront_;
   std::size_t bytes_ = 0;
 };
 

@@ -40,6 +40,12 @@ Traversal parse_traversal(const std::string& name) {
   bad("traversal must be \"auto\", \"pushdown\", \"restart\", \"short-stack\" or \"stack\", got \"" + name + "\"");
 }
 
+KernelOrganisation parse_organisation(const std::string& name) {
+  if (name == "megakernel") return KernelOrganisation::Megakernel;
+  if (name == "wavefront") return KernelOrganisation::Wavefront;
+  bad("organisation must be \"megakernel\" or \"wavefront\", got \"" + name + "\"");
+}
+
 std::string to_string(Estimator estimator) { return estimator == Estimator::Branching ? "branching" : "path"; }
 std::string to_string(NormalMode mode) { return mode == NormalMode::Shading ? "shading" : "geometric"; }
 std::string to_string(Traversal traversal) {
@@ -52,6 +58,10 @@ std::string to_string(Traversal traversal) {
   }
 }
 
+std::string to_string(KernelOrganisation organisation) {
+  return organisation == KernelOrganisation::Megakernel ? "megakernel" : "wavefront";
+}
+
 std::uint64_t RenderSettings::max_rays_per_camera_sample() const {
   if (estimator == Estimator::Path) return std::uint64_t(samples) * std::uint64_t(bounces);
   std::uint64_t total = 0, level = 1;
@@ -61,6 +71,17 @@ std::uint64_t RenderSettings::max_rays_per_camera_sample() const {
     if (total > kMaxRaysPerPixel) return total;  // stop before it can overflow
   }
   return total;
+}
+
+std::uint64_t RenderSettings::max_queue_entries_per_camera_sample() const {
+  std::uint64_t deepest = 0, second = 0, level = 1;
+  for (std::int64_t k = 1; k < bounces; ++k) {
+    level *= std::uint64_t(samples);
+    second = deepest;
+    deepest = level;
+    if (deepest > kMaxRaysPerPixel) break;  // stop before it can overflow
+  }
+  return deepest + second;
 }
 
 void RenderSettings::validate() const {
@@ -81,6 +102,19 @@ void RenderSettings::validate() const {
                  std::to_string(std::uint64_t(samples) * std::uint64_t(bounces)) + " per camera sample";
     bad(message);
   }
+  if (organisation == KernelOrganisation::Wavefront) validate_wavefront();
+}
+
+void RenderSettings::validate_wavefront() const {
+  if (estimator != Estimator::Branching)
+    bad("the wavefront organisation runs the branching estimator only; the path estimator needs "
+        "organisation \"megakernel\"");
+  const std::uint64_t per_pixel = max_queue_entries_per_camera_sample() * std::uint64_t(spp);
+  if (per_pixel > kMaxWavefrontQueueEntries)
+    bad("the wavefront organisation with samples=" + std::to_string(samples) + ", bounces=" +
+        std::to_string(bounces) + " and spp=" + std::to_string(spp) + " queues up to " + std::to_string(per_pixel) +
+        " surfaces per pixel, more than its limit of " + std::to_string(kMaxWavefrontQueueEntries) +
+        "; organisation \"megakernel\" keeps one surface per bounce");
 }
 
 }  // namespace mbao

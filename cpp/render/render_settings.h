@@ -13,15 +13,20 @@ enum class Estimator { Branching, Path };
 enum class NormalMode { Shading, Geometric };
 // Auto: the fastest measured for the device's type (see traversal_for).
 enum class Traversal { Restart, PushDown, ShortStack, Stack, Auto };
+// How the AO work is cut into kernels: one work item per pixel runs the whole
+// estimator, or one launch per bounce over a queue of the surfaces that bounce on.
+enum class KernelOrganisation { Megakernel, Wavefront };
 
 // Names as the Python API spells them; parse_* throw std::invalid_argument
 // listing the allowed names.
 Estimator parse_estimator(const std::string& name);
 NormalMode parse_normal_mode(const std::string& name);
 Traversal parse_traversal(const std::string& name);
+KernelOrganisation parse_organisation(const std::string& name);
 std::string to_string(Estimator estimator);
 std::string to_string(NormalMode mode);
 std::string to_string(Traversal traversal);
+std::string to_string(KernelOrganisation organisation);
 
 // Everything a render is asked for besides the scene and the camera (SPEC 1-2).
 struct RenderSettings {
@@ -38,17 +43,29 @@ struct RenderSettings {
   std::uint64_t seed = 0;
   Traversal traversal = Traversal::Auto;
   bool count_traversal = false;  // build the kernels that count nodes, leaves, triangle tests and restarts
-  // How the work is cut up; neither changes the image.
-  std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory
+  // How the work is cut up; none of these changes the image.
+  std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory (the wavefront's always)
   std::size_t work_group_size = 0;  // 0 lets the OpenCL driver choose
+  KernelOrganisation organisation = KernelOrganisation::Megakernel;  // wavefront: branching estimator only
 
   // Throws std::invalid_argument naming the first bad setting and its allowed range.
   void validate() const;
   // Upper bound on the AO rays of one camera sample: r + ... + r^b or r * b.
   std::uint64_t max_rays_per_camera_sample() const;
+  // Upper bound on the wavefront queue entries of one camera sample: the
+  // surfaces of the two deepest bounces that bounce on, r^(b-1) + r^(b-2)
+  // (a bounce reads one queue and fills the other).
+  std::uint64_t max_queue_entries_per_camera_sample() const;
+
+ private:
+  void validate_wavefront() const;
 };
 
 // The largest bounce count of the branching estimator; the path estimator has no such limit.
 constexpr std::int64_t kMaxBranchingBounces = MBAO_MAX_BRANCHING_BOUNCES;
+
+// The most wavefront queue entries a tile holds (64 MiB of 32-byte entries):
+// tiles are made small enough, and settings whose single pixel needs more are refused.
+constexpr std::uint64_t kMaxWavefrontQueueEntries = std::uint64_t(1) << 21;
 
 }  // namespace mbao

@@ -13,7 +13,8 @@ namespace mbao {
 namespace {
 
 // Tiles are sized so one launch holds at most this many camera samples (16 MiB
-// of hit records) and traces at most this many rays, whatever r^b is.
+// of hit records) and traces at most this many rays, whatever r^b is; the
+// wavefront's queues hold at most kMaxWavefrontQueueEntries.
 constexpr std::size_t kMaxTileCameraSamples = std::size_t(1) << 20;
 constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 27;
 
@@ -51,12 +52,22 @@ ProgramFeatures features_for(const Scene& scene, const RenderSettings& settings,
   return features;
 }
 
+// The most pixels whose wavefront queues fit kMaxWavefrontQueueEntries (>= 1:
+// validate() refuses more per pixel); no limit for the megakernel.
+std::size_t queue_limited_pixels(const RenderSettings& s, std::size_t pixels) {
+  if (s.organisation != KernelOrganisation::Wavefront) return pixels;
+  const std::uint64_t per_pixel = std::max<std::uint64_t>(1, s.max_queue_entries_per_camera_sample()) * std::uint64_t(s.spp);
+  return std::min(pixels, std::size_t(kMaxWavefrontQueueEntries / per_pixel));
+}
+
+// A tile asked for is cut down only where the wavefront's queues would not fit.
 std::size_t tile_pixels_for(const RenderSettings& s, std::size_t pixels) {
-  if (s.tile_pixels) return std::min(s.tile_pixels, pixels);
+  const std::size_t limit = queue_limited_pixels(s, pixels);
+  if (s.tile_pixels) return std::min(s.tile_pixels, limit);
   const std::uint64_t rays_per_pixel = std::max<std::uint64_t>(1, s.max_rays_per_camera_sample()) * std::uint64_t(s.spp);
   const std::size_t by_memory = kMaxTileCameraSamples / std::size_t(s.spp);
   const std::size_t by_rays = std::size_t(std::max<std::uint64_t>(1, kMaxTileRays / rays_per_pixel));
-  return std::max<std::size_t>(1, std::min({pixels, by_memory, by_rays}));
+  return std::max<std::size_t>(1, std::min({limit, by_memory, by_rays}));
 }
 
 }  // namespace

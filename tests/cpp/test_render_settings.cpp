@@ -26,6 +26,7 @@ TEST(RenderSettings, DefaultsAreTheSeedPapersConfiguration) {
   EXPECT_EQ(s.samples, 4);
   EXPECT_EQ(s.bounces, 1);
   EXPECT_EQ(s.estimator, Estimator::Branching);
+  EXPECT_EQ(s.organisation, KernelOrganisation::Megakernel);
   EXPECT_EQ(s.rho, 1.0f);
   EXPECT_TRUE(std::isinf(s.max_distance));
 }
@@ -72,11 +73,37 @@ TEST(RenderSettings, ExplodingBranchingWorkIsRefusedWithTheRayCountAndTheAlterna
   EXPECT_NE(message.find("path estimator"), std::string::npos) << message;
 }
 
+TEST(RenderSettings, CountsTheWavefrontQueuesOfTheTwoDeepestBounces) {
+  RenderSettings s;
+  s.samples = 4;
+  EXPECT_EQ(s.max_queue_entries_per_camera_sample(), 0u);  // one bounce: nothing bounces on
+  s.bounces = 2;
+  EXPECT_EQ(s.max_queue_entries_per_camera_sample(), 4u);
+  s.bounces = 4;
+  EXPECT_EQ(s.max_queue_entries_per_camera_sample(), 64u + 16u);
+}
+
+TEST(RenderSettings, TheWavefrontRefusesThePathEstimatorAndQueuesPastItsLimit) {
+  RenderSettings s;
+  s.organisation = KernelOrganisation::Wavefront;
+  s.bounces = 3;
+  EXPECT_EQ(complaint(s), "");
+  s.estimator = Estimator::Path;
+  EXPECT_NE(complaint(s).find("branching estimator only"), std::string::npos) << complaint(s);
+  s.estimator = Estimator::Branching;
+  s.samples = 128;
+  s.bounces = 4;  // 128^3 + 128^2 queued surfaces per pixel, but only 128 + ... + 128^4 < 2^32 rays
+  EXPECT_NE(complaint(s).find("surfaces per pixel"), std::string::npos) << complaint(s);
+  s.organisation = KernelOrganisation::Megakernel;
+  EXPECT_EQ(complaint(s), "");
+}
+
 TEST(RenderSettings, NamesParseAndPrintBothWays) {
   for (const char* name : {"branching", "path"}) EXPECT_EQ(to_string(parse_estimator(name)), name);
   for (const char* name : {"shading", "geometric"}) EXPECT_EQ(to_string(parse_normal_mode(name)), name);
   for (const char* name : {"pushdown", "restart", "short-stack", "stack"})
     EXPECT_EQ(to_string(parse_traversal(name)), name);
+  for (const char* name : {"megakernel", "wavefront"}) EXPECT_EQ(to_string(parse_organisation(name)), name);
   EXPECT_THROW(parse_estimator("Branching"), std::invalid_argument);
   EXPECT_THROW(parse_traversal("short_stack"), std::invalid_argument);
 }

@@ -1,0 +1,20 @@
+#include "render/ao_kernel_args.h"
+
+namespace mbao {
+
+cl_float4 to_float4(const glm::vec3& v) { return {{v.x, v.y, v.z, 0.0f}}; }
+
+cl_uint2 seed_words(std::uint64_t seed) { return {{cl_uint(seed & 0xFFFFFFFFu), cl_uint(seed >> 32)}}; }
+
+cl_uint set_ao_args(cl::Kernel& kernel, cl_uint arg, const Camera& camera, const RenderSettings& s) {
+  kernel.setArg(arg++, to_float4(camera.eye));
+  kernel.setArg(arg++, cl_uint(s.spp));
+  kernel.setArg(arg++, cl_uint(s.bounces));
+  kernel.setArg(arg++, cl_uint(s.samples));
+  kernel.setArg(arg++, s.rho);
+  kernel.setArg(arg++, s.max_distance);
+  kernel.setArg(arg++, seed_words(s.seed));
+  return arg;
+}
+
+}  // namespace mbao

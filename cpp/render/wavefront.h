@@ -1,0 +1,47 @@
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "opencl/opencl.h"
+#include "render/ao_kernel_args.h"
+#include "render/device_scene.h"
+#include "render/render_settings.h"
+#include "scene/camera.h"
+
+namespace mbao {
+
+// The branching estimator as a wavefront (render.cl's wavefront_* kernels):
+// bounce 1 over the tile's camera samples, each further bounce over the queue
+// of surfaces the bounce before filled, then one work item per pixel weighs
+// the escapes. Two queues take turns, so a tile holds at most
+// tile_pixels * spp * max_queue_entries_per_camera_sample() entries.
+class Wavefront {
+ public:
+  Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program,
+            const DeviceScene& scene, const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels,
+            const FrameBuffers& frame);
+
+  // AO for pixels [first, first + count), whose camera hits the frame holds.
+  // Blocks until each queue is filled: its length sizes the launch that reads it.
+  void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
+
+  std::size_t bytes() const { return bytes_; }
+  // The kernels and their work-group sizes, for Frame::launch_signature().
+  std::string launch_signature() const;
+
+ private:
+  // The queue that bounce `bounce` fills; null where no bounce fills it.
+  const cl::Buffer& queue_of(std::size_t bounce) const { return queues_[bounce % 2]; }
+  std::size_t queue_length(cl::CommandQueue& queue, std::size_t bounce) const;
+
+  std::size_t spp_, bounces_;
+  cl::Buffer escape_counts_, sample_rays_, queue_lengths_;
+  cl::Buffer queues_[2];
+  cl::Kernel first_bounce_, bounce_, finish_;
+  cl_uint first_bounce_tile_arg_ = 0, bounce_tile_arg_ = 0, finish_tile_arg_ = 0;
+  std::size_t first_bounce_group_ = 0, bounce_group_ = 0, finish_group_ = 0;
+  std::size_t bytes_ = 0;
+};
+
+}  // namespace mbao
