@@ -227,6 +227,8 @@ BAD_ARGUMENTS = [
     (dict(estimator=3), TypeError, r"estimator"),
     (dict(normals="smooth"), ValueError, r"normals.*shading.*geometric"),
     (dict(traversal="kd"), ValueError, r"traversal.*auto.*pushdown.*restart.*short-stack.*stack"),
+    (dict(organisation="queue"), ValueError, r"organisation.*megakernel.*wavefront"),
+    (dict(organisation="wavefront", estimator="path"), ValueError, r"wavefront.*branching.*path"),
     (dict(seed=-1), ValueError, r"seed.*(2\*\*64|2\^64)"),
     (dict(seed=2**64), ValueError, r"seed.*(2\*\*64|2\^64)"),
     (dict(seed=1.5), TypeError, r"seed"),
@@ -238,7 +240,7 @@ BAD_ARGUMENTS = [
 
 
 @pytest.mark.parametrize(
-    "arguments, error, message", BAD_ARGUMENTS, ids=[f"{k}={v!r}" for (a, _, _) in BAD_ARGUMENTS for k, v in a.items()]
+    "arguments, error, message", BAD_ARGUMENTS, ids=[",".join(f"{k}={v!r}" for k, v in a.items()) for (a, _, _) in BAD_ARGUMENTS]
 )
 def test_bad_argument_is_refused_by_name(cornell, arguments, error, message):
     settings = dict(width=1, height=1)

@@ -104,7 +104,7 @@ def test_every_render_option_is_accepted(tmp_path, gltf_scene):
         "render", scene, "--camera", camera, "-o", "ao.exr",
         "--width", 10, "--height", 8, "--bounces", 3, "--samples", 2, "--estimator", "path", "--rho", 0.5,
         "--max-distance", 1.5, "--spp", 2, "--seed", 7, "--normals", "geometric", "--traversal", "restart",
-        "--device", 0,
+        "--organisation", "megakernel", "--device", 0,
         cwd=tmp_path,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr

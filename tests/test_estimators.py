@@ -109,6 +109,15 @@ def test_traversals_render_the_same_image(cornell, traversal):
     )
 
 
+def test_the_wavefront_renders_the_megakernels_image(cornell):
+    """The C++ tests compare them on more scenes; this is the Python path."""
+    settings = dict(width=24, height=24, bounces=3, samples=3, rho=0.8, seed=9)
+    wavefront = mbao.render(cornell, organisation="wavefront", **settings)
+    megakernel = mbao.render(cornell, organisation="megakernel", **settings)
+    np.testing.assert_array_equal(wavefront.ao, megakernel.ao)
+    assert wavefront.stats["rays_secondary"] == megakernel.stats["rays_secondary"]
+
+
 def test_auto_traversal_is_the_full_stack_on_cpus_and_the_short_stack_elsewhere(cornell):
     device = mbao.devices()[0]
     settings = dict(width=8, height=8, device=device)

@@ -50,7 +50,7 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
                  std::int64_t width, std::int64_t height, std::int64_t bounces, std::int64_t samples,
                  const std::string& estimator, float rho, float max_distance, std::int64_t spp,
                  const std::string& normals, std::uint64_t seed, const std::string& traversal, bool traversal_stats,
-                 std::size_t tile_pixels, std::size_t work_group_size) {
+                 const std::string& organisation, std::size_t tile_pixels, std::size_t work_group_size) {
   RenderSettings settings;
   settings.width = width;
   settings.height = height;
@@ -64,6 +64,7 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
   settings.seed = seed;
   settings.traversal = parse_traversal(traversal);
   settings.count_traversal = traversal_stats;
+  settings.organisation = parse_organisation(organisation);
   settings.tile_pixels = tile_pixels;
   settings.work_group_size = work_group_size;
   settings.validate();
@@ -118,7 +119,7 @@ void bind_render(py::module_& m) {
   m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("width"),
         py::arg("height"), py::arg("bounces"), py::arg("samples"), py::arg("estimator"), py::arg("rho"),
         py::arg("max_distance"), py::arg("spp"), py::arg("normals"), py::arg("seed"), py::arg("traversal"),
-        py::arg("traversal_stats"), py::arg("tile_pixels"), py::arg("work_group_size"),
+        py::arg("traversal_stats"), py::arg("organisation"), py::arg("tile_pixels"), py::arg("work_group_size"),
         "Renders; returns (ao, mask, stats). Use mbao.render, which checks and documents the arguments.");
   m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"), py::arg("device"),
         py::arg("any_hit"), py::arg("traversal"), py::arg("traversal_stats"),

@@ -11,7 +11,7 @@ import sys
 from . import _core
 from .devices import devices
 from .images import save_image
-from .render import ESTIMATORS, NORMAL_MODES, TRAVERSALS, render
+from .render import ESTIMATORS, NORMAL_MODES, ORGANISATIONS, TRAVERSALS, render
 from .scene import load
 
 
@@ -43,6 +43,7 @@ def _parser():
     r.add_argument("--traversal", choices=TRAVERSALS, default="auto")
     r.add_argument("--seed", type=int, default=0)
     r.add_argument("--traversal-stats", action="store_true", help="count nodes, leaves, triangle tests per ray")
+    r.add_argument("--organisation", choices=ORGANISATIONS, default="megakernel")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
     commands.add_parser("devices", help="list the OpenCL devices")
@@ -72,6 +73,7 @@ def _render(args):
         traversal=args.traversal,
         device=_device_argument(args.device),
         traversal_stats=args.traversal_stats,
+        organisation=args.organisation,
     )
     save_image(args.output, result.ao)
     s = result.stats

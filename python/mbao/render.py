@@ -11,6 +11,7 @@ from .devices import resolve
 ESTIMATORS = ("branching", "path")
 NORMAL_MODES = ("shading", "geometric")
 TRAVERSALS = ("auto", "pushdown", "restart", "short-stack", "stack")
+ORGANISATIONS = ("megakernel", "wavefront")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -56,6 +57,7 @@ def render(
     traversal="auto",
     device=None,
     traversal_stats=False,
+    organisation="megakernel",
     tile_pixels=None,
     work_group_size=None,
 ):
@@ -79,6 +81,9 @@ def render(
     device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
     traversal_stats: count nodes, leaves, triangle tests and restarts per ray into
         stats["traversal"] (kernels built to count, somewhat slower).
+    organisation: "megakernel" (one work item runs a pixel's whole estimator) or
+        "wavefront" (branching only: one launch per bounce over a compacted queue of
+        the surfaces that bounce on). Same image bit for bit; on CPUs they tie.
     tile_pixels, work_group_size: how the work is cut up (None: automatic); they do not change the image.
 
     The GIL is released while rendering.
@@ -103,6 +108,7 @@ def render(
         seed=seed,
         traversal=_checks.choice("traversal", traversal, TRAVERSALS),
         traversal_stats=_checks.boolean("traversal_stats", traversal_stats),
+        organisation=_checks.choice("organisation", organisation, ORGANISATIONS),
         tile_pixels=_optional_count("tile_pixels", tile_pixels),
         work_group_size=_optional_count("work_group_size", work_group_size),
     )
