@@ -31,8 +31,8 @@ struct TraceResult {
 };
 
 // What `requested` means on `device`: Auto is the full stack on CPUs (the
-// fewest nodes per ray and the fastest frames on PoCL: mbao_bench's
-// "traversals" section) and the short stack on other devices, Horn et al.'s
+// fewest nodes per ray; on PoCL the fastest frames or within the noise of the
+// short stack: mbao_bench's "traversals" section) and the short stack on other devices, Horn et al.'s
 // choice for GPUs, where a 64-entry stack per ray spills out of registers
 // (not measured here yet).
 Traversal traversal_for(Traversal requested, const DeviceInfo& device);
