@@ -57,6 +57,13 @@ int child_build_kernels(const std::string& device);
 // Shared helpers.
 double median(std::vector<double> values);
 std::string fixed(double value, int digits);
+// The max_distance values each scene is measured at: inf, then its camera's radius if it suggests one.
+std::vector<float> distance_limits(const BenchScene& scene);
+// A distance limit in the JSON ("inf" or the number) and in the tables ("inf" or one decimal).
+json distance_json(float max_distance);
+std::string distance_text(float max_distance);
+// Nodes, leaves, triangle tests and restarts per ray of a render with count_traversal.
+json per_ray_counts(const mbao::RenderStats& counted);
 // Median frame over `frames` renders, after one untimed render that builds the
 // kernels and uploads the scene.
 json measure_frames(mbao::Renderer& renderer, const BenchScene& scene, const mbao::RenderSettings& settings,

@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <iomanip>
 #include <sstream>
@@ -19,6 +21,26 @@ std::string fixed(double value, int digits) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(digits) << value;
   return out.str();
+}
+
+std::vector<float> distance_limits(const BenchScene& scene) {
+  std::vector<float> limits = {std::numeric_limits<float>::infinity()};
+  if (scene.camera.max_distance) limits.push_back(*scene.camera.max_distance);
+  return limits;
+}
+
+json distance_json(float max_distance) { return std::isinf(max_distance) ? json("inf") : json(max_distance); }
+
+std::string distance_text(float max_distance) {
+  return std::isinf(max_distance) ? std::string("inf") : fixed(max_distance, 1);
+}
+
+json per_ray_counts(const mbao::RenderStats& counted) {
+  const double rays = double(counted.rays_primary + counted.rays_secondary);
+  return {{"nodes_per_ray", double(counted.traversal->nodes) / rays},
+          {"leaves_per_ray", double(counted.traversal->leaves) / rays},
+          {"triangles_per_ray", double(counted.traversal->triangles) / rays},
+          {"restarts_per_ray", double(counted.traversal->restarts) / rays}};
 }
 
 json measure_frames(mbao::Renderer& renderer, const BenchScene& scene, const mbao::RenderSettings& settings,

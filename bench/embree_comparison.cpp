@@ -48,15 +48,11 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
       mbao::RenderSettings counting = settings;
       counting.count_traversal = true;
       const mbao::RenderStats counted = renderer.render(s.scene, s.camera, counting).stats;
-      const double rays = double(counted.rays_primary + counted.rays_secondary);
       const json single = embree_frames(embree, s, settings, options.frames, EmbreeAo::Mode::SingleRays);
       const json packets = embree_frames(embree, s, settings, options.frames, EmbreeAo::Mode::Packets16);
       const json& best = single["frame_ms"].get<double>() <= packets["frame_ms"].get<double>() ? single : packets;
       const double ratio = mbao_frames["mrays_per_s"].get<double>() / best["mrays_per_s"].get<double>();
-      const json traversal = {{"nodes_per_ray", double(counted.traversal->nodes) / rays},
-                              {"leaves_per_ray", double(counted.traversal->leaves) / rays},
-                              {"triangles_per_ray", double(counted.traversal->triangles) / rays},
-                              {"restarts_per_ray", double(counted.traversal->restarts) / rays}};
+      const json traversal = per_ray_counts(counted);
       std::cout << "| " << s.name << " | " << bounces << " | " << fixed(mbao_frames["frame_ms"], 1) << " | "
                 << fixed(single["frame_ms"], 1) << " / " << fixed(packets["frame_ms"], 1) << " | " << fixed(ratio, 2)
                 << " | " << fixed(traversal["nodes_per_ray"], 1) << ", " << fixed(traversal["leaves_per_ray"], 1) << ", "

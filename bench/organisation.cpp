@@ -4,10 +4,8 @@
 // image, checked here bit for bit; their frames are measured interleaved, so
 // that drift of the machine's speed hits both alike.
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 #include <iostream>
-#include <limits>
 
 #include "bench.h"
 
@@ -63,9 +61,7 @@ json organisation(mbao::Renderer& renderer, const std::vector<BenchScene>& scene
   json rows = json::array();
   for (std::size_t work_group_size : options.work_groups) {
     for (const BenchScene& s : scenes) {
-      std::vector<float> radii = {std::numeric_limits<float>::infinity()};
-      if (s.camera.max_distance) radii.push_back(*s.camera.max_distance);
-      for (float radius : radii) {
+      for (float radius : distance_limits(s)) {
         for (int bounces : {1, 2}) {
           mbao::RenderSettings settings = options.settings;
           settings.max_distance = radius;
@@ -73,8 +69,8 @@ json organisation(mbao::Renderer& renderer, const std::vector<BenchScene>& scene
           settings.work_group_size = work_group_size;
           json row = compare(renderer, s, settings, options.frames);
           row["scene"] = s.name;
-          row["max_distance"] = std::isinf(radius) ? json("inf") : json(radius);
-          std::cout << "| " << s.name << " | " << (std::isinf(radius) ? std::string("inf") : fixed(radius, 1))
+          row["max_distance"] = distance_json(radius);
+          std::cout << "| " << s.name << " | " << distance_text(radius)
                     << " | " << bounces << " | " << group_name(work_group_size) << " | "
                     << fixed(row["megakernel_ms"], 1) << " | " << fixed(row["wavefront_ms"], 1) << " | "
                     << fixed(row["wavefront_over_megakernel"], 3) << " | "

@@ -1,6 +1,4 @@
-#include <cmath>
 #include <iostream>
-#include <limits>
 
 #include "bench.h"
 
@@ -11,16 +9,14 @@ json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, con
             << "|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
   json rows = json::array();
   for (const BenchScene& s : scenes) {
-    std::vector<float> radii = {std::numeric_limits<float>::infinity()};
-    if (s.camera.max_distance) radii.push_back(*s.camera.max_distance);
     const mbao::KdTreeStats tree = s.scene->kd_tree()->stats;
-    for (float radius : radii) {
+    for (float radius : distance_limits(s)) {
       mbao::RenderSettings settings = options.settings;
       settings.max_distance = radius;
       json row = {{"scene", s.name},
                   {"triangles", s.scene->mesh().triangles.size()},
                   {"masked_triangles", s.scene->masks().triangles.size()},
-                  {"max_distance", std::isinf(radius) ? json("inf") : json(radius)},
+                  {"max_distance", distance_json(radius)},
                   {"build_ms", tree.build_ms},
                   {"tree",
                    {{"nodes", tree.nodes},
@@ -39,7 +35,7 @@ json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, con
       const json& b1 = row["frames"][0];
       const json& b2 = row["frames"][1];
       std::cout << "| " << s.name << " | " << s.scene->mesh().triangles.size() << " | "
-                << (std::isinf(radius) ? std::string("inf") : fixed(radius, 1)) << " | " << fixed(tree.build_ms, 1)
+                << distance_text(radius) << " | " << fixed(tree.build_ms, 1)
                 << " | " << fixed(b1["frame_ms"], 1) << " | " << fixed(b2["frame_ms"], 1) << " | "
                 << fixed(b1["mrays_per_s"], 1) << " | " << fixed(b2["mrays_per_s"], 1) << " | "
                 << renderer.device().name << " |" << std::endl;

@@ -9,14 +9,6 @@ namespace {
 constexpr mbao::Traversal kTraversals[] = {mbao::Traversal::Restart, mbao::Traversal::PushDown,
                                            mbao::Traversal::ShortStack, mbao::Traversal::Stack};
 
-json per_ray(const mbao::RenderStats& counted) {
-  const double rays = double(counted.rays_primary + counted.rays_secondary);
-  return {{"nodes_per_ray", double(counted.traversal->nodes) / rays},
-          {"leaves_per_ray", double(counted.traversal->leaves) / rays},
-          {"triangles_per_ray", double(counted.traversal->triangles) / rays},
-          {"restarts_per_ray", double(counted.traversal->restarts) / rays}};
-}
-
 }  // namespace
 
 json traversals(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options) {
@@ -31,7 +23,7 @@ json traversals(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes,
       settings.count_traversal = false;
       const json frames = measure_frames(renderer, s, settings, options.frames);
       settings.count_traversal = true;
-      const json counts = per_ray(renderer.render(s.scene, s.camera, settings).stats);
+      const json counts = per_ray_counts(renderer.render(s.scene, s.camera, settings).stats);
       std::cout << "| " << s.name << " | " << mbao::to_string(traversal) << " | " << fixed(frames["frame_ms"], 1)
                 << " | " << fixed(counts["nodes_per_ray"], 1) << " | " << fixed(counts["leaves_per_ray"], 1) << " | "
                 << fixed(counts["triangles_per_ray"], 1) << " | " << fixed(counts["restarts_per_ray"], 2) << " |"
