@@ -186,7 +186,7 @@ def test_build_returns_the_tree_stats():
 
 def test_kd_tree_arrays(cornell):
     tree = cornell.kd_tree()
-    assert {"nodes", "leaf_triangles", "bounds", "stats"} <= set(tree)
+    assert {"nodes", "leaf_triangles", "bounds", "origin", "stats"} <= set(tree)
     nodes, leaf_triangles = tree["nodes"], tree["leaf_triangles"]
     assert nodes.dtype == np.uint32 and nodes.ndim == 2 and nodes.shape[1] == 2
     assert len(nodes) == tree["stats"]["nodes"] >= 1
@@ -195,7 +195,8 @@ def test_kd_tree_arrays(cornell):
     assert leaf_triangles.max() < cornell.triangle_count
     # Every triangle is in some leaf.
     assert set(leaf_triangles.tolist()) == set(range(cornell.triangle_count))
-    lo, hi = (np.asarray(corner) for corner in tree["bounds"])
+    origin = np.asarray(tree["origin"])
+    lo, hi = (np.asarray(corner) + origin for corner in tree["bounds"])
     scene_lo, scene_hi = (np.asarray(corner) for corner in cornell.bounds)
     assert np.all(lo <= scene_lo) and np.all(hi >= scene_hi)
 
@@ -338,6 +339,27 @@ def test_mesh_copies_its_input():
     np.testing.assert_array_equal(mesh.vertices, VERTICES.astype(np.float32))
     np.testing.assert_array_equal(mesh.indices, INDICES)
     np.testing.assert_array_equal(mesh.normals, 0)
+
+
+NON_CONTIGUOUS = {
+    "every other row": lambda a: np.repeat(a, 2, axis=0)[::2],
+    "Fortran order": np.asfortranarray,
+    "reversed columns of a reversed copy": lambda a: a[:, ::-1].copy()[:, ::-1],
+}
+
+
+@pytest.mark.parametrize("layout", NON_CONTIGUOUS.values(), ids=NON_CONTIGUOUS.keys())
+def test_non_contiguous_arrays_are_accepted_by_copying(layout):
+    normals = np.tile([0.0, 0.0, 1.0], (4, 1))
+    expected = mbao.Mesh(VERTICES, INDICES, normals)
+    arrays = [layout(a) for a in (VERTICES, INDICES, normals)]
+    assert not any(a.flags.c_contiguous for a in arrays[:1])
+    mesh = mbao.Mesh(*arrays)
+    for name in ("vertices", "indices", "normals"):
+        np.testing.assert_array_equal(getattr(mesh, name), getattr(expected, name))
+    origins, directions = np.tile([0.2, 0.2, 1.0], (3, 1)), np.tile([0.0, 0.0, -1.0], (3, 1))
+    np.testing.assert_array_equal(mbao.trace(mesh, layout(origins), layout(directions))[0],
+                                  mbao.trace(mesh, origins, directions)[0])
 
 
 def test_mesh_arrays_are_read_only():

@@ -104,7 +104,7 @@ def test_every_render_option_is_accepted(tmp_path, gltf_scene):
         "render", scene, "--camera", camera, "-o", "ao.exr",
         "--width", 10, "--height", 8, "--bounces", 3, "--samples", 2, "--estimator", "path", "--rho", 0.5,
         "--max-distance", 1.5, "--spp", 2, "--seed", 7, "--normals", "geometric", "--traversal", "restart",
-        "--organisation", "megakernel", "--device", 0,
+        "--organisation", "megakernel", "--device", 0, "--max-rays", 10**6,
         cwd=tmp_path,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr
@@ -140,8 +140,9 @@ def test_devices_lists_the_devices(tmp_path, device):
         (["render", "--estimator", "foo"], r"estimator.*foo"),
         (["render", "--rho", "2"], r"rho"),
         (["render", "--camera", "no_such_camera.json"], r"no_such_camera\.json"),
+        (["render", "--bounces", "3", "--samples", "8", "--max-rays", "1000"], r"max_rays=1000.*estimator=\"path\""),
     ],
-    ids=["missing scene", "bounces 0", "unknown estimator", "rho 2", "missing camera"],
+    ids=["missing scene", "bounces 0", "unknown estimator", "rho 2", "missing camera", "past max rays"],
 )
 def test_bad_input_gives_a_one_line_message(tmp_path, args, message):
     proc = run_mbao(*args, "--width", 4, "--height", 4, "-o", "x.png", cwd=tmp_path)

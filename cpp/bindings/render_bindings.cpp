@@ -50,7 +50,8 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
                  std::int64_t width, std::int64_t height, std::int64_t bounces, std::int64_t samples,
                  const std::string& estimator, float rho, float max_distance, std::int64_t spp,
                  const std::string& normals, std::uint64_t seed, const std::string& traversal, bool traversal_stats,
-                 const std::string& organisation, std::size_t tile_pixels, std::size_t work_group_size) {
+                 const std::string& organisation, std::size_t tile_pixels, std::size_t work_group_size,
+                 std::uint64_t max_rays, const py::object& progress) {
   RenderSettings settings;
   settings.width = width;
   settings.height = height;
@@ -67,12 +68,20 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
   settings.organisation = parse_organisation(organisation);
   settings.tile_pixels = tile_pixels;
   settings.work_group_size = work_group_size;
+  settings.max_rays = max_rays;
   settings.validate();
+  // Ctrl-C is seen between tiles: the signal handler only sets a flag while
+  // the GIL is released, so the render asks Python whether it has fired.
+  const auto between_tiles = [&progress](std::size_t done, std::size_t total) {
+    py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (!progress.is_none()) progress(done, total);
+  };
   RenderResult result;
   {
     py::gil_scoped_release release;
     const Camera view = camera ? *camera : scene->default_camera(float(width) / float(height));
-    result = Renderer::for_device(device).render(scene, view, settings);
+    result = Renderer::for_device(device).render(scene, view, settings, between_tiles);
   }
   const py::ssize_t h = result.height, w = result.width;
   py::array_t<std::uint8_t> mask = adopt(std::move(result.mask), {h, w});
@@ -116,10 +125,12 @@ py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py
 }  // namespace
 
 void bind_render(py::module_& m) {
+  m.attr("DEFAULT_MAX_RAYS") = kDefaultMaxRays;
   m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("width"),
         py::arg("height"), py::arg("bounces"), py::arg("samples"), py::arg("estimator"), py::arg("rho"),
         py::arg("max_distance"), py::arg("spp"), py::arg("normals"), py::arg("seed"), py::arg("traversal"),
         py::arg("traversal_stats"), py::arg("organisation"), py::arg("tile_pixels"), py::arg("work_group_size"),
+        py::arg("max_rays"), py::arg("progress"),
         "Renders; returns (ao, mask, stats). Use mbao.render, which checks and documents the arguments.");
   m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"), py::arg("device"),
         py::arg("any_hit"), py::arg("traversal"), py::arg("traversal_stats"),

@@ -169,11 +169,14 @@ so later renders of the same scene do not rebuild it.)doc")
             d["leaf_triangles"] = py::array_t<std::uint32_t>(py::ssize_t(tree->leaf_triangles.size()),
                                                              tree->leaf_triangles.data());
             d["bounds"] = py::make_tuple(to_tuple(tree->bounds.lo), to_tuple(tree->bounds.hi));
+            d["origin"] = to_tuple(s.render_origin());
             d["stats"] = tree_stats_dict(tree->stats);
             return d;
           },
           R"doc(The kd-tree as the device gets it (kernels/mbao/kd_node.h), for inspection:
-"nodes" (K, 2) uint32 words (header, payload), "leaf_triangles", "bounds", "stats".)doc")
+"nodes" (K, 2) uint32 words (header, payload), "leaf_triangles", "bounds", "stats", and
+"origin": the tree (its bounds and split planes) is in coordinates relative to this point,
+the centre of the scene, so that rounding scales with the scene's size wherever it lies.)doc")
       .def("__repr__", [](const Scene& s) {
         return "<mbao.Scene '" + s.name() + "': " + std::to_string(s.mesh().triangles.size()) + " triangles>";
       });

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -92,11 +93,24 @@ DeviceInfo find_device(cl_device_id handle) {
   throw std::invalid_argument("device: the given OpenCL device handle is not one of this process's devices");
 }
 
+namespace {
+
+// $MBAO_DEVICE: an index or a part of a device's name.
+DeviceInfo find_device_named_by(const std::string& text) {
+  if (text.find_first_not_of("0123456789") != std::string::npos) return find_device(text);
+  // Longer digit strings do not fit 64 bits; any index that long is out of range anyway.
+  return find_device(text.size() > 18 ? std::numeric_limits<std::size_t>::max() : std::size_t(std::stoull(text)));
+}
+
+}  // namespace
+
 DeviceInfo default_device() {
   if (const char* chosen = std::getenv("MBAO_DEVICE"); chosen && *chosen) {
-    const std::string text = chosen;
-    if (text.find_first_not_of("0123456789") == std::string::npos) return find_device(std::size_t(std::stoul(text)));
-    return find_device(text);
+    try {
+      return find_device_named_by(chosen);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("MBAO_DEVICE=\"") + chosen + "\" names no device: " + e.what());
+    }
   }
   const std::vector<DeviceInfo> devices = list_devices();
   for (const DeviceInfo& d : devices)

@@ -4,15 +4,31 @@
 
 namespace mbao {
 
+namespace {
+
+std::size_t camera_hit_bytes(const RenderSettings& s, std::size_t tile_pixels) {
+  return tile_pixels * std::size_t(s.spp) * sizeof(cl_uint4);
+}
+
+}  // namespace
+
+std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels) {
+  const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
+  const std::size_t image = pixels * (sizeof(cl_float) + sizeof(cl_uchar) + sizeof(cl_uint));  // ao, coverage, rays
+  const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
+  const std::size_t wavefront =
+      s.organisation == KernelOrganisation::Wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
+  return camera_hit_bytes(s, tile_pixels) + image + totals + wavefront;
+}
+
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
              const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels)
     : pixels_(std::size_t(s.width) * std::size_t(s.height)), spp_(std::size_t(s.spp)) {
-  const std::size_t hit_bytes = tile_pixels * spp_ * sizeof(cl_uint4);
-  buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, hit_bytes);
+  buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
   buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
   buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
-  bytes_ = hit_bytes + pixels_ * (sizeof(cl_float) + sizeof(cl_uchar) + sizeof(cl_uint));
+  bytes_ = device_bytes(s, tile_pixels);
   if (s.count_traversal) {
     const cl_ulong zeros[4] = {0, 0, 0, 0};
     buffers_.traversal_totals =
@@ -39,7 +55,6 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
 
   if (s.organisation == KernelOrganisation::Wavefront) {
     wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, camera, s, tile_pixels, buffers_);
-    bytes_ += wavefront_->bytes();
   } else {
     set_up_megakernel(device, program, scene, camera, s);
   }

@@ -33,6 +33,8 @@ class Frame {
 
   // Device memory of the frame's own buffers.
   std::size_t bytes() const { return bytes_; }
+  // What a frame with these settings and tile size allocates: known before it does.
+  static std::size_t device_bytes(const RenderSettings& settings, std::size_t tile_pixels);
   // What decides whether the kernels have been launched before: program, AO kernels and work-group sizes.
   std::string launch_signature() const;
 

@@ -73,6 +73,14 @@ std::uint64_t RenderSettings::max_rays_per_camera_sample() const {
   return total;
 }
 
+std::uint64_t RenderSettings::max_rays_in_total() const {
+  const std::uint64_t camera_samples = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(spp);
+  const std::uint64_t per_sample = 1 + max_rays_per_camera_sample();
+  if (per_sample > std::numeric_limits<std::uint64_t>::max() / camera_samples)
+    return std::numeric_limits<std::uint64_t>::max();
+  return camera_samples * per_sample;
+}
+
 std::uint64_t RenderSettings::max_queue_entries_per_camera_sample() const {
   std::uint64_t deepest = 0, second = 0, level = 1;
   for (std::int64_t k = 1; k < bounces; ++k) {
@@ -102,7 +110,23 @@ void RenderSettings::validate() const {
                  std::to_string(std::uint64_t(samples) * std::uint64_t(bounces)) + " per camera sample";
     bad(message);
   }
+  validate_work();
   if (organisation == KernelOrganisation::Wavefront) validate_wavefront();
+}
+
+void RenderSettings::validate_work() const {
+  const std::uint64_t rays = max_rays_in_total();
+  if (rays <= max_rays) return;
+  const std::uint64_t camera_samples = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(spp);
+  std::string message = "this render would trace up to " + std::to_string(rays) + " rays (" +
+                        std::to_string(camera_samples) + " camera samples x " +
+                        std::to_string(1 + max_rays_per_camera_sample()) + " rays each), more than max_rays=" +
+                        std::to_string(max_rays);
+  if (estimator == Estimator::Branching)
+    message += "; the branching estimator traces samples^1 + ... + samples^bounces rays per camera sample, "
+               "the path estimator samples * bounces = " + std::to_string(std::uint64_t(samples) * std::uint64_t(bounces)) +
+               " (estimator=\"path\")";
+  bad(message + "; raise max_rays to run it anyway");
 }
 
 void RenderSettings::validate_wavefront() const {

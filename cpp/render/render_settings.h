@@ -28,6 +28,11 @@ std::string to_string(NormalMode mode);
 std::string to_string(Traversal traversal);
 std::string to_string(KernelOrganisation organisation);
 
+// About a quarter of an hour on two CPU cores under PoCL (~10 M rays/s), ten
+// seconds on a GPU: past this a render is more likely a mistake (r^b grows
+// fast) than a plan, and the caller says so by raising max_rays.
+constexpr std::uint64_t kDefaultMaxRays = 10'000'000'000ull;
+
 // Everything a render is asked for besides the scene and the camera (SPEC 1-2).
 struct RenderSettings {
   // 64-bit so that any integer a caller passes reaches validate() unchanged.
@@ -47,11 +52,15 @@ struct RenderSettings {
   std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory (the wavefront's always)
   std::size_t work_group_size = 0;  // 0 lets the OpenCL driver choose
   KernelOrganisation organisation = KernelOrganisation::Megakernel;  // wavefront: branching estimator only
+  // Renders that could trace more rays than this are refused before they start.
+  std::uint64_t max_rays = kDefaultMaxRays;
 
   // Throws std::invalid_argument naming the first bad setting and its allowed range.
   void validate() const;
   // Upper bound on the AO rays of one camera sample: r + ... + r^b or r * b.
   std::uint64_t max_rays_per_camera_sample() const;
+  // Upper bound on all the rays of the render, camera rays included (saturates at 2^64 - 1).
+  std::uint64_t max_rays_in_total() const;
   // Upper bound on the wavefront queue entries of one camera sample: the
   // surfaces of the two deepest bounces that bounce on, r^(b-1) + r^(b-2)
   // (a bounce reads one queue and fills the other).
@@ -59,6 +68,7 @@ struct RenderSettings {
 
  private:
   void validate_wavefront() const;
+  void validate_work() const;
 };
 
 // The largest bounce count of the branching estimator; the path estimator has no such limit.

@@ -14,9 +14,11 @@ namespace {
 
 // Tiles are sized so one launch holds at most this many camera samples (16 MiB
 // of hit records) and traces at most this many rays, whatever r^b is; the
-// wavefront's queues hold at most kMaxWavefrontQueueEntries.
+// wavefront's queues hold at most kMaxWavefrontQueueEntries. 2^24 rays are
+// enough to fill a GPU and take a second or two on a CPU, which is how long
+// Ctrl-C may wait for the tile in flight.
 constexpr std::size_t kMaxTileCameraSamples = std::size_t(1) << 20;
-constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 27;
+constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 24;
 
 // What a program is built for: code that a scene or the settings do not need
 // is compiled out (no mask lookups without masks, no normals without shading
@@ -70,6 +72,32 @@ std::size_t tile_pixels_for(const RenderSettings& s, std::size_t pixels) {
   return std::max<std::size_t>(1, std::min({limit, by_memory, by_rays}));
 }
 
+// Points moved into the scene's device frame (Scene::render_origin).
+std::vector<cl_float4> relative_to(const std::vector<cl_float4>& points, const glm::vec3& origin) {
+  std::vector<cl_float4> moved(points);
+  for (cl_float4& p : moved) {
+    p.s[0] -= origin.x;
+    p.s[1] -= origin.y;
+    p.s[2] -= origin.z;
+  }
+  return moved;
+}
+
+std::string mib(std::size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
+
+// Refuses, before allocating, a frame that cannot fit beside the scene: an
+// allocation failure mid-render says far less. Tiles bound everything but the
+// image itself, so only large images get here.
+void check_device_memory(const DeviceInfo& device, const DeviceScene& scene, std::size_t frame_bytes,
+                         const RenderSettings& s) {
+  const std::size_t available = device.device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+  if (scene.bytes() + frame_bytes <= available) return;
+  throw DeviceError("rendering " + std::to_string(s.width) + "x" + std::to_string(s.height) + " needs " +
+                    mib(scene.bytes() + frame_bytes) + " of device memory (scene " + mib(scene.bytes()) +
+                    ", image and tile buffers " + mib(frame_bytes) + "), more than the " + mib(available) + " of " +
+                    device.description());
+}
+
 }  // namespace
 
 Traversal traversal_for(Traversal requested, const DeviceInfo& device) {
@@ -89,7 +117,8 @@ Renderer& Renderer::for_device(const DeviceInfo& device) {
 }
 
 RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                              const RenderSettings& settings) {
+                              const RenderSettings& settings,
+                              const std::function<void(std::size_t done, std::size_t total)>& between_tiles) {
   settings.validate();
   camera.validate();
   std::lock_guard<std::mutex> lock(mutex_);
@@ -122,7 +151,9 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   std::vector<cl_uint> secondary_rays(pixels);
   try {
     cl::CommandQueue& queue = compute_.queue();
-    Frame frame(compute_.context(), device().device, built.program, *device_scene, camera, settings, tile_pixels);
+    check_device_memory(device(), *device_scene, Frame::device_bytes(settings, tile_pixels), settings);
+    Frame frame(compute_.context(), device().device, built.program, *device_scene,
+                camera.relative_to(scene->render_origin()), settings, tile_pixels);
     stats.memory_bytes = device_scene->bytes() + frame.bytes();
     // Some drivers (PoCL) compile a kernel for its work-group size at its first
     // launch: do that in an empty launch, counted as kernel build time.
@@ -133,9 +164,14 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
       stats.kernel_build_ms += clock.elapsed_ms();
     }
     Stopwatch clock;
+    const std::size_t tiles = (pixels + tile_pixels - 1) / tile_pixels;
     for (std::size_t first = 0; first < pixels; first += tile_pixels) {
       frame.enqueue_tile(queue, first, std::min(tile_pixels, pixels - first));
       ++stats.tiles;
+      if (between_tiles) {
+        queue.finish();
+        between_tiles(stats.tiles, tiles);
+      }
     }
     frame.enqueue_read_back(queue, result.ao.data(), result.mask.data(), secondary_rays.data());
     queue.finish();
@@ -168,8 +204,9 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
     const cl::Context& context = compute_.context();
     cl::CommandQueue& queue = compute_.queue();
     const std::size_t n = origins.size();
+    std::vector<cl_float4> local_origins = relative_to(origins, scene->render_origin());
     cl::Buffer origin_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_float4),
-                             const_cast<cl_float4*>(origins.data()));
+                             local_origins.data());
     cl::Buffer direction_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(cl_float4),
                                 const_cast<cl_float4*>(directions.data()));
     cl::Buffer hit_buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));

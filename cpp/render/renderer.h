@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -47,8 +48,12 @@ class Renderer {
 
   const DeviceInfo& device() const { return compute_.device(); }
 
+  // between_tiles(done, total), if given, runs after each tile has finished,
+  // with nothing left in flight: it may report progress, or throw to stop the
+  // render, leaving the renderer ready for the next one.
   RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                      const RenderSettings& settings);
+                      const RenderSettings& settings,
+                      const std::function<void(std::size_t done, std::size_t total)>& between_tiles = {});
 
   // Traces rays given as origins and direction + t_max in .w; closest hits, or
   // with any_hit the first hit found.

@@ -21,20 +21,34 @@ std::size_t queue_entries_per_camera_sample(const RenderSettings& s, std::int64_
 
 }  // namespace
 
+Wavefront::BufferSizes Wavefront::buffer_sizes(const RenderSettings& s, std::size_t tile_pixels) {
+  const std::size_t tile_samples = tile_pixels * std::size_t(s.spp);
+  BufferSizes sizes;
+  sizes.escape_counts = tile_samples * std::size_t(s.bounces) * sizeof(cl_uint);
+  sizes.sample_rays = tile_samples * sizeof(cl_uint);
+  sizes.queue_lengths = (std::size_t(s.bounces) + 1) * sizeof(cl_uint);
+  for (std::int64_t parity : {0, 1})
+    sizes.queues[parity] = tile_samples * queue_entries_per_camera_sample(s, parity) * sizeof(QueuedSurface);
+  return sizes;
+}
+
+std::size_t Wavefront::device_bytes(const RenderSettings& s, std::size_t tile_pixels) {
+  return buffer_sizes(s, tile_pixels).total();
+}
+
 Wavefront::Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program,
                      const DeviceScene& scene, const Camera& camera, const RenderSettings& s,
                      std::size_t tile_pixels, const FrameBuffers& frame)
     : spp_(std::size_t(s.spp)), bounces_(std::size_t(s.bounces)) {
-  const std::size_t tile_samples = tile_pixels * spp_;
+  const BufferSizes sizes = buffer_sizes(s, tile_pixels);
   const auto allocate = [&](std::size_t bytes) {
-    bytes_ += bytes;
     return bytes ? cl::Buffer(context, CL_MEM_READ_WRITE, bytes) : cl::Buffer();
   };
-  escape_counts_ = allocate(tile_samples * bounces_ * sizeof(cl_uint));
-  sample_rays_ = allocate(tile_samples * sizeof(cl_uint));
-  queue_lengths_ = allocate((bounces_ + 1) * sizeof(cl_uint));
-  for (std::int64_t parity : {0, 1})
-    queues_[parity] = allocate(tile_samples * queue_entries_per_camera_sample(s, parity) * sizeof(QueuedSurface));
+  escape_counts_ = allocate(sizes.escape_counts);
+  sample_rays_ = allocate(sizes.sample_rays);
+  queue_lengths_ = allocate(sizes.queue_lengths);
+  for (int parity : {0, 1}) queues_[parity] = allocate(sizes.queues[parity]);
+  bytes_ = sizes.total();
 
   first_bounce_ = cl::Kernel(program, "wavefront_first_bounce");
   cl_uint arg = set_ao_args(first_bounce_, scene.set_args(first_bounce_), camera, s);

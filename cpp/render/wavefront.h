@@ -27,10 +27,18 @@ class Wavefront {
   void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
 
   std::size_t bytes() const { return bytes_; }
+  // What the constructor will allocate for these settings and tile size.
+  static std::size_t device_bytes(const RenderSettings& settings, std::size_t tile_pixels);
   // The kernels and their work-group sizes, for Frame::launch_signature().
   std::string launch_signature() const;
 
  private:
+  struct BufferSizes {
+    std::size_t escape_counts, sample_rays, queue_lengths, queues[2];
+    std::size_t total() const { return escape_counts + sample_rays + queue_lengths + queues[0] + queues[1]; }
+  };
+  static BufferSizes buffer_sizes(const RenderSettings& settings, std::size_t tile_pixels);
+
   // The queue that bounce `bounce` fills; null where no bounce fills it.
   const cl::Buffer& queue_of(std::size_t bounce) const { return queues_[bounce % 2]; }
   std::size_t queue_length(cl::CommandQueue& queue, std::size_t bounce) const;

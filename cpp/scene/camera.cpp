@@ -84,6 +84,13 @@ void Camera::validate() const {
     throw std::invalid_argument("camera: max_distance must be > 0");
 }
 
+Camera Camera::relative_to(const glm::vec3& origin) const {
+  Camera moved = *this;
+  moved.eye -= origin;
+  moved.target -= origin;
+  return moved;
+}
+
 CameraBasis::CameraBasis(const Camera& camera)
     : forward(glm::normalize(camera.target - camera.eye)),
       right(glm::normalize(glm::cross(forward, camera.up))),

@@ -25,6 +25,8 @@ struct Camera {
 
   // Throws std::invalid_argument for a camera that defines no view.
   void validate() const;
+  // The same camera with `origin` as the origin of coordinates.
+  Camera relative_to(const glm::vec3& origin) const;
 };
 
 // The orthonormal frame of SPEC 3.1, derived from a valid camera.

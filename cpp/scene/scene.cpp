@@ -1,7 +1,44 @@
 #include "scene/scene.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
 namespace mbao {
 namespace {
+
+// Float32 vertices lie on a grid whose spacing grows with their distance from
+// the world origin. Past this spacing, as a fraction of the scene's size, the
+// grid visibly changes the scene's shape and its AO (measured in
+// tests/test_scale_and_placement.py); rendering relative to the scene's centre
+// cannot undo rounding that happened before the vertices reached mbao.
+constexpr float kMaxVertexSpacing = 1e-3f;
+
+float largest(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
+
+void check_extent(const Bounds3& box, const std::string& name) {
+  const glm::vec3 extent = box.extent();
+  if (!std::isfinite(extent.x) || !std::isfinite(extent.y) || !std::isfinite(extent.z))
+    throw std::invalid_argument(name + ": the scene is wider than float32 can span (its bounds' extent overflows)");
+}
+
+std::vector<std::string> with_placement_warning(std::vector<std::string> warnings, const Bounds3& box,
+                                                const std::string& name) {
+  const float size = largest(box.extent());
+  const float farthest = largest(glm::max(glm::abs(box.lo), glm::abs(box.hi)));
+  const float spacing = std::nextafter(farthest, std::numeric_limits<float>::infinity()) - farthest;
+  if (size > 0.0f && spacing > kMaxVertexSpacing * size) {
+    std::ostringstream message;
+    message << name << " is " << size << " across but lies up to " << farthest
+            << " from the origin, where float32 vertex coordinates are " << spacing << " apart ("
+            << 100.0f * spacing / size << "% of the scene): its shape is already rounded and its AO may be wrong. "
+            << "Move it near the origin before its vertices become float32.";
+    warnings.push_back(message.str());
+  }
+  return warnings;
+}
 
 std::uint64_t next_scene_id() {
   static std::atomic<std::uint64_t> counter{0};
@@ -32,17 +69,31 @@ Scene::Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera, 
       masks_(std::move(masks)),
       name_(std::move(name)),
       camera_(std::move(camera)),
-      warnings_(std::move(warnings)),
       id_(next_scene_id()) {
   bounds_ = mesh_.checked_bounds(name_);
+  check_extent(bounds_, name_);
+  render_origin_ = 0.5f * bounds_.lo + 0.5f * bounds_.hi;  // halves first: the sum may overflow
+  warnings_ = with_placement_warning(std::move(warnings), bounds_, name_);
   validate_masks(masks_, mesh_.triangles.size(), name_);
+}
+
+std::vector<glm::vec3> Scene::local_positions() const {
+  std::vector<glm::vec3> local;
+  local.reserve(mesh_.positions.size());
+  for (const glm::vec3& p : mesh_.positions) local.push_back(p - render_origin_);
+  return local;
 }
 
 Camera Scene::default_camera(float aspect) const { return camera_ ? *camera_ : Camera::framing(bounds_, aspect); }
 
 std::shared_ptr<const KdTree> Scene::kd_tree() const {
   std::lock_guard<std::mutex> lock(tree_mutex_);
-  if (!tree_) tree_ = std::make_shared<const KdTree>(build_kd_tree(mesh_));
+  if (!tree_) {
+    TriangleMesh local;
+    local.positions = local_positions();
+    local.triangles = mesh_.triangles;
+    tree_ = std::make_shared<const KdTree>(build_kd_tree(local));
+  }
   return tree_;
 }
 

@@ -29,9 +29,17 @@ class Scene {
   const TriangleMesh& mesh() const { return mesh_; }
   const AlphaMasks& masks() const { return masks_; }
   const Bounds3& bounds() const { return bounds_; }
+  // The point the device's coordinates are relative to: the centre of the
+  // bounds. Rounding in ray/triangle tests and in the offset of rays leaving a
+  // surface then scales with the scene's size, not its distance from the
+  // world origin, so a scene renders the same wherever it is placed.
+  const glm::vec3& render_origin() const { return render_origin_; }
+  // The vertex positions relative to render_origin(): what the kd-tree and the device hold.
+  std::vector<glm::vec3> local_positions() const;
   const std::string& name() const { return name_; }
   const std::optional<Camera>& camera() const { return camera_; }
-  // What the loader skipped or repaired, one sentence each.
+  // What the loader skipped or repaired, and a scene placed too far from the
+  // origin for float32 (see render_origin), one sentence each.
   const std::vector<std::string>& warnings() const { return warnings_; }
   // Unique for the life of the process: names the scene in device caches.
   std::uint64_t id() const { return id_; }
@@ -46,6 +54,7 @@ class Scene {
   TriangleMesh mesh_;
   AlphaMasks masks_;
   Bounds3 bounds_;
+  glm::vec3 render_origin_;
   std::string name_;
   std::optional<Camera> camera_;
   std::vector<std::string> warnings_;

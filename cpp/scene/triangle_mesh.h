@@ -8,7 +8,8 @@
 
 namespace mbao {
 
-// Triangles in world space: what every loader produces and the tree is built on.
+// Triangles in world space: what every loader produces. The kd-tree and the
+// device get them relative to the scene's centre (Scene::render_origin).
 struct TriangleMesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::uvec3> triangles;  // indices into positions

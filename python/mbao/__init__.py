@@ -9,13 +9,14 @@ What is computed, and every convention, is defined in SPEC.md (section numbers
 in the docstrings refer to it).
 """
 
-from ._core import Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
+from ._core import DEFAULT_MAX_RAYS, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
 from .devices import devices
 from .images import save_image
 from .render import Result, render, trace
 from .scene import Mesh, load
 
 __all__ = [
+    "DEFAULT_MAX_RAYS",
     "Camera",
     "Device",
     "DeviceError",

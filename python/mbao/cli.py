@@ -44,6 +44,7 @@ def _parser():
     r.add_argument("--seed", type=int, default=0)
     r.add_argument("--traversal-stats", action="store_true", help="count nodes, leaves, triangle tests per ray")
     r.add_argument("--organisation", choices=ORGANISATIONS, default="megakernel")
+    r.add_argument("--max-rays", type=int, help="refuse renders that could trace more rays (default 1e10)")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
     commands.add_parser("devices", help="list the OpenCL devices")
@@ -74,6 +75,7 @@ def _render(args):
         device=_device_argument(args.device),
         traversal_stats=args.traversal_stats,
         organisation=args.organisation,
+        max_rays=args.max_rays,
     )
     save_image(args.output, result.ao)
     s = result.stats
@@ -117,3 +119,6 @@ def main(argv=None):
     except (ValueError, TypeError, OSError, _core.Error) as error:
         print(f"mbao: {error}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("mbao: interrupted", file=sys.stderr)
+        return 130  # the shell's code for a command stopped by SIGINT

@@ -60,6 +60,8 @@ def render(
     organisation="megakernel",
     tile_pixels=None,
     work_group_size=None,
+    max_rays=None,
+    progress=None,
 ):
     """Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
 
@@ -85,8 +87,13 @@ def render(
         "wavefront" (branching only: one launch per bounce over a compacted queue of
         the surfaces that bounce on). Same image bit for bit; on CPUs they tie.
     tile_pixels, work_group_size: how the work is cut up (None: automatic); they do not change the image.
+    max_rays: a render that could trace more rays than this (camera rays included) is refused
+        with a ValueError saying how many it would take; None: mbao.DEFAULT_MAX_RAYS (1e10).
+        Branching work grows as samples^bounces: the path estimator needs samples * bounces.
+    progress: None, or a callable progress(tiles_done, tiles_total) called after each tile.
 
-    The GIL is released while rendering.
+    The GIL is released while rendering. Ctrl-C (KeyboardInterrupt), or an exception raised by
+    progress, stops the render after the tile in flight; the next render works as usual.
     """
     _check_scene(scene)
     if camera is not None and not isinstance(camera, _core.Camera):
@@ -111,8 +118,17 @@ def render(
         organisation=_checks.choice("organisation", organisation, ORGANISATIONS),
         tile_pixels=_optional_count("tile_pixels", tile_pixels),
         work_group_size=_optional_count("work_group_size", work_group_size),
+        max_rays=_core.DEFAULT_MAX_RAYS if max_rays is None else _checks.integer("max_rays", max_rays, 1, 2**64 - 1,
+                                                                                   "[1, 2**64)"),
+        progress=_progress(progress),
     )
     return Result(ao, mask, stats)
+
+
+def _progress(progress):
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be None or a callable (tiles_done, tiles_total), got {type(progress).__name__}")
+    return progress
 
 
 def _optional_count(name, value):

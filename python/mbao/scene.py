@@ -30,6 +30,8 @@ class Mesh(_core._Mesh):
             if len(normals) != len(vertices):
                 raise ValueError(f"normals has {len(normals)} rows for {len(vertices)} vertices")
         super().__init__(vertices, indices.astype(np.uint32), normals)
+        for message in self.warnings:
+            warnings.warn(message, stacklevel=2)
 
     def __repr__(self):
         return f"<mbao.Mesh: {self.triangle_count} triangles, {len(self.vertices)} vertices>"

@@ -91,10 +91,29 @@ TEST(RenderSettings, TheWavefrontRefusesThePathEstimatorAndQueuesPastItsLimit) {
   s.estimator = Estimator::Path;
   EXPECT_NE(complaint(s).find("branching estimator only"), std::string::npos) << complaint(s);
   s.estimator = Estimator::Branching;
+  s.width = s.height = 1;  // one pixel: below the limit on rays in total
   s.samples = 128;
   s.bounces = 4;  // 128^3 + 128^2 queued surfaces per pixel, but only 128 + ... + 128^4 < 2^32 rays
   EXPECT_NE(complaint(s).find("surfaces per pixel"), std::string::npos) << complaint(s);
   s.organisation = KernelOrganisation::Megakernel;
+  EXPECT_EQ(complaint(s), "");
+}
+
+TEST(RenderSettings, RaysInTotalAreBoundedByMaxRays) {
+  RenderSettings s;
+  s.width = 10;
+  s.height = 20;
+  s.spp = 3;
+  s.samples = 4;
+  s.bounces = 3;
+  EXPECT_EQ(s.max_rays_in_total(), 10u * 20u * 3u * (1u + 4u + 16u + 64u));
+  s.max_rays = s.max_rays_in_total();
+  EXPECT_EQ(complaint(s), "");
+  s.max_rays -= 1;
+  EXPECT_NE(complaint(s).find("would trace up to 51000 rays"), std::string::npos) << complaint(s);
+  EXPECT_NE(complaint(s).find("samples * bounces = 12"), std::string::npos) << complaint(s);
+  s.estimator = Estimator::Path;
+  EXPECT_EQ(s.max_rays_in_total(), 10u * 20u * 3u * (1u + 12u));
   EXPECT_EQ(complaint(s), "");
 }
 
