@@ -13,7 +13,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
   pocl-opencl-icd pybind11-dev python3-pybind11 python3-dev python3-venv python3-pip python3-numpy python3-pytest \
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbformat python3-ipykernel \
-  python3-matplotlib libgtest-dev
+  python3-matplotlib python3-tqdm libgtest-dev
 
 .PHONY: demo test bench deps build clean
 

@@ -129,6 +129,16 @@ so later renders of the same scene do not rebuild it.)doc")
           "(lo, hi) corners of the box around the triangles.")
       .def_property_readonly("camera", [](const Scene& s) { return s.camera(); },
                              "The scene's own camera (the Cornell box's, a glTF file's first perspective camera) or None.")
+      .def(
+          "default_camera",
+          [](const Scene& s, std::int64_t width, std::int64_t height) {
+            if (width < 1 || height < 1)
+              throw std::invalid_argument("width and height must be >= 1, got " + std::to_string(width) + "x" +
+                                          std::to_string(height));
+            return s.default_camera(float(width) / float(height));
+          },
+          py::arg("width"), py::arg("height"),
+          "The camera a render of this size uses when given none: the scene's own, else one framing it.")
       .def_property_readonly("name", &Scene::name)
       .def_property_readonly("warnings", &Scene::warnings, "What loading skipped, one sentence each.")
       .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh().triangles.size(); })

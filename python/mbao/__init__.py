@@ -11,7 +11,9 @@ in the docstrings refer to it).
 
 from ._core import DEFAULT_MAX_RAYS, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
 from .devices import devices
+from .gtao import gtao_multibounce
 from .images import save_image
+from .reference import Reference, reference, reference_camera
 from .render import Result, render, trace
 from .scene import Mesh, load
 
@@ -23,11 +25,15 @@ __all__ = [
     "Error",
     "LoadError",
     "Mesh",
+    "Reference",
     "Result",
     "Scene",
     "cornell_box",
     "devices",
+    "gtao_multibounce",
     "load",
+    "reference",
+    "reference_camera",
     "render",
     "save_image",
     "trace",
