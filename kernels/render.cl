@@ -10,6 +10,7 @@
 #endif
 #include "surface.h"
 #include "sampling.h"
+#include "camera.h"
 #include "mbao/wavefront.h"
 
 // Camera rays (SPEC 3.1). One work item per camera sample of the tile; the
@@ -29,9 +30,8 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
     const Philox4x32 r = random_block(pixel, camera_sample, 0, 0, seed);
     in_pixel = (float2)(philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
   }
-  const float u = (((float)(pixel % width) + in_pixel.x) / (float)width) * 2.0f - 1.0f;
-  const float v = 1.0f - (((float)(pixel / width) + in_pixel.y) / (float)height) * 2.0f;
-  const float3 dir = normalize(forward.xyz + u * film_scale.x * right.xyz + v * film_scale.y * up.xyz);
+  const float3 dir =
+      camera_ray_direction(forward.xyz, right.xyz, up.xyz, film_scale, width, height, pixel, in_pixel);
 
   Hit hit;
   TraversalCounts counts = no_traversal_counts();

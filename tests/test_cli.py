@@ -124,6 +124,18 @@ def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
     np.testing.assert_array_equal(read_image(tmp_path / "cli.exr")[1][..., 0], expected.ao)
 
 
+def test_hbao_from_the_command_line_equals_the_api(tmp_path, gltf_scene):
+    scene, camera, _ = gltf_scene
+    proc = run_mbao("render", scene, "--camera", camera, "--width", 12, "--height", 9, "--method", "hbao",
+                    "--max-distance", 0.8, "--hbao-directions", 4, "--hbao-steps", 3, "--hbao-angle-bias", 5,
+                    "--hbao-falloff", 0.5, "-o", "hbao.exr", cwd=tmp_path)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "hbao radius=0.8, directions=4, steps=3" in output_lines(proc.stdout)["settings"]
+    expected = mbao.render(mbao.load(scene), camera=mbao.Camera.load(camera), width=12, height=9, method="hbao",
+                           max_distance=0.8, hbao=mbao.HBAO(directions=4, steps=3, angle_bias_deg=5, falloff=0.5))
+    np.testing.assert_array_equal(read_image(tmp_path / "hbao.exr")[1][..., 0], expected.ao)
+
+
 def test_devices_lists_the_devices(tmp_path, device):
     proc = run_mbao("devices", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr

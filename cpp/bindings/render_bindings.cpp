@@ -51,7 +51,8 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
                  const std::string& estimator, float rho, float max_distance, std::int64_t spp,
                  const std::string& normals, std::uint64_t seed, const std::string& traversal, bool traversal_stats,
                  const std::string& organisation, std::size_t tile_pixels, std::size_t work_group_size,
-                 std::uint64_t max_rays, const py::object& progress) {
+                 std::uint64_t max_rays, const py::object& progress, const std::string& method,
+                 const HbaoSettings& hbao) {
   RenderSettings settings;
   settings.width = width;
   settings.height = height;
@@ -69,6 +70,8 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
   settings.tile_pixels = tile_pixels;
   settings.work_group_size = work_group_size;
   settings.max_rays = max_rays;
+  settings.method = parse_method(method);
+  settings.hbao = hbao;
   settings.validate();
   // Ctrl-C is seen between tiles: the signal handler only sets a flag while
   // the GIL is released, so the render asks Python whether it has fired.
@@ -126,11 +129,31 @@ py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py
 
 void bind_render(py::module_& m) {
   m.attr("DEFAULT_MAX_RAYS") = kDefaultMaxRays;
+  py::class_<HbaoSettings>(m, "HBAO", R"doc(HBAO's settings (SPEC 4; Bavoil et al. 2008) for render(method="hbao").
+
+directions: image directions marched from each pixel (1..64), rotated per pixel by the seed.
+steps: samples along each direction (1..64), the first one jittered per pixel.
+angle_bias_deg: horizons less than this above the tangent plane are ignored, in [0, 90).
+falloff: attenuation W(r) = 1 - falloff * (r / radius)^2 of each horizon rise, in [0, 1].
+The radius, in world units, is the render's max_distance.)doc")
+      .def(py::init([](std::int64_t directions, std::int64_t steps, float angle_bias_deg, float falloff) {
+             return HbaoSettings{directions, steps, angle_bias_deg, falloff};
+           }),
+           py::arg("directions") = HbaoSettings{}.directions, py::arg("steps") = HbaoSettings{}.steps,
+           py::arg("angle_bias_deg") = HbaoSettings{}.angle_bias_deg, py::arg("falloff") = HbaoSettings{}.falloff)
+      .def_readonly("directions", &HbaoSettings::directions)
+      .def_readonly("steps", &HbaoSettings::steps)
+      .def_readonly("angle_bias_deg", &HbaoSettings::angle_bias_deg)
+      .def_readonly("falloff", &HbaoSettings::falloff)
+      .def("__repr__", [](const HbaoSettings& h) {
+        return "HBAO(directions=" + std::to_string(h.directions) + ", steps=" + std::to_string(h.steps) +
+               ", angle_bias_deg=" + std::to_string(h.angle_bias_deg) + ", falloff=" + std::to_string(h.falloff) + ")";
+      });
   m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("width"),
         py::arg("height"), py::arg("bounces"), py::arg("samples"), py::arg("estimator"), py::arg("rho"),
         py::arg("max_distance"), py::arg("spp"), py::arg("normals"), py::arg("seed"), py::arg("traversal"),
         py::arg("traversal_stats"), py::arg("organisation"), py::arg("tile_pixels"), py::arg("work_group_size"),
-        py::arg("max_rays"), py::arg("progress"),
+        py::arg("max_rays"), py::arg("progress"), py::arg("method"), py::arg("hbao"),
         "Renders; returns (ao, mask, stats). Use mbao.render, which checks and documents the arguments.");
   m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"), py::arg("device"),
         py::arg("any_hit"), py::arg("traversal"), py::arg("traversal_stats"),

@@ -46,6 +46,14 @@ KernelOrganisation parse_organisation(const std::string& name) {
   bad("organisation must be \"megakernel\" or \"wavefront\", got \"" + name + "\"");
 }
 
+Method parse_method(const std::string& name) {
+  if (name == "raytraced") return Method::RayTraced;
+  if (name == "hbao") return Method::Hbao;
+  bad("method must be \"raytraced\" or \"hbao\", got \"" + name + "\"");
+}
+
+std::string to_string(Method method) { return method == Method::RayTraced ? "raytraced" : "hbao"; }
+
 std::string to_string(Estimator estimator) { return estimator == Estimator::Branching ? "branching" : "path"; }
 std::string to_string(NormalMode mode) { return mode == NormalMode::Shading ? "shading" : "geometric"; }
 std::string to_string(Traversal traversal) {
@@ -100,6 +108,7 @@ void RenderSettings::validate() const {
   check_range("bounces", bounces, 1, estimator == Estimator::Branching ? kMaxBranchingBounces : 1 << 16);
   if (!(rho >= 0.0f && rho <= 1.0f)) bad("rho must be in [0, 1], got " + std::to_string(rho));
   if (!(max_distance > 0.0f)) bad("max_distance must be > 0 (inf for unlimited), got " + std::to_string(max_distance));
+  if (method == Method::Hbao) return validate_hbao();
   const std::uint64_t per_pixel = max_rays_per_camera_sample() * std::uint64_t(spp);
   if (per_pixel > kMaxRaysPerPixel) {
     std::string message = "the " + to_string(estimator) + " estimator with samples=" + std::to_string(samples) +
@@ -112,6 +121,22 @@ void RenderSettings::validate() const {
   }
   validate_work();
   if (organisation == KernelOrganisation::Wavefront) validate_wavefront();
+}
+
+void RenderSettings::validate_hbao() const {
+  if (bounces != 1)
+    bad("HBAO computes one bounce, got bounces=" + std::to_string(bounces) +
+        "; mbao.gtao_multibounce approximates more from its image");
+  if (spp != 1) bad("HBAO samples each pixel at its centre, got spp=" + std::to_string(spp));
+  if (!std::isfinite(max_distance))
+    bad("HBAO needs a finite max_distance: it is the radius, in world units, that it searches for occluders");
+  if (organisation != KernelOrganisation::Megakernel) bad("organisation applies to the ray-traced method only");
+  check_range("hbao directions", hbao.directions, 1, 64);
+  check_range("hbao steps", hbao.steps, 1, 64);
+  if (!(hbao.angle_bias_deg >= 0.0f && hbao.angle_bias_deg < 90.0f))
+    bad("hbao angle_bias_deg must be in [0, 90), got " + std::to_string(hbao.angle_bias_deg));
+  if (!(hbao.falloff >= 0.0f && hbao.falloff <= 1.0f))
+    bad("hbao falloff must be in [0, 1], got " + std::to_string(hbao.falloff));
 }
 
 void RenderSettings::validate_work() const {

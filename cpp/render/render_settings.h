@@ -16,6 +16,16 @@ enum class Traversal { Restart, PushDown, ShortStack, Stack, Auto };
 // How the AO work is cut into kernels: one work item per pixel runs the whole
 // estimator, or one launch per bounce over a queue of the surfaces that bounce on.
 enum class KernelOrganisation { Megakernel, Wavefront };
+// What computes the image: the ray-traced estimators of SPEC 2, or HBAO (SPEC 4).
+enum class Method { RayTraced, Hbao };
+
+// HBAO's own settings; its radius is the render's max_distance.
+struct HbaoSettings {
+  std::int64_t directions = 8;  // image directions per pixel, rotated per pixel
+  std::int64_t steps = 6;       // samples along each direction
+  float angle_bias_deg = 10.0f;  // horizons less than this above the tangent plane are ignored
+  float falloff = 1.0f;          // attenuation W(r) = 1 - falloff * (r / radius)^2, in [0, 1]
+};
 
 // Names as the Python API spells them; parse_* throw std::invalid_argument
 // listing the allowed names.
@@ -23,10 +33,12 @@ Estimator parse_estimator(const std::string& name);
 NormalMode parse_normal_mode(const std::string& name);
 Traversal parse_traversal(const std::string& name);
 KernelOrganisation parse_organisation(const std::string& name);
+Method parse_method(const std::string& name);
 std::string to_string(Estimator estimator);
 std::string to_string(NormalMode mode);
 std::string to_string(Traversal traversal);
 std::string to_string(KernelOrganisation organisation);
+std::string to_string(Method method);
 
 // About a quarter of an hour on two CPU cores under PoCL (~10 M rays/s), ten
 // seconds on a GPU: past this a render is more likely a mistake (r^b grows
@@ -52,6 +64,8 @@ struct RenderSettings {
   std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory (the wavefront's always)
   std::size_t work_group_size = 0;  // 0 lets the OpenCL driver choose
   KernelOrganisation organisation = KernelOrganisation::Megakernel;  // wavefront: branching estimator only
+  Method method = Method::RayTraced;
+  HbaoSettings hbao;  // method Hbao only
   // Renders that could trace more rays than this are refused before they start.
   std::uint64_t max_rays = kDefaultMaxRays;
 
@@ -69,6 +83,7 @@ struct RenderSettings {
  private:
   void validate_wavefront() const;
   void validate_work() const;
+  void validate_hbao() const;
 };
 
 // The largest bounce count of the branching estimator; the path estimator has no such limit.

@@ -8,6 +8,7 @@
 #include "core/timer.h"
 #include "opencl/launch.h"
 #include "render/frame.h"
+#include "render/hbao_frame.h"
 
 namespace mbao {
 namespace {
@@ -118,7 +119,7 @@ Renderer& Renderer::for_device(const DeviceInfo& device) {
 
 RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                               const RenderSettings& settings,
-                              const std::function<void(std::size_t done, std::size_t total)>& between_tiles) {
+                              const TileCallback& between_tiles) {
   settings.validate();
   camera.validate();
   std::lock_guard<std::mutex> lock(mutex_);
@@ -137,52 +138,87 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, features.shading_normals);
   stats.upload_ms = upload_clock.elapsed_ms();
 
-  const BuiltProgram built = compute_.programs().get("render.cl", features.options());
+  const bool hbao = settings.method == Method::Hbao;
+  const BuiltProgram built = compute_.programs().get(hbao ? "hbao.cl" : "render.cl", features.options());
   stats.kernel_build_ms = built.build_ms;
   stats.kernel_cache = to_string(built.origin);
   stats.kernel_options = features.options();
 
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
-  const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
   result.width = int(settings.width);
   result.height = int(settings.height);
   result.ao.resize(pixels);
   result.mask.resize(pixels);
-  std::vector<cl_uint> secondary_rays(pixels);
+  const Camera local_camera = camera.relative_to(scene->render_origin());
   try {
-    cl::CommandQueue& queue = compute_.queue();
-    check_device_memory(device(), *device_scene, Frame::device_bytes(settings, tile_pixels), settings);
-    Frame frame(compute_.context(), device().device, built.program, *device_scene,
-                camera.relative_to(scene->render_origin()), settings, tile_pixels);
-    stats.memory_bytes = device_scene->bytes() + frame.bytes();
-    // Some drivers (PoCL) compile a kernel for its work-group size at its first
-    // launch: do that in an empty launch, counted as kernel build time.
-    if (launched_.insert(frame.launch_signature()).second) {
-      Stopwatch clock;
-      frame.enqueue_tile(queue, 0, 0);
-      queue.finish();
-      stats.kernel_build_ms += clock.elapsed_ms();
-    }
-    Stopwatch clock;
-    const std::size_t tiles = (pixels + tile_pixels - 1) / tile_pixels;
-    for (std::size_t first = 0; first < pixels; first += tile_pixels) {
-      frame.enqueue_tile(queue, first, std::min(tile_pixels, pixels - first));
-      ++stats.tiles;
-      if (between_tiles) {
-        queue.finish();
-        between_tiles(stats.tiles, tiles);
-      }
-    }
-    frame.enqueue_read_back(queue, result.ao.data(), result.mask.data(), secondary_rays.data());
-    queue.finish();
-    stats.frame_ms = clock.elapsed_ms();
-    if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
+    if (hbao)
+      run_hbao(*device_scene, built.program, local_camera, settings, result);
+    else
+      run_traced(*device_scene, built.program, local_camera, settings, between_tiles, result);
   } catch (const cl::Error& e) {
     throw_device_error("rendering " + scene->name() + " on " + device().description(), e);
   }
   stats.rays_primary = std::uint64_t(pixels) * std::uint64_t(settings.spp);
-  for (cl_uint r : secondary_rays) stats.rays_secondary += r;
   return result;
+}
+
+void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
+                          const RenderSettings& settings, const TileCallback& between_tiles, RenderResult& result) {
+  RenderStats& stats = result.stats;
+  const std::size_t pixels = result.ao.size();
+  const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
+  std::vector<cl_uint> secondary_rays(pixels);
+  cl::CommandQueue& queue = compute_.queue();
+  check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels), settings);
+  Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels);
+  stats.memory_bytes = scene.bytes() + frame.bytes();
+  // Some drivers (PoCL) compile a kernel for its work-group size at its first
+  // launch: do that in an empty launch, counted as kernel build time.
+  if (launched_.insert(frame.launch_signature()).second) {
+    Stopwatch clock;
+    frame.enqueue_tile(queue, 0, 0);
+    queue.finish();
+    stats.kernel_build_ms += clock.elapsed_ms();
+  }
+  Stopwatch clock;
+  const std::size_t tiles = (pixels + tile_pixels - 1) / tile_pixels;
+  for (std::size_t first = 0; first < pixels; first += tile_pixels) {
+    frame.enqueue_tile(queue, first, std::min(tile_pixels, pixels - first));
+    ++stats.tiles;
+    if (between_tiles) {
+      queue.finish();
+      between_tiles(stats.tiles, tiles);
+    }
+  }
+  frame.enqueue_read_back(queue, result.ao.data(), result.mask.data(), secondary_rays.data());
+  queue.finish();
+  stats.frame_ms = clock.elapsed_ms();
+  if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
+  for (cl_uint r : secondary_rays) stats.rays_secondary += r;
+}
+
+void Renderer::run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
+                        const RenderSettings& settings, RenderResult& result) {
+  RenderStats& stats = result.stats;
+  cl::CommandQueue& queue = compute_.queue();
+  check_device_memory(device(), scene, HbaoFrame::device_bytes(result.ao.size()), settings);
+  HbaoFrame frame(compute_.context(), device().device, program, scene, camera, settings);
+  stats.memory_bytes = scene.bytes() + frame.bytes();
+  // As above, a first launch compiles the kernels on some drivers; HBAO has no
+  // empty launch, so a whole first frame is counted as kernel build time.
+  const std::string signature = std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " hbao";
+  if (launched_.insert(signature).second) {
+    Stopwatch clock;
+    frame.enqueue(queue);
+    queue.finish();
+    stats.kernel_build_ms += clock.elapsed_ms();
+  }
+  Stopwatch clock;
+  frame.enqueue(queue);
+  frame.enqueue_read_back(queue, result.ao.data(), result.mask.data());
+  queue.finish();
+  stats.frame_ms = clock.elapsed_ms();
+  stats.tiles = 1;
 }
 
 TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std::vector<cl_float4>& origins,

@@ -51,9 +51,9 @@ class Renderer {
   // between_tiles(done, total), if given, runs after each tile has finished,
   // with nothing left in flight: it may report progress, or throw to stop the
   // render, leaving the renderer ready for the next one.
+  using TileCallback = std::function<void(std::size_t done, std::size_t total)>;
   RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                      const RenderSettings& settings,
-                      const std::function<void(std::size_t done, std::size_t total)>& between_tiles = {});
+                      const RenderSettings& settings, const TileCallback& between_tiles = {});
 
   // Traces rays given as origins and direction + t_max in .w; closest hits, or
   // with any_hit the first hit found.
@@ -62,6 +62,12 @@ class Renderer {
                     bool count_traversal = false);
 
  private:
+  // The two kinds of frame, given the scene on the device and the camera in its frame.
+  void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
+                  const RenderSettings& settings, const TileCallback& between_tiles, RenderResult& result);
+  void run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
+                const RenderSettings& settings, RenderResult& result);
+
   ComputeContext compute_;
   DeviceSceneCache scenes_;
   std::set<std::string> launched_;  // Frame::launch_signature() of every frame so far

@@ -9,7 +9,7 @@ What is computed, and every convention, is defined in SPEC.md (section numbers
 in the docstrings refer to it).
 """
 
-from ._core import DEFAULT_MAX_RAYS, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
+from ._core import DEFAULT_MAX_RAYS, HBAO, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
 from .devices import devices
 from .gtao import gtao_multibounce
 from .images import save_image
@@ -22,6 +22,7 @@ __all__ = [
     "Camera",
     "Device",
     "DeviceError",
+    "HBAO",
     "Error",
     "LoadError",
     "Mesh",

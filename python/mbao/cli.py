@@ -11,7 +11,7 @@ import sys
 from . import _core
 from .devices import devices
 from .images import save_image
-from .render import ESTIMATORS, NORMAL_MODES, ORGANISATIONS, TRAVERSALS, render
+from .render import ESTIMATORS, METHODS, NORMAL_MODES, ORGANISATIONS, TRAVERSALS, render
 from .scene import load
 
 
@@ -44,6 +44,11 @@ def _parser():
     r.add_argument("--seed", type=int, default=0)
     r.add_argument("--traversal-stats", action="store_true", help="count nodes, leaves, triangle tests per ray")
     r.add_argument("--organisation", choices=ORGANISATIONS, default="megakernel")
+    r.add_argument("--method", choices=METHODS, default="raytraced", help="hbao: the screen-space baseline")
+    r.add_argument("--hbao-directions", type=int, default=8)
+    r.add_argument("--hbao-steps", type=int, default=6)
+    r.add_argument("--hbao-angle-bias", type=float, default=10.0, help="degrees")
+    r.add_argument("--hbao-falloff", type=float, default=1.0)
     r.add_argument("--max-rays", type=int, help="refuse renders that could trace more rays (default 1e10)")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
@@ -76,6 +81,8 @@ def _render(args):
         traversal_stats=args.traversal_stats,
         organisation=args.organisation,
         max_rays=args.max_rays,
+        method=args.method,
+        hbao=_core.HBAO(args.hbao_directions, args.hbao_steps, args.hbao_angle_bias, args.hbao_falloff),
     )
     save_image(args.output, result.ao)
     s = result.stats
@@ -83,10 +90,16 @@ def _render(args):
     tree = s["tree"]
     print(f"scene        {scene.name} ({scene.triangle_count} triangles)")
     print(f"device       {s['device']}")
-    print(
-        f"settings     {args.width}x{args.height}, bounces={args.bounces}, samples={args.samples}, "
-        f"{args.estimator}, rho={args.rho}, max_distance={args.max_distance}, spp={args.spp}"
-    )
+    if args.method == "hbao":
+        print(
+            f"settings     {args.width}x{args.height}, hbao radius={args.max_distance}, directions={args.hbao_directions}, "
+            f"steps={args.hbao_steps}, angle_bias={args.hbao_angle_bias} deg, falloff={args.hbao_falloff}"
+        )
+    else:
+        print(
+            f"settings     {args.width}x{args.height}, bounces={args.bounces}, samples={args.samples}, "
+            f"{args.estimator}, rho={args.rho}, max_distance={args.max_distance}, spp={args.spp}"
+        )
     print(
         f"kd-tree      {tree['build_ms']:.1f} ms: {tree['nodes']} nodes, {tree['leaves']} leaves, "
         f"depth {tree['max_depth']}, {tree['mean_triangles_per_leaf']:.2f} triangles per leaf, SAH {tree['sah_cost']:.1f}"

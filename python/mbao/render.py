@@ -12,6 +12,7 @@ ESTIMATORS = ("branching", "path")
 NORMAL_MODES = ("shading", "geometric")
 TRAVERSALS = ("auto", "pushdown", "restart", "short-stack", "stack")
 ORGANISATIONS = ("megakernel", "wavefront")
+METHODS = ("raytraced", "hbao")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -62,6 +63,8 @@ def render(
     work_group_size=None,
     max_rays=None,
     progress=None,
+    method="raytraced",
+    hbao=None,
 ):
     """Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
 
@@ -91,6 +94,9 @@ def render(
         with a ValueError saying how many it would take; None: mbao.DEFAULT_MAX_RAYS (1e10).
         Branching work grows as samples^bounces: the path estimator needs samples * bounces.
     progress: None, or a callable progress(tiles_done, tiles_total) called after each tile.
+    method: "raytraced" (the estimators above) or "hbao": screen-space horizon-based AO
+        (SPEC 4) on the camera rays' hits through the pixel centres, with radius
+        max_distance (finite), one bounce, spp 1; hbao: an mbao.HBAO for its settings.
 
     The GIL is released while rendering. Ctrl-C (KeyboardInterrupt), or an exception raised by
     progress, stops the render after the tile in flight; the next render works as usual.
@@ -121,8 +127,18 @@ def render(
         max_rays=_core.DEFAULT_MAX_RAYS if max_rays is None else _checks.integer("max_rays", max_rays, 1, 2**64 - 1,
                                                                                    "[1, 2**64)"),
         progress=_progress(progress),
+        method=_checks.choice("method", method, METHODS),
+        hbao=_hbao_settings(hbao),
     )
     return Result(ao, mask, stats)
+
+
+def _hbao_settings(hbao):
+    if hbao is None:
+        return _core.HBAO()
+    if not isinstance(hbao, _core.HBAO):
+        raise TypeError(f"hbao must be None or an mbao.HBAO, got {type(hbao).__name__}")
+    return hbao
 
 
 def _progress(progress):
