@@ -10,6 +10,7 @@ in the docstrings refer to it).
 """
 
 from ._core import DEFAULT_MAX_RAYS, HBAO, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
+from .convergence import convergence, plot_convergence
 from .devices import devices
 from .gtao import gtao_multibounce
 from .images import save_image
@@ -29,10 +30,12 @@ __all__ = [
     "Reference",
     "Result",
     "Scene",
+    "convergence",
     "cornell_box",
     "devices",
     "gtao_multibounce",
     "load",
+    "plot_convergence",
     "reference",
     "reference_camera",
     "render",

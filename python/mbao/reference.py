@@ -10,6 +10,7 @@ import warnings
 import numpy as np
 
 from . import _checks, _core
+from ._progress import progress_bar
 from .render import _check_scene, render
 
 # Reference passes take their seeds from the top half of the 64-bit range, so
@@ -103,7 +104,7 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
 
     started = time.perf_counter()
     running = _RunningMean()
-    with _progress_bar(progress, min_passes) as bar:
+    with progress_bar(progress, min_passes, "reference", "pass") as bar:
         for passes in range(1, max_passes + 1):
             result = render(scene, seed=_FIRST_SEED + passes - 1, device=device, **settings)
             running.add(result.ao)
@@ -160,21 +161,3 @@ def _passes_needed(passes, worst, target_error, max_passes):
     if not math.isfinite(worst):  # one pass: no spread yet
         return passes + 1
     return min(max_passes, math.ceil(passes * (worst / target_error) ** 2))
-
-
-class _progress_bar:
-    """A tqdm bar, or None when progress is off (tqdm is imported only then)."""
-
-    def __init__(self, enabled, total):
-        self._bar = None
-        if enabled:
-            from tqdm.auto import tqdm
-
-            self._bar = tqdm(total=total, desc="reference", unit="pass")
-
-    def __enter__(self):
-        return self._bar
-
-    def __exit__(self, *exc):
-        if self._bar is not None:
-            self._bar.close()

@@ -1,0 +1,103 @@
+"""mbao.convergence: error against time for each method (issue 5)."""
+
+import math
+
+import matplotlib
+import numpy as np
+import pytest
+
+import mbao
+
+matplotlib.use("Agg")
+
+SIZE = dict(width=24, height=24)
+
+
+@pytest.fixture(scope="module")
+def cornell():
+    return mbao.cornell_box()
+
+
+@pytest.fixture(scope="module")
+def reference(cornell):
+    return mbao.reference(cornell, bounces=2, max_distance=300.0, target_error=0.02, samples=32, progress=False,
+                          **SIZE)
+
+
+def rows(table):
+    return table.to_dict("records") if hasattr(table, "to_dict") else table
+
+
+@pytest.fixture(scope="module")
+def study(cornell, reference):
+    methods = ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit"]
+    return rows(mbao.convergence(cornell, methods, reference, sample_counts=(1, 8), progress=False, plot=False))
+
+
+def covered(reference):
+    return int(reference.mask.sum())
+
+
+def test_one_row_per_method_and_cost(study):
+    assert [(r["method"], r["cost"]) for r in study] == [
+        (m, c) for m in ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit"] for c in (1, 8)]
+    for row in study:
+        assert row["frame_ms"] > 0 and row["rmse"] >= abs(row["bias"]) >= 0
+
+
+def test_noise_floor_is_the_references_rms_standard_error(study, reference):
+    expected = math.sqrt(np.mean(reference.standard_error[reference.mask].astype(np.float64) ** 2))
+    assert all(row["noise_floor"] == pytest.approx(expected) for row in study)
+
+
+@pytest.mark.parametrize("method", ["b2 branching", "b2 path"])
+def test_unbiased_estimators_have_no_bias_beyond_their_noise(study, reference, method):
+    """Per-pixel errors are independent; their spread is at most the rmse, so
+    the mean error's standard error is at most rmse / sqrt(pixels)."""
+    for row in (r for r in study if r["method"] == method):
+        assert abs(row["bias"]) <= 4 * row["rmse"] / math.sqrt(covered(reference))
+
+
+@pytest.mark.parametrize("method", ["b2 branching", "b2 path"])
+def test_more_samples_means_less_error(study, method):
+    few, many = (r["rmse"] for r in study if r["method"] == method)
+    assert many < few
+
+
+def test_one_bounce_is_darker_than_two(study, reference):
+    """With rho = 1, L_1 <= L_2 everywhere (SPEC 1): b1's error is a negative bias, well beyond its noise."""
+    for row in (r for r in study if r["method"] == "b1"):
+        assert row["bias"] < -4 * row["rmse"] / math.sqrt(covered(reference))
+
+
+def test_equal_time_budgets_average_more_passes_for_more_time(cornell, reference):
+    table = rows(mbao.convergence(cornell, ["b2 path"], reference, time_budgets=(1.0, 50.0), progress=False,
+                                  plot=False))
+    short, long = table
+    assert short["cost"] >= 1 and long["cost"] > short["cost"]
+    assert long["frame_ms"] >= 50.0 and long["rmse"] < short["rmse"]
+
+
+def test_plot_draws_one_line_per_method_and_the_noise_floor(cornell, reference):
+    import matplotlib.pyplot as plt
+
+    figure, ax = plt.subplots()
+    mbao.convergence(cornell, ["b1", "hbao"], reference, sample_counts=(1, 2), progress=False, ax=ax)
+    assert ax.get_xscale() == "log" and ax.get_yscale() == "log"
+    assert [line.get_label() for line in ax.get_lines()] == ["b1", "hbao", "reference noise"]
+    plt.close(figure)
+
+
+def test_bad_convergence_arguments(cornell, reference):
+    with pytest.raises(ValueError, match="methods must be one of"):
+        mbao.convergence(cornell, ["b7"], reference, progress=False, plot=False)
+    with pytest.raises(TypeError, match="mbao.Reference"):
+        mbao.convergence(cornell, ["b1"], reference.ao, progress=False, plot=False)
+    with pytest.raises(ValueError, match="at least one"):
+        mbao.convergence(cornell, [], reference, progress=False, plot=False)
+
+
+def test_hbao_needs_a_reference_with_a_finite_radius(cornell):
+    unlimited = mbao.reference(cornell, target_error=0.2, samples=4, progress=False, width=8, height=8)
+    with pytest.raises(ValueError, match="finite max_distance"):
+        mbao.convergence(cornell, ["hbao"], unlimited, progress=False, plot=False)
