@@ -136,6 +136,32 @@ def test_hbao_from_the_command_line_equals_the_api(tmp_path, gltf_scene):
     np.testing.assert_array_equal(read_image(tmp_path / "hbao.exr")[1][..., 0], expected.ao)
 
 
+def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_scene):
+    scene, camera, _ = gltf_scene
+    proc = run_mbao("compare", scene, "--camera", camera, "--width", 16, "--height", 12, "--max-distance", 1.0,
+                    "--target-error", 0.05, "--sample-counts", 1, 2, "--quiet", "-o", "study", cwd=tmp_path)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert output_lines(proc.stdout)["radius"] == "1 (--max-distance)"
+    for name in ("study_figure2.png", "study_error_vs_time.png"):
+        spec, _ = read_image(tmp_path / name)
+        assert spec.width > 400 and spec.height > 100
+    lines = (tmp_path / "study_error_vs_time.csv").read_text().splitlines()
+    assert lines[0] == "method,cost,frame_ms,rmse,bias,noise_floor"
+    methods = [line.split(",")[0] for line in lines[1:]]
+    assert methods == [m for m in ("hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit")
+                       for _ in (1, 2)]
+
+
+def test_compare_takes_the_radius_from_camera_json(tmp_path, gltf_scene):
+    scene, camera, _ = gltf_scene
+    with_radius = tmp_path / "camera.json"
+    with_radius.write_text(json.dumps({**json.loads(camera.read_text()), "max_distance": 0.7}))
+    proc = run_mbao("compare", scene, "--camera", with_radius, "--width", 8, "--height", 8, "--target-error", 0.2,
+                    "--sample-counts", 1, "--quiet", cwd=tmp_path)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert output_lines(proc.stdout)["radius"] == "0.7 (camera.json)"
+
+
 def test_devices_lists_the_devices(tmp_path, device):
     proc = run_mbao("devices", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr

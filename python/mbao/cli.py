@@ -52,6 +52,23 @@ def _parser():
     r.add_argument("--max-rays", type=int, help="refuse renders that could trace more rays (default 1e10)")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
+    c = commands.add_parser("compare", help="the paper's Figure 2 (HBAO | 1 bounce | 2 bounces | difference) "
+                                            "and error against time for every method")
+    c.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
+    c.add_argument("-o", "--output", default="compare", help="file name prefix; default compare")
+    c.add_argument("--camera", help="camera.json; default: the scene's own camera, else one framing it")
+    c.add_argument("--width", type=int, default=256)
+    c.add_argument("--height", type=int, default=256)
+    c.add_argument("--samples", type=int, default=4, help="r of the Figure 2 renders")
+    c.add_argument("--rho", type=float, default=1.0)
+    c.add_argument("--max-distance", type=float,
+                   help="AO radius (HBAO's too); default camera.json's, else a quarter of the scene's diagonal")
+    c.add_argument("--target-error", type=float, default=0.01, help="the reference's standard error per pixel")
+    c.add_argument("--sample-counts", type=int, nargs="+", default=[1, 2, 4, 8, 16])
+    c.add_argument("--seed", type=int, default=0)
+    c.add_argument("--quiet", action="store_true", help="no progress bars")
+    c.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
+
     commands.add_parser("devices", help="list the OpenCL devices")
     return parser
 
@@ -121,6 +138,15 @@ def _render(args):
     return 0
 
 
+def _compare(args):
+    from . import compare
+
+    scene = load(args.scene) if args.scene else _core.cornell_box()
+    camera = _core.Camera.load(args.camera) if args.camera else scene.default_camera(args.width, args.height)
+    compare.run(scene, camera, args, _device_argument(args.device))
+    return 0
+
+
 def main(argv=None):
     args = _parser().parse_args(argv)
     try:
@@ -128,6 +154,8 @@ def main(argv=None):
             for d in devices():
                 print(f"{d.index}: {d.platform}: {d.name} ({d.type}, {d.version})")
             return 0
+        if args.command == "compare":
+            return _compare(args)
         return _render(args)
     except (ValueError, TypeError, OSError, _core.Error) as error:
         print(f"mbao: {error}", file=sys.stderr)

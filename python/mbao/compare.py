@@ -1,0 +1,85 @@
+"""`python -m mbao compare`: the seed paper's Figure 2 for a scene, and its error-against-time study."""
+
+import csv
+import math
+
+import numpy as np
+
+from .convergence import convergence, plot_convergence
+from .reference import reference
+from .render import render
+
+STUDY_METHODS = ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit"]
+
+
+def ao_radius(scene, camera, max_distance):
+    """(radius, where it came from): HBAO needs a finite one."""
+    if max_distance is not None:
+        return max_distance, "--max-distance"
+    if camera.max_distance is not None:
+        return camera.max_distance, "camera.json"
+    lo, hi = (np.asarray(corner) for corner in scene.bounds)
+    return float(0.25 * np.linalg.norm(hi - lo)), "a quarter of the scene's diagonal"
+
+
+def figure2(scene, camera, radius, *, width, height, samples, rho, seed, device):
+    """HBAO | 1 bounce | 2 bounces | 2 bounces minus 1 bounce, as one matplotlib figure."""
+    import matplotlib.pyplot as plt
+
+    common = dict(camera=camera, width=width, height=height, max_distance=radius, seed=seed, device=device)
+    images = [
+        ("HBAO", render(scene, method="hbao", **common)),
+        ("1 bounce", render(scene, bounces=1, samples=samples, rho=rho, **common)),
+        ("2 bounces", render(scene, bounces=2, samples=samples, rho=rho, **common)),
+    ]
+    figure, axes = plt.subplots(1, 4, figsize=(16, 4.4 * height / width))
+    for ax, (title, result) in zip(axes, images):
+        ax.imshow(result.ao, cmap="gray", vmin=0.0, vmax=1.0)
+        ax.set_title(f"{title} ({result.stats['frame_ms']:.1f} ms)")
+    difference = images[2][1].ao - images[1][1].ao
+    limit = max(float(np.abs(difference).max()), 1e-6)
+    shown = axes[3].imshow(difference, cmap="coolwarm", vmin=-limit, vmax=limit)
+    axes[3].set_title("2 bounces - 1 bounce")
+    figure.colorbar(shown, ax=axes[3], fraction=0.046)
+    for ax in axes:
+        ax.set_axis_off()
+    figure.tight_layout()
+    return figure
+
+
+def write_table(path, rows):
+    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
+    with open(path, "w", newline="") as file:
+        writer = csv.DictWriter(file, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    return rows
+
+
+def run(scene, camera, args, device):
+    """Writes <output>_figure2.png, <output>_error_vs_time.png and .csv; returns the table's rows."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    radius, source = ao_radius(scene, camera, args.max_distance)
+    if not math.isfinite(radius):
+        raise ValueError("--max-distance must be finite: it is HBAO's radius")
+    print(f"radius       {radius:g} ({source})")
+    size = dict(width=args.width, height=args.height)
+    figure2(scene, camera, radius, samples=args.samples, rho=args.rho, seed=args.seed, device=device,
+            **size).savefig(f"{args.output}_figure2.png", dpi=100)
+    converged = reference(scene, camera=camera, bounces=2, rho=args.rho, max_distance=radius,
+                          target_error=args.target_error, device=device, progress=not args.quiet, **size)
+    table = convergence(scene, STUDY_METHODS, converged, sample_counts=args.sample_counts, seed=args.seed,
+                        device=device, progress=not args.quiet, plot=False)
+    figure = plot_convergence(table, title=f"{scene.name}, {args.width}x{args.height}, 2-bounce reference")
+    figure.savefig(f"{args.output}_error_vs_time.png", dpi=100)
+    rows = write_table(f"{args.output}_error_vs_time.csv", table)
+    print(f"reference    {converged.settings['passes']} passes of {converged.settings['samples']} paths, "
+          f"{converged.settings['seconds']:.1f} s")
+    print(f"{'method':<18}{'cost':>6}{'frame ms':>11}{'rmse':>9}{'bias':>9}")
+    for row in rows:
+        print(f"{row['method']:<18}{row['cost']:>6}{row['frame_ms']:>11.2f}{row['rmse']:>9.4f}{row['bias']:>9.4f}")
+    print(f"noise floor  {rows[0]['noise_floor']:.4f}")
+    print(f"wrote        {args.output}_figure2.png, {args.output}_error_vs_time.png, {args.output}_error_vs_time.csv")
+    return rows
