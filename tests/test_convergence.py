@@ -101,3 +101,11 @@ def test_hbao_needs_a_reference_with_a_finite_radius(cornell):
     unlimited = mbao.reference(cornell, target_error=0.2, samples=4, progress=False, width=8, height=8)
     with pytest.raises(ValueError, match="finite max_distance"):
         mbao.convergence(cornell, ["hbao"], unlimited, progress=False, plot=False)
+
+
+def test_format_convergence_lists_every_row_and_the_noise_floor(study):
+    text = mbao.format_convergence(study)
+    lines = text.splitlines()
+    assert len(lines) == 1 + len(study) + 1
+    assert all(line.startswith(row["method"]) for line, row in zip(lines[1:], study))
+    assert lines[-1] == f"reference noise floor {study[0]['noise_floor']:.4f}"

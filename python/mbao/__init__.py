@@ -10,7 +10,7 @@ in the docstrings refer to it).
 """
 
 from ._core import DEFAULT_MAX_RAYS, HBAO, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
-from .convergence import convergence, plot_convergence
+from .convergence import convergence, format_convergence, plot_convergence
 from .devices import devices
 from .gtao import gtao_multibounce
 from .images import save_image
@@ -33,6 +33,7 @@ __all__ = [
     "convergence",
     "cornell_box",
     "devices",
+    "format_convergence",
     "gtao_multibounce",
     "load",
     "plot_convergence",

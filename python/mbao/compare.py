@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from .convergence import convergence, plot_convergence
+from .convergence import convergence, format_convergence, plot_convergence
 from .reference import reference
 from .render import render
 
@@ -77,9 +77,6 @@ def run(scene, camera, args, device):
     rows = write_table(f"{args.output}_error_vs_time.csv", table)
     print(f"reference    {converged.settings['passes']} passes of {converged.settings['samples']} paths, "
           f"{converged.settings['seconds']:.1f} s")
-    print(f"{'method':<18}{'cost':>6}{'frame ms':>11}{'rmse':>9}{'bias':>9}")
-    for row in rows:
-        print(f"{row['method']:<18}{row['cost']:>6}{row['frame_ms']:>11.2f}{row['rmse']:>9.4f}{row['bias']:>9.4f}")
-    print(f"noise floor  {rows[0]['noise_floor']:.4f}")
+    print(format_convergence(rows))
     print(f"wrote        {args.output}_figure2.png, {args.output}_error_vs_time.png, {args.output}_error_vs_time.csv")
     return rows

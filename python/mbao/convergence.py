@@ -41,7 +41,8 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     Returns one row per (method, cost): method, cost (r, directions or passes),
     frame_ms (the frames' steady-state time; the fit's own time added), rmse and
     bias (mean signed error) over the covered pixels, and noise_floor: the
-    reference's own RMS standard error, below which no error can be resolved.
+    reference's own RMS standard error, below which no error can be resolved;
+    with time_budgets also budget_ms (frame_ms is the time spent reaching it).
     A pandas DataFrame where pandas is installed, else a list of dicts. With plot,
     draws rmse against frame_ms on log-log axes (ax, or a new matplotlib figure).
     """
@@ -111,7 +112,7 @@ def _budgets(scene, name, reference, budgets, seed, device, bar):
         while spent < budget or passes == 0:
             image, ms = _render_once(scene, name, reference, cost, seed + passes, device)
             total, spent, passes = total + image.astype(np.float64), spent + ms, passes + 1
-        rows.append(_row(name, passes, spent, total / passes, reference))
+        rows.append(dict(_row(name, passes, spent, total / passes, reference), budget_ms=budget))
         _advance(bar)
     return rows
 
@@ -122,6 +123,19 @@ def _row(name, cost, ms, image, reference):
     noise = reference.standard_error[covered].astype(np.float64)
     return dict(method=name, cost=cost, frame_ms=ms, rmse=math.sqrt(np.mean(error**2)), bias=float(error.mean()),
                 noise_floor=math.sqrt(np.mean(noise**2)))
+
+
+def format_convergence(rows):
+    """The rows as a fixed-width text table."""
+    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else list(rows)
+    budgets = "budget_ms" in rows[0]
+    lines = [f"{'method':<18}{'budget ms' if budgets else '':>10}{'cost':>6}{'frame ms':>11}{'rmse':>9}{'bias':>9}"]
+    for row in rows:
+        budget = f"{row['budget_ms']:>10g}" if budgets else " " * 10
+        lines.append(f"{row['method']:<18}{budget}{row['cost']:>6}{row['frame_ms']:>11.2f}{row['rmse']:>9.4f}"
+                     f"{row['bias']:>+9.4f}")
+    lines.append(f"reference noise floor {rows[0]['noise_floor']:.4f}")
+    return "\n".join(lines)
 
 
 def _table(rows):
