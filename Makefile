@@ -5,26 +5,33 @@
 PYTHON := /usr/bin/python3
 VENV := .venv
 BUILD := build
+SANITIZE_BUILD := build-sanitize
 JOBS := $(shell nproc)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 # The C++ core and benchmark need only the first line; the rest is for the
-# Python module, the tests and image files.
+# Python module, the tests and image files, and the last line for the sanitizer
+# build and the fuzzer (clang, its sanitizer and libFuzzer runtimes, and
+# llvm-symbolizer for readable reports).
 APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
   pocl-opencl-icd pybind11-dev python3-pybind11 python3-dev python3-venv python3-pip python3-numpy python3-pytest \
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbformat python3-ipykernel \
-  python3-matplotlib libgtest-dev
+  python3-matplotlib libgtest-dev \
+  clang libclang-rt-14-dev llvm
 
-.PHONY: demo test bench deps build clean
+.PHONY: demo test bench deps build sanitize-build clean
 
 demo: build
 	mkdir -p out
 	$(VENV)/bin/python -m mbao render --bounces 1 -o out/cornell_b1.png
 	$(VENV)/bin/python -m mbao render --bounces 2 -o out/cornell_b2.png
 
-test: build
+# Last, the sanitizer build's CTest: the C++ tests under AddressSanitizer and
+# UBSan, and the glTF loader's fuzzer for 60 s (fuzz/run_gltf_fuzzer.sh).
+test: build sanitize-build
 	cd $(BUILD) && ctest --output-on-failure
 	$(VENV)/bin/python -m pytest tests
+	cd $(SANITIZE_BUILD) && ctest --output-on-failure
 
 # The seed paper's Table 1 workload on the Cornell box and every shared scene,
 # beside Embree 3. Embree is only the benchmark's: the target-specific value
@@ -53,5 +60,12 @@ build: deps $(VENV)/bin/python
 	cmake --build $(BUILD) -j$(JOBS)
 	echo "$(CURDIR)/python" > "$$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/mbao-dev.pth"
 
+# The C++ tests and the fuzzers, built by clang with AddressSanitizer and UBSan
+# (tinygltf too: sanitize/), without the Python module and the benchmark.
+sanitize-build: deps
+	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	  -DMBAO_SANITIZE=ON -DMBAO_BUILD_FUZZERS=ON -DMBAO_BUILD_PYTHON=OFF -DMBAO_BUILD_BENCH=OFF
+	cmake --build $(SANITIZE_BUILD) -j$(JOBS)
+
 clean:
-	rm -rf $(BUILD) _skbuild python/mbao/_core*.so out
+	rm -rf $(BUILD) $(SANITIZE_BUILD) _skbuild python/mbao/_core*.so out
