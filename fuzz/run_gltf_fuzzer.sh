@@ -9,8 +9,9 @@
 # sanitizer report, uncaught exception, an input running past -timeout seconds
 # or -rss_limit_mb) stops the run with an error and is saved under
 # ./gltf-findings/ to replay: `gltf_loader_fuzzer gltf-findings/crash-...`.
-# The whole log goes to ./gltf_loader_fuzz.log; only its end is printed, so
-# that a report is not cut off by CTest's limit on test output.
+# The whole log goes to ./gltf_loader_fuzz.log; only the final statistics, or
+# the end with the report, are printed, so that CTest's limit on test output
+# cannot cut a report off.
 set -eu
 fuzzer=$1
 seconds=${2:-60}
@@ -21,7 +22,7 @@ mkdir -p gltf-findings
 if "$fuzzer" -seed=1 -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
   -dict="$here/gltf.dict" -artifact_prefix=gltf-findings/ -print_final_stats=1 \
   "$new_inputs" "$here/corpus" "$here/../tests/data" > gltf_loader_fuzz.log 2>&1; then
-  tail -n 8 gltf_loader_fuzz.log
+  grep -E '^(Done |stat::)' gltf_loader_fuzz.log
 else
   status=$?
   tail -n 80 gltf_loader_fuzz.log
