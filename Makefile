@@ -5,6 +5,7 @@
 PYTHON := /usr/bin/python3
 VENV := .venv
 BUILD := build
+SANITIZE_BUILD := build-sanitize
 JOBS := $(shell nproc)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
@@ -15,16 +16,23 @@ APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbformat python3-ipykernel \
   python3-matplotlib python3-tqdm libgtest-dev
 
-.PHONY: demo test bench deps build clean
+.PHONY: demo test bench deps build sanitize-build clean
 
 demo: build
 	mkdir -p out
 	$(VENV)/bin/python -m mbao render --bounces 1 -o out/cornell_b1.png
 	$(VENV)/bin/python -m mbao render --bounces 2 -o out/cornell_b2.png
 
-test: build
+# Last, the sanitizer build's CTest: the C++ tests under AddressSanitizer and
+# UBSan, and the glTF loader's fuzzer for 60 s (fuzz/run_gltf_fuzzer.sh). Only
+# the tests need clang, its sanitizer and libFuzzer runtimes and llvm-symbolizer
+# (for readable reports): the target-specific value reaches `deps`.
+SANITIZE_PACKAGES := clang libclang-rt-14-dev llvm
+test: APT_PACKAGES += $(SANITIZE_PACKAGES)
+test: build sanitize-build
 	cd $(BUILD) && ctest --output-on-failure
 	$(VENV)/bin/python -m pytest tests
+	cd $(SANITIZE_BUILD) && ctest --output-on-failure
 
 # The seed paper's Table 1 workload on the Cornell box and every shared scene,
 # beside Embree 3. Embree is only the benchmark's: the target-specific value
@@ -53,5 +61,13 @@ build: deps $(VENV)/bin/python
 	cmake --build $(BUILD) -j$(JOBS)
 	echo "$(CURDIR)/python" > "$$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/mbao-dev.pth"
 
+# The C++ tests and the fuzzers, built by clang with AddressSanitizer and UBSan
+# (tinygltf too: sanitize/), without the Python module and the benchmark.
+sanitize-build: APT_PACKAGES += $(SANITIZE_PACKAGES)
+sanitize-build: deps
+	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	  -DMBAO_SANITIZE=ON -DMBAO_BUILD_FUZZERS=ON -DMBAO_BUILD_PYTHON=OFF -DMBAO_BUILD_BENCH=OFF
+	cmake --build $(SANITIZE_BUILD) -j$(JOBS)
+
 clean:
-	rm -rf $(BUILD) _skbuild python/mbao/_core*.so out
+	rm -rf $(BUILD) $(SANITIZE_BUILD) _skbuild python/mbao/_core*.so out

@@ -73,6 +73,7 @@ class GltfBuilder:
             "buffers": [],
         }
         self.bin = bytearray()
+        self.buffer_byte_length = None  # buffer 0's byteLength as written; None: len(self.bin)
         self.files = {}  # external files (images) written next to the glTF file
 
     # -- raw data ----------------------------------------------------------
@@ -264,7 +265,7 @@ class GltfBuilder:
         """The JSON document; buffer 0 gets `buffer_uri` (None: no uri, as in .glb)."""
         doc = json.loads(json.dumps(self.doc))  # a deep copy; the builder stays reusable
         if self.bin:
-            buffer = {"byteLength": len(self.bin)}
+            buffer = {"byteLength": len(self.bin) if self.buffer_byte_length is None else self.buffer_byte_length}
             if buffer_uri is not None:
                 buffer["uri"] = buffer_uri
             doc["buffers"] = [buffer]

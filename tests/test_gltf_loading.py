@@ -4,8 +4,13 @@ Every file here is written by tests/gltf_writer.py, so each test states its
 whole input. Expected positions and normals are computed with numpy.
 """
 
+import json
 import math
+import os
 import re
+import struct
+import subprocess
+import sys
 import warnings
 
 import numpy as np
@@ -29,6 +34,7 @@ from gltf_writer import (
     UNSIGNED_SHORT,
     GltfBuilder,
     file_name,
+    png_bytes,
 )
 
 # -- geometry and transforms, computed independently of the loader ------------
@@ -721,30 +727,98 @@ def test_missing_file(tmp_path, suffix):
 
 
 @pytest.mark.parametrize(
-    "name, content",
+    "name, content, element",
     [
-        ("garbage.gltf", b"\x00\x01\x02 this is not json {{{"),
-        ("garbage.glb", bytes(range(256)) * 4),
-        ("empty.gltf", b""),
-        ("array.gltf", b"[1, 2, 3]"),
-        ("fake_magic.glb", b"glTF" + b"\xff" * 40),
+        ("garbage.gltf", b"\x00\x01\x02 this is not json {{{", "GLB"),
+        ("garbage.glb", bytes(range(256)) * 4, "GLB"),
+        ("empty.gltf", b"", "empty"),
+        ("array.gltf", b"[1, 2, 3]", "JSON"),
+        ("fake_magic.glb", b"glTF" + b"\xff" * 40, "version"),
+        ("wrong_magic.glb", b"glTf" + bytes(40), "GLB"),
     ],
+    ids=lambda value: value if isinstance(value, str) and "." in value else "",
 )
-def test_garbage_bytes(tmp_path, name, content):
+def test_garbage_bytes(tmp_path, name, content, element):
     path = tmp_path / name
     path.write_bytes(content)
-    assert_load_error(path)
+    assert_load_error(path, element)
+
+
+def quad_glb():
+    b = GltfBuilder()
+    mesh = b.add_mesh([b.primitive(QUAD, QUAD_INDICES)])
+    b.add_scene([b.add_node(mesh=mesh)])
+    return b.glb_bytes()
 
 
 @pytest.mark.parametrize("keep", [4, 11, 12, 20, -1, -13])
 def test_truncated_glb(tmp_path, keep):
-    b = GltfBuilder()
-    mesh = b.add_mesh([b.primitive(QUAD, QUAD_INDICES)])
-    b.add_scene([b.add_node(mesh=mesh)])
-    data = b.glb_bytes()
     path = tmp_path / "cut.glb"
-    path.write_bytes(data[:keep])
-    assert_load_error(path)
+    path.write_bytes(quad_glb()[:keep])
+    assert_load_error(path, "GLB")
+
+
+def test_truncated_gltf_json(tmp_path):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    path = tmp_path / "cut.gltf"
+    path.write_text(b.gltf_text()[:-40])
+    assert_load_error(path, "parse error")
+
+
+def patched_glb(path, offset, value):
+    """The quad's .glb with the uint32 at byte `offset` replaced."""
+    data = bytearray(quad_glb())
+    struct.pack_into("<I", data, offset, value)
+    path.write_bytes(data)
+    return path
+
+
+@pytest.mark.parametrize("version", [0, 1, 3])
+def test_glb_version_other_than_2(tmp_path, version):
+    assert_load_error(patched_glb(tmp_path / "v.glb", 4, version), f"version {version}")
+
+
+@pytest.mark.parametrize(
+    "offset, part",
+    [(8, "GLB header"), (12, "GLB JSON chunk"), (-1, "GLB BIN chunk")],
+    ids=["total_length", "json_chunk", "bin_chunk"],
+)
+@pytest.mark.parametrize("length", [2**31, 2**32 - 1])
+def test_glb_lengths_past_the_end_of_the_file(tmp_path, offset, part, length):
+    if offset == -1:  # the BIN chunk's header follows the JSON chunk
+        offset = 20 + struct.unpack_from("<I", quad_glb(), 12)[0]
+    message = assert_load_error(patched_glb(tmp_path / "long.glb", offset, length), part)
+    assert str(length) in message
+
+
+@pytest.mark.parametrize(
+    "asset, element",
+    [({"version": "1.0"}, "asset.version"), ({"version": "2.0", "minVersion": "2.1"}, "minVersion"),
+     ({"version": "3.0"}, "asset.version")],
+    ids=["gltf_1", "min_version_2_1", "gltf_3"],
+)
+def test_gltf_other_than_2_0(tmp_path, asset, element):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    b.doc["asset"] = asset
+    assert_load_error(b.write(tmp_path / "version.gltf"), element)
+
+
+def test_required_extensions_are_refused_by_name(tmp_path):
+    # Draco-compressed primitives keep their accessors without bufferViews: read
+    # without the extension they would load as zeros, silently.
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    b.doc["extensionsUsed"] = b.doc["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    assert_load_error(b.write(tmp_path / "draco.glb"), "KHR_draco_mesh_compression", "extensionsRequired")
+
+
+def test_extensions_used_but_not_required_are_ignored(tmp_path):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    b.doc["extensionsUsed"] = ["KHR_materials_emissive_strength"]
+    np.testing.assert_array_equal(load_clean(b.write(tmp_path / "used.gltf")).vertices, TRIANGLE)
 
 
 def test_missing_external_bin(tmp_path):
@@ -787,13 +861,37 @@ def test_accessor_whose_buffer_view_does_not_exist(tmp_path):
     assert_load_error(b.write(tmp_path / "noview.gltf"), "accessor 2")
 
 
-def test_buffer_view_past_the_end_of_its_buffer(tmp_path):
+@pytest.mark.parametrize(
+    "field, value",
+    [("byteLength", 1000), ("byteLength", 2**40), ("byteOffset", 2**40), ("byteLength", 2**64 - 1)],
+)
+def test_buffer_view_past_the_end_of_its_buffer(tmp_path, field, value):
     b = GltfBuilder()
     mesh = b.add_mesh(mesh_of_two_primitives(b))
     b.add_scene([b.add_node(mesh=mesh)])
-    b.doc["bufferViews"][2]["byteLength"] += 1000
-    with pytest.raises(mbao.LoadError, match=re.escape(str(tmp_path))):
-        mbao.load(b.write(tmp_path / "shortbuffer.glb"))
+    b.doc["bufferViews"][2][field] = value
+    assert_load_error(b.write(tmp_path / "shortbuffer.glb"), "accessor 2", "bufferView 2")
+
+
+def test_buffer_view_stride_smaller_than_the_elements(tmp_path):
+    b = GltfBuilder()
+    mesh = b.add_mesh(mesh_of_two_primitives(b))
+    b.add_scene([b.add_node(mesh=mesh)])
+    b.doc["bufferViews"][2]["byteStride"] = 8  # POSITION of primitive 1: 12-byte elements
+    assert_load_error(b.write(tmp_path / "stride.gltf"), "accessor 2", "bufferView 2", "byteStride")
+
+
+@pytest.mark.parametrize(
+    "container, element",
+    [("glb", "byteLength"), ("gltf+bin", "buffer.bin"), ("gltf", "Buffer")],
+)
+def test_buffer_longer_than_its_data(tmp_path, container, element):
+    # tinygltf checks buffers while parsing; its message names what it checked.
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    b.buffer_byte_length = 2**40
+    message = assert_load_error(b.write(tmp_path / file_name("buffer", container), container), element)
+    assert container == "gltf" or str(2**40) in message
 
 
 @pytest.mark.parametrize("bad_index", [3, 255, 100_000])
@@ -814,6 +912,15 @@ def test_unsupported_index_component_type(tmp_path, index_type):
     b.add_scene([b.add_node(mesh=mesh)])
     assert b.doc["meshes"][0]["primitives"][1]["indices"] == 3
     assert_load_error(b.write(tmp_path / "itype.gltf"), "accessor 3")
+
+
+def test_normals_must_be_float(tmp_path):
+    def primitives(b):
+        fine = b.primitive(QUAD, QUAD_INDICES)  # accessors 0 and 1
+        normal = b.add_array(np.tile([0, 0, 127], (3, 1)), BYTE, 3)  # accessor 2
+        return [fine, b.primitive(TRIANGLE, normal_accessor=normal)]
+
+    assert_load_error(single_mesh_file(tmp_path / "byte_normals.gltf", primitives), "accessor 2", "NORMAL")
 
 
 @pytest.mark.parametrize(
@@ -936,3 +1043,161 @@ def test_file_with_no_triangles_at_all(tmp_path, layout):
         warnings.simplefilter("ignore")
         message = assert_load_error(b.write(tmp_path / f"{layout}.gltf"))
     assert "triangle" in message
+
+
+# == input that must not crash, hang or allocate what it declares ==================
+#
+# Each of these loads in a child process with 2 GiB of address space and a time
+# limit, so that a regression fails its test (a crash, a timeout, a MemoryError)
+# instead of taking pytest or the machine down.
+
+CHILD_LOAD = """
+import json, resource, sys
+resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+import mbao
+try:
+    scene = mbao.load(sys.argv[1])
+    print(json.dumps({"type": None, "triangles": scene.triangle_count}))
+except Exception as e:
+    print(json.dumps({"type": type(e).__name__, "message": str(e)}))
+"""
+
+
+def load_in_child(path, timeout=60):
+    """What mbao.load(path) gives in a child process: {"type": None, "triangles": n},
+    or the exception's {"type", "message"}."""
+    done = subprocess.run([sys.executable, "-c", CHILD_LOAD, str(path)], capture_output=True, text=True,
+                          timeout=timeout)
+    assert done.returncode == 0, f"mbao.load crashed (exit {done.returncode}): {done.stderr[-3000:]}"
+    return json.loads(done.stdout.splitlines()[-1])
+
+
+def assert_child_load_error(path, *elements):
+    outcome = load_in_child(path)
+    assert outcome["type"] == "LoadError", outcome
+    message = outcome["message"]
+    assert str(path) in message
+    for element in elements:
+        assert re.search(rf"\b{re.escape(element)}\b", message), f"{element!r} not named in: {message}"
+    return message
+
+
+@pytest.mark.parametrize("count", [2**31, 2**40, 2**64 - 1])
+@pytest.mark.parametrize("role", ["POSITION", "indices", "POSITION without bufferView"])
+def test_huge_accessor_counts_are_refused_not_allocated(tmp_path, count, role):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE, [0, 1, 2])]))])
+    accessor = 1 if role == "indices" else 0
+    b.doc["accessors"][accessor]["count"] = count
+    if role.endswith("without bufferView"):
+        del b.doc["accessors"][accessor]["bufferView"]
+    message = assert_child_load_error(b.write(tmp_path / "huge.glb"), f"accessor {accessor}")
+    assert str(count) in message
+
+
+@pytest.mark.parametrize("count", [2**31 - 1, 2**31, -1])
+def test_huge_or_negative_sparse_counts(tmp_path, count):
+    b = GltfBuilder()
+    position = b.add_sparse(3, indices=[1], values=[[5, 5, 5]], base=TRIANGLE)
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(position_accessor=position)]))])
+    b.doc["accessors"][position]["sparse"]["count"] = count
+    assert_child_load_error(b.write(tmp_path / "sparse.gltf"), f"accessor {position}", "sparse")
+
+
+@pytest.mark.parametrize("container", ["gltf", "glb"])
+def test_deeply_nested_json_is_refused_before_parsing(tmp_path, container):
+    # tinygltf copies `extras` recursively; 100000 levels would overflow its stack.
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    b.doc["asset"]["extras"] = "x" * 199_998  # a string as long as the nesting, to keep GLB lengths right
+    path = b.write(tmp_path / file_name("deep", container), container)
+    path.write_bytes(path.read_bytes().replace(b'"' + b"x" * 199_998 + b'"', b"[" * 100_000 + b"]" * 100_000))
+    assert_child_load_error(path, "JSON")
+
+
+def test_json_nesting_up_to_the_limit_loads(tmp_path):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    b.doc["asset"]["extras"] = "@"
+    path = b.write(tmp_path / "nested.gltf")
+    # The document is one level, asset two, extras the third and deeper.
+    path.write_text(path.read_text().replace('"@"', "[" * 126 + "]" * 126))
+    np.testing.assert_array_equal(load_clean(path).vertices, TRIANGLE)
+    path.write_text(path.read_text().replace("[" * 126, "[" * 127).replace("]" * 126, "]" * 127))
+    assert_load_error(path, "128")
+
+
+def test_a_deep_node_chain_loads_without_recursion(tmp_path):
+    b = GltfBuilder()
+    mesh = b.add_mesh([b.primitive(TRIANGLE)])
+    depth = 100_000
+    for i in range(depth):
+        b.add_node(children=[i + 1]) if i < depth - 1 else b.add_node(mesh=mesh, translation=(0, 0, 1))
+    b.add_scene([0])
+    assert load_in_child(b.write(tmp_path / "chain.glb")) == {"type": None, "triangles": 1}
+
+
+@pytest.mark.parametrize(
+    "children, roots, culprit",
+    [
+        ({0: [1, 2], 1: [3], 2: [3]}, [0], "node 3 is reached twice, from node 1 and from node 2"),
+        ({0: [1, 1]}, [0], "node 0 lists node 1 twice"),
+        ({0: [1]}, [0, 0], "the scene lists node 0 twice"),
+        ({0: [1]}, [0, 1], "node 1 is reached twice, from node 0 and from the scene"),
+    ],
+    ids=["two_parents", "child_twice", "root_twice", "root_and_child"],
+)
+def test_node_reached_twice(tmp_path, children, roots, culprit):
+    b = GltfBuilder()
+    mesh = b.add_mesh([b.primitive(TRIANGLE)])
+    for node in range(4):
+        b.add_node(mesh=mesh, children=children.get(node))
+    b.add_scene(roots)
+    assert culprit in assert_load_error(b.write(tmp_path / "shared.gltf"))
+
+
+def test_a_node_graph_that_doubles_at_every_level_is_refused_at_once(tmp_path):
+    # 60 levels, each node listing the next twice: 2^60 paths to the mesh. The
+    # first path is followed to the end, where the second child is refused.
+    b = GltfBuilder()
+    mesh = b.add_mesh([b.primitive(TRIANGLE)])
+    for i in range(60):
+        b.add_node(children=[i + 1, i + 1])
+    b.add_node(mesh=mesh)
+    b.add_scene([0])
+    assert "node 59 lists node 60 twice" in assert_child_load_error(b.write(tmp_path / "doubling.glb"))
+
+
+def test_a_directory_is_not_a_file(tmp_path):
+    assert_load_error(tmp_path, "not a regular file")
+
+
+def external_buffer_file(tmp_path, bin_name):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    path = tmp_path / "scene.gltf"
+    path.write_text(b.gltf_text(bin_name))
+    return path
+
+
+def mask_image_file(tmp_path, uri):
+    b = GltfBuilder()
+    material = b.add_material(alpha_mode="MASK", texture=b.add_texture(b.add_image(b"", where="file",
+                                                                                   file_name=uri)))
+    b.files.clear()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(QUAD, QUAD_INDICES, texcoords=QUAD[:, :2],
+                                                           material=material)]))])
+    return b.write(tmp_path / "masked.glb")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("make_file", [external_buffer_file, mask_image_file], ids=["buffer", "image"])
+def test_external_fifo_is_refused_not_read(tmp_path, make_file):
+    # Opening a FIFO with no writer blocks forever.
+    os.mkfifo(tmp_path / "pipe")
+    assert_child_load_error(make_file(tmp_path, "pipe"), "not a regular file")
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="needs /dev/zero")
+def test_endless_device_as_a_mask_image_is_refused_not_read(tmp_path):
+    assert_child_load_error(mask_image_file(tmp_path, "/dev/zero"), "image 0", "not a regular file")

@@ -1,5 +1,6 @@
 #include "scene/gltf_accessor_reader.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -107,12 +108,9 @@ std::vector<std::uint32_t> AccessorReader::indices(int index, const std::string&
 }
 
 std::vector<unsigned char> AccessorReader::view_bytes(int view_index, const std::string& role) const {
-  if (view_index < 0 || std::size_t(view_index) >= model_.bufferViews.size())
-    throw LoadError(path_ + ": " + role + " refers to bufferView " + std::to_string(view_index) +
-                    ", which does not exist");
-  const tinygltf::BufferView& view = model_.bufferViews[std::size_t(view_index)];
-  const unsigned char* bytes = checked_bytes(view_index, 0, 1, view.byteLength, 1, -1, role);
-  return {bytes, bytes + view.byteLength};
+  const std::size_t length = buffer_view(view_index, -1, role).byteLength;
+  const unsigned char* bytes = checked_bytes(view_index, 0, 1, length, 1, -1, role);
+  return {bytes, bytes + length};
 }
 
 void AccessorReader::fail(int index, const std::string& role, const std::string& problem) const {
@@ -136,14 +134,19 @@ void AccessorReader::expect_type(const tinygltf::Accessor& accessor, int index, 
              std::to_string(tinygltf::GetNumComponentsInType(std::uint32_t(type))));
 }
 
+const tinygltf::BufferView& AccessorReader::buffer_view(int view_index, int accessor_index,
+                                                        const std::string& role) const {
+  if (view_index < 0 || std::size_t(view_index) >= model_.bufferViews.size())
+    fail(accessor_index, role, "refers to bufferView " + std::to_string(view_index) + ", which does not exist");
+  return model_.bufferViews[std::size_t(view_index)];
+}
+
 // The bytes [offset, offset + stride * (count - 1) + element) of a buffer view,
 // checked against the view and its buffer.
 const unsigned char* AccessorReader::checked_bytes(int view_index, std::size_t offset, std::size_t stride,
                                                    std::size_t count, std::size_t element, int accessor_index,
                                                    const std::string& role) const {
-  if (view_index < 0 || std::size_t(view_index) >= model_.bufferViews.size())
-    fail(accessor_index, role, "refers to bufferView " + std::to_string(view_index) + ", which does not exist");
-  const tinygltf::BufferView& view = model_.bufferViews[std::size_t(view_index)];
+  const tinygltf::BufferView& view = buffer_view(view_index, accessor_index, role);
   if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size())
     fail(accessor_index, role,
          "uses bufferView " + std::to_string(view_index) + " of missing buffer " + std::to_string(view.buffer));
@@ -162,23 +165,41 @@ const unsigned char* AccessorReader::checked_bytes(int view_index, std::size_t o
   return buffer.data() + view.byteOffset + offset;
 }
 
+// Without a bufferView an accessor is zeros (sparse values may replace some),
+// so nothing in the file bounds its count; it is held to the bytes the file's
+// buffers have, so that a huge declared count is refused, not allocated.
+void AccessorReader::check_zeros_count(const tinygltf::Accessor& accessor, int index, const std::string& role) const {
+  std::size_t buffer_bytes = 0;
+  for (const tinygltf::Buffer& buffer : model_.buffers) buffer_bytes += buffer.data.size();
+  if (accessor.count > buffer_bytes)
+    fail(index, role,
+         "has no bufferView and declares " + std::to_string(accessor.count) + " elements, more than the " +
+             std::to_string(buffer_bytes) + " bytes of the file's buffers");
+}
+
 template <typename T>
 std::vector<T> AccessorReader::read(const tinygltf::Accessor& accessor, int index, const std::string& role) const {
   const std::size_t components = std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type)));
   const std::size_t size = component_size(accessor.componentType);
   const std::size_t element = components * size;
-  std::vector<T> values(accessor.count * components, T(0));  // a missing bufferView means zeros
+  const unsigned char* bytes = nullptr;
+  std::size_t stride = element;
   if (accessor.bufferView >= 0) {
-    if (std::size_t(accessor.bufferView) >= model_.bufferViews.size())
-      fail(index, role, "refers to bufferView " + std::to_string(accessor.bufferView) + ", which does not exist");
-    const tinygltf::BufferView& view = model_.bufferViews[std::size_t(accessor.bufferView)];
-    const std::size_t stride = view.byteStride ? view.byteStride : element;
-    const unsigned char* bytes =
-        checked_bytes(accessor.bufferView, accessor.byteOffset, stride, accessor.count, element, index, role);
+    const std::size_t byte_stride = buffer_view(accessor.bufferView, index, role).byteStride;
+    if (byte_stride != 0 && byte_stride < element)
+      fail(index, role,
+           "has " + std::to_string(element) + "-byte elements, but bufferView " +
+               std::to_string(accessor.bufferView) + " has a byteStride of " + std::to_string(byte_stride));
+    stride = byte_stride ? byte_stride : element;
+    bytes = checked_bytes(accessor.bufferView, accessor.byteOffset, stride, accessor.count, element, index, role);
+  } else {
+    check_zeros_count(accessor, index, role);
+  }
+  std::vector<T> values(accessor.count * components, T(0));
+  if (bytes)
     for (std::size_t i = 0; i < accessor.count; ++i)
       for (std::size_t c = 0; c < components; ++c)
         values[i * components + c] = component<T>(bytes + i * stride + c * size, accessor.componentType);
-  }
   if (accessor.sparse.isSparse) apply_sparse(accessor, index, role, components, values);
   return values;
 }
@@ -187,7 +208,8 @@ template <typename T>
 void AccessorReader::apply_sparse(const tinygltf::Accessor& accessor, int index, const std::string& role,
                                   std::size_t components, std::vector<T>& values) const {
   const auto& sparse = accessor.sparse;
-  const std::size_t n = std::size_t(std::max(sparse.count, 0));
+  if (sparse.count < 0) fail(index, role, "has a negative sparse count, " + std::to_string(sparse.count));
+  const auto n = std::size_t(sparse.count);
   const int index_type = sparse.indices.componentType;
   if (!is_unsigned_integer(index_type))
     fail(index, role,

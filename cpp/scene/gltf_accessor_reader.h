@@ -28,6 +28,8 @@ class AccessorReader {
   [[noreturn]] void fail(int index, const std::string& role, const std::string& problem) const;
   const tinygltf::Accessor& get(int index, const std::string& role) const;
   void expect_type(const tinygltf::Accessor& accessor, int index, int type, const std::string& role) const;
+  const tinygltf::BufferView& buffer_view(int view_index, int accessor_index, const std::string& role) const;
+  void check_zeros_count(const tinygltf::Accessor& accessor, int index, const std::string& role) const;
   const unsigned char* checked_bytes(int view_index, std::size_t offset, std::size_t stride, std::size_t count,
                                      std::size_t element, int accessor_index, const std::string& role) const;
   template <typename T>

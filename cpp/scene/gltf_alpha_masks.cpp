@@ -1,11 +1,10 @@
 #include "scene/gltf_alpha_masks.h"
 
 #include <cctype>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <limits>
 
 #include "core/error.h"
+#include "scene/gltf_files.h"
 #include "scene/image_alpha.h"
 
 namespace mbao {
@@ -40,8 +39,9 @@ bool keep_data_uri_images(tinygltf::Image* image, const int, std::string*, std::
   return true;
 }
 
-GltfAlphaMasks::GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path)
-    : model_(model), accessors_(accessors), path_(std::move(path)) {}
+GltfAlphaMasks::GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path,
+                               std::filesystem::path base_dir)
+    : model_(model), accessors_(accessors), path_(std::move(path)), base_dir_(std::move(base_dir)) {}
 
 GltfAlphaMasks::Material GltfAlphaMasks::material(int index) {
   const auto found = materials_.find(index);
@@ -96,6 +96,9 @@ std::uint32_t GltfAlphaMasks::mask_texture(int texture_index, float alpha_factor
   const std::vector<unsigned char> encoded = encoded_image(texture.source, image_name);
   const AlphaImage image = decode_alpha(encoded.data(), encoded.size(), path_ + ": " + image_name);
   if (!image.has_alpha) return textures_[key] = MBAO_NOT_MASKED;
+  if (image.alpha.size() > std::numeric_limits<std::uint32_t>::max() - masks_.texels.size())
+    throw LoadError(path_ + ": " + image_name +
+                    " brings the alpha masks past 2^32 texels, more than 32-bit offsets reach");
   MaskTexture mask{};
   mask.first_texel = std::uint32_t(masks_.texels.size());
   mask.width = std::uint32_t(image.width);
@@ -112,10 +115,7 @@ std::vector<unsigned char> GltfAlphaMasks::encoded_image(int image_index, const 
   const tinygltf::Image& image = model_.images[std::size_t(image_index)];
   if (image.bufferView >= 0) return accessors_.view_bytes(image.bufferView, what);
   if (image.uri.empty()) return image.image;  // a data URI, kept by keep_data_uri_images
-  const std::filesystem::path file = std::filesystem::path(path_).parent_path() / percent_decoded(image.uri);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw LoadError(path_ + ": " + what + ": cannot read " + file.string());
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  return read_regular_file(base_dir_ / percent_decoded(image.uri), path_ + ": " + what);
 }
 
 void GltfAlphaMasks::reserve(std::size_t masked, std::size_t triangles) {

@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <tuple>
@@ -24,7 +25,9 @@ class GltfAlphaMasks {
     int texcoord_set = 0;       // with Masked: n of the TEXCOORD_n attribute
   };
 
-  GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path);
+  // `path` names the file in messages; relative image URIs are found in `base_dir`.
+  GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path,
+                 std::filesystem::path base_dir);
 
   // What material `index` (-1: none) means for AO: everything but a MASK
   // material with an alpha texture, or with a constant alpha below the cutoff, is opaque.
@@ -48,6 +51,7 @@ class GltfAlphaMasks {
   const tinygltf::Model& model_;
   const AccessorReader& accessors_;
   std::string path_;
+  std::filesystem::path base_dir_;
   AlphaMasks masks_;
   std::size_t triangles_ = 0;
   std::size_t expected_triangles_ = 0;

@@ -3,7 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <cmath>
-#include <fstream>
+#include <filesystem>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -12,14 +12,18 @@
 #include <glm/mat4x4.hpp>
 #include <glm/trigonometric.hpp>
 #include <limits>
-#include <set>
+#include <unordered_map>
 
 #include "core/error.h"
 #include "scene/gltf_accessor_reader.h"
 #include "scene/gltf_alpha_masks.h"
+#include "scene/gltf_container.h"
+#include "scene/gltf_files.h"
 
 namespace mbao {
 namespace {
+
+constexpr std::size_t kMaxVertices = std::size_t(std::numeric_limits<std::uint32_t>::max()) + 1;
 
 glm::dmat4 local_transform(const tinygltf::Node& node) {
   if (node.matrix.size() == 16) return glm::make_mat4(node.matrix.data());
@@ -33,15 +37,19 @@ glm::dmat4 local_transform(const tinygltf::Node& node) {
 
 class SceneAssembler {
  public:
-  SceneAssembler(const tinygltf::Model& model, std::string path, const LoadOptions& options,
-                 const std::string& parser_warnings)
-      : model_(model), path_(std::move(path)), options_(options), accessors_(model, path_), masks_(model, accessors_, path_) {
+  SceneAssembler(const tinygltf::Model& model, std::string path, const std::string& base_dir,
+                 const LoadOptions& options, const std::string& parser_warnings)
+      : model_(model),
+        path_(std::move(path)),
+        options_(options),
+        accessors_(model, path_),
+        masks_(model, accessors_, path_, base_dir) {
     if (!parser_warnings.empty()) warnings_.push_back(path_ + ": " + parser_warnings);
   }
 
   std::shared_ptr<Scene> assemble() {
     const int scene_index = pick_scene();
-    for (int root : model_.scenes[std::size_t(scene_index)].nodes) visit(root, glm::dmat4(1.0), "scene");
+    place_nodes(model_.scenes[std::size_t(scene_index)].nodes);
     reserve();
     for (const Instance& instance : instances_) add_primitive(*instance.primitive, instance.world, instance.what);
     if (mesh_.triangles.empty())
@@ -61,18 +69,51 @@ class SceneAssembler {
     return 0;
   }
 
-  void visit(int index, const glm::dmat4& parent, const std::string& from) {
-    if (index < 0 || std::size_t(index) >= model_.nodes.size())
-      throw LoadError(path_ + ": " + from + " refers to node " + std::to_string(index) + ", which does not exist");
-    if (!on_path_.insert(index).second)
-      throw LoadError(path_ + ": node " + std::to_string(index) + " is its own ancestor (the node graph has a cycle)");
-    const tinygltf::Node& node = model_.nodes[std::size_t(index)];
-    const glm::dmat4 world = parent * local_transform(node);
+  // The default scene's node trees, depth first with children in order (the
+  // order triangles and the first camera are taken in). Iterative, so a deep
+  // hierarchy cannot overflow the stack. Each node is placed once: glTF node
+  // hierarchies are disjoint trees, and a node reached twice (a cycle, or
+  // shared parents) could multiply the work exponentially.
+  void place_nodes(const std::vector<int>& roots) {
+    struct Pending {
+      int index;
+      int parent;  // -1: a scene root
+      glm::dmat4 parent_world;
+    };
+    std::vector<Pending> pending;
+    for (auto root = roots.rbegin(); root != roots.rend(); ++root) pending.push_back({*root, -1, glm::dmat4(1.0)});
+    while (!pending.empty()) {
+      const Pending next = pending.back();
+      pending.pop_back();
+      place(next.index, next.parent);
+      const tinygltf::Node& node = model_.nodes[std::size_t(next.index)];
+      const glm::dmat4 world = next.parent_world * local_transform(node);
+      const std::string name = "node " + std::to_string(next.index);
+      if (node.mesh >= 0) add_mesh(node.mesh, world, name);
+      if (node.camera >= 0 && !camera_) take_camera(node.camera, world, name);
+      for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
+        pending.push_back({*child, next.index, world});
+    }
+  }
+
+  // Records `parent` (-1: the scene) as the parent of node `index`, which must
+  // exist and not be placed yet.
+  void place(int index, int parent) {
+    const std::string from = parent < 0 ? "the scene" : "node " + std::to_string(parent);
     const std::string name = "node " + std::to_string(index);
-    if (node.mesh >= 0) add_mesh(node.mesh, world, name);
-    if (node.camera >= 0 && !camera_) take_camera(node.camera, world, name);
-    for (int child : node.children) visit(child, world, name);
-    on_path_.erase(index);
+    if (index < 0 || std::size_t(index) >= model_.nodes.size())
+      throw LoadError(path_ + ": " + from + " refers to " + name + ", which does not exist");
+    const auto placed = parents_.find(index);
+    if (placed == parents_.end()) {
+      parents_.emplace(index, parent);
+      return;
+    }
+    for (int ancestor = parent; ancestor >= 0; ancestor = parents_.at(ancestor))
+      if (ancestor == index) throw LoadError(path_ + ": " + name + " is its own ancestor (the node graph has a cycle)");
+    if (placed->second == parent) throw LoadError(path_ + ": " + from + " lists " + name + " twice");
+    const std::string first = placed->second < 0 ? "the scene" : "node " + std::to_string(placed->second);
+    throw LoadError(path_ + ": " + name + " is reached twice, from " + first + " and from " + from +
+                    " (glTF node hierarchies must be trees)");
   }
 
   void take_camera(int index, const glm::dmat4& world, const std::string& node) {
@@ -142,6 +183,9 @@ class SceneAssembler {
 
     const std::vector<float> positions = accessors_.floats(position->second, TINYGLTF_TYPE_VEC3, what + " POSITION");
     const std::size_t vertex_count = positions.size() / 3;
+    if (vertex_count > kMaxVertices - mesh_.positions.size())
+      throw LoadError(path_ + ": " + what + " brings the default scene to more than " + std::to_string(kMaxVertices) +
+                      " vertices, more than 32-bit vertex indices reach");
     const std::vector<std::uint32_t> indices = triangle_indices(primitive, vertex_count, what);
     const auto base = std::uint32_t(mesh_.positions.size());
     const bool in_place = world == glm::dmat4(1.0);  // the usual case: no transform to apply
@@ -233,29 +277,50 @@ class SceneAssembler {
   TriangleMesh mesh_;
   std::optional<Camera> camera_;
   std::vector<std::string> warnings_;
-  std::set<int> on_path_;
+  std::unordered_map<int, int> parents_;  // node -> its parent, -1 for a scene root
 };
 
-bool has_glb_magic(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  char magic[4] = {};
-  file.read(magic, 4);
-  return file.gcount() == 4 && std::string(magic, 4) == "glTF";
+// glTF 2.0 and nothing else: glTF 1.0 files parse into a different, wrong
+// model, and a required extension changes what the data means (Draco
+// compressed geometry would read as zeros, for instance).
+void check_supported(const tinygltf::Model& model, const std::string& name) {
+  const tinygltf::Asset& asset = model.asset;
+  if (asset.version.rfind("2.", 0) != 0 || !(asset.minVersion.empty() || asset.minVersion == "2.0"))
+    throw LoadError(name + ": asset.version is \"" + asset.version + "\"" +
+                    (asset.minVersion.empty() ? "" : " (minVersion \"" + asset.minVersion + "\")") +
+                    "; only glTF 2.0 is supported");
+  if (!model.extensionsRequired.empty())
+    throw LoadError(name + ": extensionsRequired lists " + model.extensionsRequired.front() +
+                    "; mbao supports no glTF extension");
 }
 
 }  // namespace
 
 std::shared_ptr<Scene> load_gltf(const std::string& path, const LoadOptions& options) {
-  if (!std::ifstream(path, std::ios::binary)) throw LoadError(path + ": cannot open file");
+  const std::vector<unsigned char> bytes = read_regular_file(path, "");
+  return load_gltf_from_memory(bytes.data(), bytes.size(), path, std::filesystem::path(path).parent_path().string(),
+                               options);
+}
+
+std::shared_ptr<Scene> load_gltf_from_memory(const unsigned char* bytes, std::size_t size, const std::string& name,
+                                             const std::string& base_dir, const LoadOptions& options) {
+  if (size > std::numeric_limits<unsigned int>::max())  // tinygltf takes the size as an unsigned int
+    throw LoadError(name + ": " + std::to_string(size) + " bytes is more than the 4 GiB a glTF file may have");
+  const GltfContainer container = check_gltf_container(bytes, size, name);
   tinygltf::TinyGLTF loader;
   // Images are not decoded here; GltfAlphaMasks decodes the alpha of the few that masks use.
   loader.SetImageLoader(keep_data_uri_images, nullptr);
+  loader.SetFsCallbacks(regular_file_callbacks());
   tinygltf::Model model;
   std::string error, warning;
-  const bool ok = has_glb_magic(path) ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
-                                      : loader.LoadASCIIFromFile(&model, &error, &warning, path);
-  if (!ok) throw LoadError(path + ": not a readable glTF 2.0 file: " + (error.empty() ? "unknown error" : error));
-  return SceneAssembler(model, path, options, warning).assemble();
+  const auto length = static_cast<unsigned int>(size);
+  const bool ok = container == GltfContainer::Glb
+                      ? loader.LoadBinaryFromMemory(&model, &error, &warning, bytes, length, base_dir)
+                      : loader.LoadASCIIFromString(&model, &error, &warning, reinterpret_cast<const char*>(bytes),
+                                                   length, base_dir);
+  if (!ok) throw LoadError(name + ": not a readable glTF 2.0 file: " + (error.empty() ? "unknown error" : error));
+  check_supported(model, name);
+  return SceneAssembler(model, name, base_dir, options, warning).assemble();
 }
 
 }  // namespace mbao

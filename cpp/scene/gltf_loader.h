@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -17,5 +18,11 @@ struct LoadOptions {
 // read: no other attribute, and no image but the alpha of mask textures.
 // Throws LoadError naming the file and the element.
 std::shared_ptr<Scene> load_gltf(const std::string& path, const LoadOptions& options = {});
+
+// The same from a file's bytes already in memory (.gltf JSON or .glb, told
+// apart by the GLB magic): `name` stands for the file in messages and names
+// the scene; external buffers and images are looked up in `base_dir`.
+std::shared_ptr<Scene> load_gltf_from_memory(const unsigned char* bytes, std::size_t size, const std::string& name,
+                                             const std::string& base_dir, const LoadOptions& options = {});
 
 }  // namespace mbao

@@ -36,13 +36,19 @@ AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std:
   if (!image.has_alpha) return image;  // alpha 1 everywhere: no texels needed
   const std::size_t texels = std::size_t(image.width) * std::size_t(image.height);
   int w = 0, h = 0;
+  // The alpha is read for the size and channels stbi_info reported, so the decoded image must have them.
+  const auto check_decoded = [&](const void* pixels) {
+    if (!pixels) throw LoadError(what + ": cannot decode the image (" + stbi_failure_reason() + ")");
+    if (w != image.width || h != image.height || !(channels == 2 || channels == 4))
+      throw LoadError(what + ": the image decodes to another size or channel count than its header gives");
+  };
   if (stbi_is_16_bit_from_memory(bytes, length)) {
     std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(bytes, length, &w, &h, &channels, 0));
-    if (!pixels) throw LoadError(what + ": cannot decode the image (" + stbi_failure_reason() + ")");
+    check_decoded(pixels.get());
     image.alpha = last_channel(pixels.get(), texels, channels, 65535u);
   } else {
     std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(bytes, length, &w, &h, &channels, 0));
-    if (!pixels) throw LoadError(what + ": cannot decode the image (" + stbi_failure_reason() + ")");
+    check_decoded(pixels.get());
     image.alpha = last_channel(pixels.get(), texels, channels, 255u);
   }
   return image;
