@@ -41,9 +41,24 @@ typedef struct WatertightRay {
   float4 origin;
   uint4 axes;  // (kx, ky, kz, 3): one shuffle turns a vector into the ray's frame
   float shear_x, shear_y, shear_z;
+  float edge_error;  // see edge_function
 } WatertightRay;
 
-static inline WatertightRay make_watertight_ray(float3 origin, float3 dir) {
+// A corner relative to the ray's origin, in the ray's frame.
+typedef struct FrameCorner {
+  float x, y, z;  // x, y across the ray (sheared), z along it
+  float across;   // |x| + |y|
+} FrameCorner;
+
+// The largest 1-norm |x| + |y| + |z| of a point of the box [lo, hi] relative to
+// origin: it bounds that of every corner of the scene.
+static inline float farthest_in_box(float3 origin, float3 lo, float3 hi) {
+  const float3 far = fmax(fabs(lo - origin), fabs(hi - origin));
+  return far.x + far.y + far.z;
+}
+
+// The ray (origin, dir) for the watertight test of triangles inside [lo, hi].
+static inline WatertightRay make_watertight_ray(float3 origin, float3 dir, float3 lo, float3 hi) {
   WatertightRay ray;
   const float3 a = fabs(dir);
   const uint kz = (a.x > a.y) ? ((a.x > a.z) ? 0 : 2) : ((a.y > a.z) ? 1 : 2);
@@ -60,15 +75,55 @@ static inline WatertightRay make_watertight_ray(float3 origin, float3 dir) {
   ray.shear_x = component(dir, (int)kx) / dz;
   ray.shear_y = component(dir, (int)ky) / dz;
   ray.shear_z = 1.0f / dz;
+  ray.edge_error = error_gamma(10) * farthest_in_box(origin, lo, hi);
   return ray;
 }
 
-// Edge functions exactly zero are recomputed in double, as the paper suggests,
-// so a ray through a shared edge hits one of its two triangles and never neither.
-static inline float edge_function(float ax, float ay, float bx, float by) {
-  float e = ax * by - ay * bx;
+static inline FrameCorner corner_in_ray_frame(const WatertightRay* ray, float4 p) {
+  const float4 a = shuffle(p - ray->origin, ray->axes);
+  FrameCorner c;
+  c.x = a.x - ray->shear_x * a.z;
+  c.y = a.y - ray->shear_y * a.z;
+  c.z = a.z;
+  c.across = fabs(c.x) + fabs(c.y);
+  return c;
+}
+
 #ifdef cl_khr_fp64
-  if (e == 0.0f) e = (float)((double)ax * (double)by - (double)ay * (double)bx);
+static inline double double_component(double3 v, uint axis) {
+  return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
+}
+
+// The edge function of corners p and q from their coordinates, in double: the
+// differences from the origin are exact and the shear and products keep 29
+// more bits than in float.
+static inline float edge_function_in_double(const WatertightRay* ray, float4 p, float4 q) {
+  const double3 o = convert_double3(ray->origin.xyz);
+  const double3 a = convert_double3(p.xyz) - o, b = convert_double3(q.xyz) - o;
+  const uint kx = ray->axes.x, ky = ray->axes.y, kz = ray->axes.z;
+  const double ax = double_component(a, kx) - (double)ray->shear_x * double_component(a, kz);
+  const double ay = double_component(a, ky) - (double)ray->shear_y * double_component(a, kz);
+  const double bx = double_component(b, kx) - (double)ray->shear_x * double_component(b, kz);
+  const double by = double_component(b, ky) - (double)ray->shear_y * double_component(b, kz);
+  return (float)(ax * by - ay * bx);
+}
+#endif
+
+// The edge function of corners p and q (a and b in the ray's frame). In float
+// it is within 5 u R (a.across + b.across) of its exact value for the ray's
+// shear, to first order (u = 2^-24; R, the farthest_in_box of the ray, bounds
+// |x| + |y| + |z| of p and q relative to the origin before the shear, and so
+// the error of their x and y, 3 u R). Nearer zero than twice that its sign is
+// unknown, and it is recomputed in double from the corners themselves. The
+// test depends on the edge alone, so the two triangles of a shared edge decide
+// alike and a ray through it hits one of them (Woop et al.'s watertightness);
+// and the edges of a T-junction, whose corners are collinear but not shared,
+// agree to double precision, where float would leave a crack along the long edge.
+static inline float edge_function(const WatertightRay* ray, float4 p, float4 q, const FrameCorner* a,
+                                  const FrameCorner* b) {
+  float e = a->x * b->y - a->y * b->x;
+#ifdef cl_khr_fp64
+  if (fabs(e) <= ray->edge_error * (a->across + b->across)) e = edge_function_in_double(ray, p, q);
 #endif
   return e;
 }
@@ -80,37 +135,29 @@ static inline float edge_function(float ax, float ay, float bx, float by) {
 // just in front of a ray's origin is never skipped.
 static inline int intersect_triangle(const WatertightRay* ray, float4 p0, float4 p1, float4 p2,
                                      float t_max, float* t_out, float* b1_out, float* b2_out) {
-  // The corners relative to the origin, in the ray's frame (x, y across, z along).
-  const float4 a = shuffle(p0 - ray->origin, ray->axes);
-  const float4 b = shuffle(p1 - ray->origin, ray->axes);
-  const float4 c = shuffle(p2 - ray->origin, ray->axes);
-  const float az = a.z, bz = b.z, cz = c.z;
-  const float ax = a.x - ray->shear_x * az;
-  const float ay = a.y - ray->shear_y * az;
-  const float bx = b.x - ray->shear_x * bz;
-  const float by = b.y - ray->shear_y * bz;
-  const float cx = c.x - ray->shear_x * cz;
-  const float cy = c.y - ray->shear_y * cz;
+  const FrameCorner a = corner_in_ray_frame(ray, p0);
+  const FrameCorner b = corner_in_ray_frame(ray, p1);
+  const FrameCorner c = corner_in_ray_frame(ray, p2);
 
-  const float e0 = edge_function(bx, by, cx, cy);  // weight of p0
-  const float e1 = edge_function(cx, cy, ax, ay);  // weight of p1
-  const float e2 = edge_function(ax, ay, bx, by);  // weight of p2
+  const float e0 = edge_function(ray, p1, p2, &b, &c);  // weight of p0
+  const float e1 = edge_function(ray, p2, p0, &c, &a);  // weight of p1
+  const float e2 = edge_function(ray, p0, p1, &a, &b);  // weight of p2
   if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) return 0;
   const float det = e0 + e1 + e2;
   if (det == 0.0f) return 0;
 
-  const float sz = ray->shear_z;
-  const float t_scaled = e0 * (sz * az) + e1 * (sz * bz) + e2 * (sz * cz);
-  if (det < 0.0f && (t_scaled >= 0.0f || t_scaled < t_max * det)) return 0;
-  if (det > 0.0f && (t_scaled <= 0.0f || t_scaled > t_max * det)) return 0;
-
+  // Barycentrics before distances: the edge functions grow as the square of
+  // the corners' distances, and the weighted sum of distances as their cube,
+  // which would overflow float beyond distances of about 10^12 and underflow
+  // below 10^-13; this way only the edge functions limit the range.
   const float inv_det = 1.0f / det;
-  const float t = t_scaled * inv_det;
-  if (!(t <= t_max)) return 0;
+  const float b0 = e0 * inv_det, b1 = e1 * inv_det, b2 = e2 * inv_det;
+  const float t = (b0 * a.z + b1 * b.z + b2 * c.z) * ray->shear_z;
+  if (!(t > 0.0f && t <= t_max)) return 0;
 
   *t_out = t;
-  *b1_out = e1 * inv_det;
-  *b2_out = e2 * inv_det;
+  *b1_out = b1;
+  *b2_out = b2;
   return 1;
 }
 

@@ -112,7 +112,7 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
   if (!clip_to_box(origin, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, t_max, &t_enter,
                    &t_exit))
     return 0;
-  const WatertightRay ray = make_watertight_ray(origin, dir);
+  const WatertightRay ray = make_watertight_ray(origin, dir, scene->bounds_lo, scene->bounds_hi);
   // Per axis, for the descent: indexing an array costs one load, picking a
   // vector component by a run-time axis a chain of selects.
   const float origin_of[3] = {origin.x, origin.y, origin.z};

@@ -17,6 +17,42 @@
 // the ceiling).
 #define MBAO_ORIGIN_OFFSET_STEPS 256.0f
 
+// The unit normal of triangle (p0, p1, p2). The cross product of a needle's or
+// a sliver's two nearly parallel edges cancels: in float it keeps few correct
+// bits (degrees off at an aspect ratio of 10^6) or none (a zero vector, a NaN
+// normal, for a triangle whose area only exceeds zero in the last bits). In
+// double the corners' differences are exact and the products keep 29 more bits.
+static inline float3 geometric_normal(float3 p0, float3 p1, float3 p2) {
+#ifdef cl_khr_fp64
+  const double3 q0 = convert_double3(p0);
+  return convert_float3(normalize(cross(convert_double3(p1) - q0, convert_double3(p2) - q0)));
+#else
+  return normalize(cross(p1 - p0, p2 - p0));
+#endif
+}
+
+// Scales v by a power of two so that its largest component lies in [1, 2):
+// direction kept exactly, and nothing a dot product or sum of such vectors
+// computes overflows or underflows. Zero stays zero.
+static inline float3 unit_scale(float3 v) {
+  const float largest = fmax(fmax(fabs(v.x), fabs(v.y)), fabs(v.z));
+  return largest > 0.0f ? ldexp(v, -ilogb(largest)) : v;
+}
+
+// The unit direction of the vertex normals n0, n1, n2 interpolated with weights
+// b0, b1, b2, or zero where that is zero. Normals of any finite length count by
+// their direction and relative length, however long or short: the three are
+// scaled together before they are added (no overflow), and the sum before it is
+// normalized (no underflow in its squared length).
+static inline float3 interpolated_normal(float3 n0, float3 n1, float3 n2, float b0, float b1, float b2) {
+  const float3 m = fmax(fmax(fabs(n0), fabs(n1)), fabs(n2));
+  const float largest = fmax(fmax(m.x, m.y), m.z);
+  if (largest == 0.0f) return m;
+  const int exponent = -ilogb(largest);
+  const float3 n = unit_scale(b0 * ldexp(n0, exponent) + b1 * ldexp(n1, exponent) + b2 * ldexp(n2, exponent));
+  return any(n != 0.0f) ? normalize(n) : n;
+}
+
 typedef struct Surface {
   float3 position;
   float offset;             // distance along the normal at which rays leave it
@@ -36,7 +72,7 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
   const float3 magnitude = fmax(fmax(fabs(p0), fabs(p1)), fabs(p2));
   s.offset = MBAO_ORIGIN_OFFSET_STEPS * FLT_EPSILON * fmax(fmax(magnitude.x, magnitude.y), magnitude.z);
 
-  float3 ng = normalize(cross(p1 - p0, p2 - p0));
+  float3 ng = geometric_normal(p0, p1, p2);
   if (dot(ng, incoming) > 0.0f) ng = -ng;
   s.geometric_normal = ng;
 
@@ -44,15 +80,12 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
 #if MBAO_SHADING_NORMALS
   {
     const uint v = 3 * hit.triangle;
-    const float3 n = b0 * scene->vertex_normals[scene->triangle_vertices[v]].xyz +
-                     hit.b1 * scene->vertex_normals[scene->triangle_vertices[v + 1]].xyz +
-                     hit.b2 * scene->vertex_normals[scene->triangle_vertices[v + 2]].xyz;
-    const float length_squared = dot(n, n);
+    const float3 ns = interpolated_normal(scene->vertex_normals[scene->triangle_vertices[v]].xyz,
+                                          scene->vertex_normals[scene->triangle_vertices[v + 1]].xyz,
+                                          scene->vertex_normals[scene->triangle_vertices[v + 2]].xyz, b0,
+                                          hit.b1, hit.b2);
     // A zero interpolated normal means "no normal here": keep the geometric one.
-    if (length_squared > 0.0f && isfinite(length_squared)) {
-      const float3 ns = n * rsqrt(length_squared);
-      s.shading_normal = dot(ns, ng) < 0.0f ? -ns : ns;
-    }
+    if (any(ns != 0.0f)) s.shading_normal = dot(ns, ng) < 0.0f ? -ns : ns;
   }
 #endif
   return s;

@@ -19,6 +19,7 @@ struct KdBuildOptions {
   double intersection_cost = 0.5;  // K_I: one ray/triangle test
   double empty_bonus = 0.2;        // cost discount of a split that cuts off empty space
   int max_depth = 0;               // 0: 8 + 1.3 log2(N), as pbrt; at most MBAO_KD_MAX_DEPTH
+  double reference_budget = 32.0;  // leaf entries per triangle the tree may hold, at most
   int threads = 0;                 // 0: one per hardware thread; the tree is the same for any number
 };
 

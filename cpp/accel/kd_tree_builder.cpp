@@ -12,6 +12,16 @@
 //   two walls round to the same float. A planar triangle on the node boundary
 //   (the Cornell box walls) is cut off into a cell of that width.
 //
+// A third choice bounds memory: each subtree gets a budget of leaf entries, the
+// root `reference_budget` per triangle, and a node is split only if its children
+// fit into its budget, which they then share in proportion to their triangle
+// counts; the whole tree thus holds at most that many entries per triangle.
+// Without it, thousands of overlapping coplanar triangles (decals, z-fighting
+// copies) drive the build to its depth limit: each split frees a few triangles
+// from the other side, which the SAH finds worth it, while nearly all of them
+// go to both children, and the entries double with each level (4000 such
+// triangles took 7 minutes and 1.3 GB).
+//
 // Subtrees big enough to pay for a thread are built on spare threads into
 // arrays of their own and appended in depth-first order, so the tree does not
 // depend on the number of threads.
@@ -69,6 +79,12 @@ struct Scratch {
 struct Children {
   NodeEvents below, above;
   std::size_t n_below = 0, n_above = 0;
+};
+
+// A node's triangles and the leaf entries its subtree may hold.
+struct Share {
+  std::size_t triangles = 0;
+  double budget = 0.0;
 };
 
 // Appends a subtree built in arrays of its own: its child and leaf-list
@@ -133,7 +149,7 @@ class Builder {
     NodeEvents events = root_events(placed);
     tree.stats.degenerate_triangles = n - placed;
     Scratch scratch(n);
-    build_node(tree, scratch, tree.bounds, std::move(events), placed, 0);
+    build_node(tree, scratch, tree.bounds, std::move(events), {placed, options_.reference_budget * double(placed)}, 0);
 
     if (tree.nodes.size() > MBAO_KD_MAX_INDEX) throw Error("kd-tree: more nodes than the node format can address");
     if (tree.leaf_triangles.size() > std::numeric_limits<std::uint32_t>::max())
@@ -180,45 +196,52 @@ class Builder {
 
   double area_fraction(const Bounds3& box) const { return root_area_ > 0.0 ? box.surface_area() / root_area_ : 0.0; }
 
-  void build_node(KdTree& tree, Scratch& scratch, const Bounds3& box, NodeEvents events, std::size_t n, int depth) {
+  void build_node(KdTree& tree, Scratch& scratch, const Bounds3& box, NodeEvents events, Share share, int depth) {
     tree.stats.max_depth = std::max(tree.stats.max_depth, depth);
+    const std::size_t n = share.triangles;
     const Split split = n > 0 && depth < max_depth_ ? find_split(box, events, n) : Split{};
     if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
       make_leaf(tree, box, events);
       return;
     }
-    tree.stats.sah_cost += area_fraction(box) * options_.traversal_cost;
-    const std::size_t index = tree.nodes.size();
-    tree.nodes.push_back(kd_make_interior(std::uint32_t(split.axis), split.position, 0));
-
     Bounds3 below_box = box, above_box = box;
     below_box.hi[split.axis] = split.position;
     above_box.lo[split.axis] = split.position;
     Children children = partition(events, split, below_box, above_box, scratch);
+    const double entries = double(children.n_below) + double(children.n_above);
+    if (entries > share.budget) {
+      make_leaf(tree, box, events);
+      return;
+    }
     events = NodeEvents{};  // release the parent's events before going deeper
 
-    std::future<KdTree> above_part = build_on_spare_thread(above_box, children.above, children.n_above, depth + 1);
-    build_node(tree, scratch, below_box, std::move(children.below), children.n_below, depth + 1);
+    tree.stats.sah_cost += area_fraction(box) * options_.traversal_cost;
+    const std::size_t index = tree.nodes.size();
+    tree.nodes.push_back(kd_make_interior(std::uint32_t(split.axis), split.position, 0));
+    const Share below{children.n_below, share.budget * double(children.n_below) / entries};
+    const Share above{children.n_above, share.budget * double(children.n_above) / entries};
+    std::future<KdTree> above_part = build_on_spare_thread(above_box, children.above, above, depth + 1);
+    build_node(tree, scratch, below_box, std::move(children.below), below, depth + 1);
     tree.nodes[index] = kd_make_interior(std::uint32_t(split.axis), split.position, std::uint32_t(tree.nodes.size()));
     if (above_part.valid()) {
       append_subtree(tree, above_part.get());
     } else {
-      build_node(tree, scratch, above_box, std::move(children.above), children.n_above, depth + 1);
+      build_node(tree, scratch, above_box, std::move(children.above), above, depth + 1);
     }
   }
 
   // A subtree on a thread of its own, when one is spare and the subtree is
   // big enough to pay for it; else an empty future and `events` untouched.
-  std::future<KdTree> build_on_spare_thread(const Bounds3& box, NodeEvents& events, std::size_t n, int depth) {
-    if (n < kMinTrianglesPerThread || !take_spare_thread()) return {};
-    return std::async(std::launch::async, [this, box, events = std::move(events), n, depth]() mutable {
+  std::future<KdTree> build_on_spare_thread(const Bounds3& box, NodeEvents& events, Share share, int depth) {
+    if (share.triangles < kMinTrianglesPerThread || !take_spare_thread()) return {};
+    return std::async(std::launch::async, [this, box, events = std::move(events), share, depth]() mutable {
       struct GiveBack {
         std::atomic<int>& spare;
         ~GiveBack() { spare.fetch_add(1); }
       } give_back{spare_threads_};
       KdTree part;
       Scratch scratch(mesh_.triangles.size());
-      build_node(part, scratch, box, std::move(events), n, depth);
+      build_node(part, scratch, box, std::move(events), share, depth);
       return part;
     });
   }

@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <glm/geometric.hpp>
+#include <limits>
+#include <random>
 #include <set>
 
 #include "accel/kd_tree.h"
 #include "accel/triangle_clip.h"
+#include "mbao/limits.h"
 #include "scene/cornell_box.h"
 
 namespace mbao {
@@ -164,6 +166,57 @@ TriangleMesh axis_aligned_grid(int n) {
         mesh.triangles.push_back({base, base + 2, base + 3});
       }
   return mesh;
+}
+
+// n random triangles in the square [0, 1]^2 of the plane z = 0: they overlap
+// everywhere, and a split frees only the few whose edges it separates.
+TriangleMesh overlapping_coplanar(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  TriangleMesh mesh;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) mesh.positions.push_back({unit(rng), unit(rng), 0.0f});
+    const auto base = std::uint32_t(3 * i);
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  }
+  return mesh;
+}
+
+// Small triangles along a spiral that shrinks toward its centre by `shrink` per
+// triangle: every turn is a smaller copy of the last, which the SAH keeps cutting.
+TriangleMesh shrinking_spiral(std::size_t n, float shrink) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> jitter(-0.5f, 0.5f);
+  TriangleMesh mesh;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float r = std::pow(shrink, float(i));
+    const glm::vec3 center(r * std::cos(float(i)), r * std::sin(float(i)), r);
+    for (int k = 0; k < 3; ++k) mesh.positions.push_back(center + 1e-3f * r * glm::vec3(jitter(rng), jitter(rng), jitter(rng)));
+    const auto base = std::uint32_t(3 * i);
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  }
+  return mesh;
+}
+
+// A fan of n needles in a plane through the origin that no axis is parallel to:
+// each runs from an apex `length` away to a 1 / n wide piece of a unit segment,
+// so their aspect ratio is n * length.
+TriangleMesh needle_fan(std::size_t n, float length) {
+  const glm::vec3 normal = glm::normalize(glm::vec3(1.0f, 2.0f, 3.0f));
+  const glm::vec3 along = glm::normalize(glm::cross(normal, glm::vec3(1.0f, 0.0f, 0.0f)));
+  const glm::vec3 across = glm::cross(normal, along);
+  TriangleMesh mesh;
+  mesh.positions.push_back(-length * along);
+  for (std::size_t i = 0; i <= n; ++i) mesh.positions.push_back((float(i) / float(n) - 0.5f) * across);
+  for (std::uint32_t i = 0; i < n; ++i) mesh.triangles.push_back({0, i + 1, i + 2});
+  return mesh;
+}
+
+bool same_tree(const KdTree& a, const KdTree& b) {
+  if (a.nodes.size() != b.nodes.size() || a.leaf_triangles != b.leaf_triangles) return false;
+  for (std::size_t i = 0; i < a.nodes.size(); ++i)
+    if (a.nodes[i].header != b.nodes[i].header || a.nodes[i].payload != b.nodes[i].payload) return false;
+  return true;
 }
 
 TEST(KdNode, WordsRoundTrip) {
@@ -326,6 +379,82 @@ TEST(KdTree, SingleTriangleAndDegenerateTriangles) {
   for (std::size_t t = 0; t < degenerate.triangles.size(); ++t) without_area += !has_area(degenerate, t);
   EXPECT_GE(without_area, 2u);
   EXPECT_EQ(tree.stats.degenerate_triangles, without_area);
+}
+
+TEST(KdTree, OverlappingCoplanarTrianglesStayWithinTheReferenceBudget) {
+  // Without the budget 2000 of these take a minute and 48 million leaf entries.
+  const TriangleMesh mesh = overlapping_coplanar(2000, 9);
+  const KdTree tree = checked_tree(mesh);
+  EXPECT_LE(tree.stats.leaf_references, std::size_t(KdBuildOptions{}.reference_budget * 2000.0));
+  EXPECT_GT(tree.stats.leaves, 1u);  // still split where that pays
+  KdBuildOptions tight;
+  tight.reference_budget = 3.0;
+  EXPECT_LE(checked_tree(mesh, tight).stats.leaf_references, 6000u);
+}
+
+TEST(KdTree, TheReferenceBudgetLeavesOrdinaryTreesAlone) {
+  KdBuildOptions unlimited;
+  unlimited.reference_budget = std::numeric_limits<double>::infinity();
+  const auto cornell = cornell_box();
+  for (const TriangleMesh& mesh : {random_soup(3000, 4), axis_aligned_grid(8), cornell->mesh()})
+    EXPECT_TRUE(same_tree(build_kd_tree(mesh), build_kd_tree(mesh, unlimited)));
+}
+
+TEST(KdTree, ThousandsOfIdenticalTrianglesShareOneLeaf) {
+  TriangleMesh mesh = random_soup(500, 13);
+  const auto base = std::uint32_t(mesh.positions.size());
+  mesh.positions.insert(mesh.positions.end(), {{0.2f, 0.2f, 0.2f}, {0.6f, 0.3f, 0.2f}, {0.3f, 0.7f, 0.4f}});
+  const std::uint32_t first_copy = std::uint32_t(mesh.triangles.size());
+  for (int i = 0; i < 5000; ++i) mesh.triangles.push_back({base, base + 1, base + 2});
+  const KdTree tree = checked_tree(mesh);  // every leaf its triangle touches lists all 5000 copies
+  std::size_t copies = 0;
+  for (std::uint32_t t : tree.leaf_triangles) copies += t >= first_copy;
+  EXPECT_EQ(copies % 5000, 0u);
+  EXPECT_GE(copies, 5000u);
+}
+
+TEST(KdTree, TheDepthLimitHolds) {
+  // The spiral would go 24 levels deep; a limit of 12 stops it there.
+  const TriangleMesh mesh = shrinking_spiral(300, 0.97f);
+  EXPECT_GT(build_kd_tree(mesh).stats.max_depth, 12);
+  KdBuildOptions shallow;
+  shallow.max_depth = 12;
+  EXPECT_EQ(checked_tree(mesh, shallow).stats.max_depth, 12);
+  // Beyond the full-stack traversal's stack it is that stack's depth.
+  KdBuildOptions deepest, beyond;
+  deepest.max_depth = MBAO_KD_MAX_DEPTH;
+  beyond.max_depth = 1000;
+  const KdTree tree = checked_tree(mesh, beyond);
+  EXPECT_LE(tree.stats.max_depth, MBAO_KD_MAX_DEPTH);
+  EXPECT_TRUE(same_tree(tree, build_kd_tree(mesh, deepest)));
+}
+
+TEST(KdTree, NeedlesAndSliversKeepTheLeafContract) {
+  TriangleMesh mesh = needle_fan(1000, 1000.0f);  // aspect ratio 10^6
+  // Slivers: three nearly collinear corners, the middle one 10^-6 off the line.
+  for (int i = 0; i < 100; ++i) {
+    const auto base = std::uint32_t(mesh.positions.size());
+    const glm::vec3 start(-0.5f, float(i) * 0.01f - 0.5f, 0.3f);
+    mesh.positions.insert(mesh.positions.end(), {start, start + glm::vec3(1.0f, 0.5f, 0.2f),
+                                                 start + glm::vec3(0.5f, 0.25f + 1e-6f, 0.1f)});
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  }
+  const KdTree tree = checked_tree(mesh);
+  EXPECT_EQ(tree.stats.degenerate_triangles, 0u);
+  EXPECT_GT(tree.stats.leaves, 10u);
+}
+
+TEST(KdTree, OnlyDegenerateTrianglesGiveOneEmptyLeaf) {
+  TriangleMesh mesh;
+  mesh.positions = {{1, 2, 3}, {2, 3, 4}, {3, 4, 5}, {-1, 0, 7}};
+  mesh.triangles = {{0, 1, 2}, {0, 0, 3}, {3, 3, 3}, {2, 1, 0}};  // collinear, repeated vertices, a point
+  const KdTree tree = checked_tree(mesh);
+  EXPECT_EQ(tree.nodes.size(), 1u);
+  EXPECT_EQ(tree.stats.empty_leaves, 1u);
+  EXPECT_EQ(tree.stats.degenerate_triangles, 4u);
+  EXPECT_TRUE(std::isfinite(tree.stats.sah_cost));
+  EXPECT_EQ(tree.bounds.lo, glm::vec3(-1, 0, 3));
+  EXPECT_EQ(tree.bounds.hi, glm::vec3(3, 4, 7));
 }
 
 }  // namespace
