@@ -15,7 +15,7 @@
 typedef struct SceneView {
   __global const KdNode* nodes;
   __global const uint* leaf_triangles;     // triangle ids, leaf by leaf
-  __global const float4* triangle_corners;  // 3 per triangle, relative to the scene's centre
+  __global const float4* triangle_corners;  // 3 per triangle, relative to Scene::render_origin
   __global const uint* triangle_vertices;  // 3 vertex ids per triangle (only with normals)
   __global const float4* vertex_normals;   // NULL: geometric normals everywhere
   __global const uint* triangle_masks;     // per triangle: a masked_triangles index or MBAO_NOT_MASKED

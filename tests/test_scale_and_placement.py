@@ -1,9 +1,9 @@
 """The same scene in millimetres or kilometres, at the origin or far from it,
 renders the same image (issue 6), up to the limit of float32 vertices.
 
-The renderer works relative to the scene's centre (Scene.kd_tree()["origin"]),
-so its own rounding scales with the scene's size. What it cannot undo is the
-rounding of vertices to float32 before they reach it: far from the origin they
+The renderer works relative to a corner of the scene where it lies far from the
+origin (Scene.kd_tree()["origin"]), so its own rounding scales with the scene's
+size. What it cannot undo is the rounding of vertices to float32 before they reach it: far from the origin they
 lie on a coarse grid, and mbao warns once that grid exceeds 1e-3 of the scene.
 
 "The same image" is judged against the estimator's own noise. With the same
@@ -133,6 +133,19 @@ def test_far_from_the_origin_the_renderer_adds_nothing_to_float32_rounding(origi
                               far_camera.vfov_deg)
     near = render(far_vertices.astype(np.float64) - offset, near_camera, **settings)
     assert_same_image(far, near, noise)
+
+
+def test_the_render_origin_is_a_corner_on_far_axes_and_zero_on_near_ones():
+    """Per axis: the near edge where the scene lies farther from 0 than it is
+    wide (every vertex then moves exactly), else 0."""
+    assert mbao.Mesh(CORNELL.vertices, CORNELL.indices).kd_tree()["origin"] == (0.0, 0.0, 0.0)
+    vertices, _ = moved(1.0, 1e3)
+    mesh = mbao.Mesh(vertices, CORNELL.indices)
+    lo, hi = mesh.bounds
+    # DIRECTION is (+, +, -): the lower edge on x and y, the upper one on z.
+    assert mesh.kd_tree()["origin"] == (lo[0], lo[1], hi[2])
+    half_away = mbao.Mesh(CORNELL.vertices + [0.5 * EXTENT, 0, 0], CORNELL.indices)
+    assert half_away.kd_tree()["origin"] == (0.0, 0.0, 0.0)  # nearer to 0 than it is wide
 
 
 def test_scene_wider_than_float32_can_span_is_rejected():

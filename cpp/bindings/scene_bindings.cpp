@@ -186,7 +186,8 @@ so later renders of the same scene do not rebuild it.)doc")
           R"doc(The kd-tree as the device gets it (kernels/mbao/kd_node.h), for inspection:
 "nodes" (K, 2) uint32 words (header, payload), "leaf_triangles", "bounds", "stats", and
 "origin": the tree (its bounds and split planes) is in coordinates relative to this point,
-the centre of the scene, so that rounding scales with the scene's size wherever it lies.)doc")
+a corner of the scene where it lies far from the world origin (Scene::render_origin), so that
+rounding scales with the scene's size wherever it lies.)doc")
       .def("__repr__", [](const Scene& s) {
         return "<mbao.Scene '" + s.name() + "': " + std::to_string(s.mesh().triangles.size()) + " triangles>";
       });

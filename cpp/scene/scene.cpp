@@ -12,7 +12,7 @@ namespace {
 // Float32 vertices lie on a grid whose spacing grows with their distance from
 // the world origin. Past this spacing, as a fraction of the scene's size, the
 // grid visibly changes the scene's shape and its AO (measured in
-// tests/test_scale_and_placement.py); rendering relative to the scene's centre
+// tests/test_scale_and_placement.py); rendering relative to a point near it
 // cannot undo rounding that happened before the vertices reached mbao.
 constexpr float kMaxVertexSpacing = 1e-3f;
 
@@ -22,6 +22,18 @@ void check_extent(const Bounds3& box, const std::string& name) {
   const glm::vec3 extent = box.extent();
   if (!std::isfinite(extent.x) || !std::isfinite(extent.y) || !std::isfinite(extent.z))
     throw std::invalid_argument(name + ": the scene is wider than float32 can span (its bounds' extent overflows)");
+}
+
+// Scene::render_origin: per axis, the near edge where the range lies within a
+// factor 2 of it, so that p - edge is exact for every p in the range; else 0.
+float exact_origin(float lo, float hi) {
+  if (lo > 0.0f && hi <= 2.0f * lo) return lo;
+  if (hi < 0.0f && lo >= 2.0f * hi) return hi;
+  return 0.0f;
+}
+
+glm::vec3 exact_origin(const Bounds3& box) {
+  return {exact_origin(box.lo.x, box.hi.x), exact_origin(box.lo.y, box.hi.y), exact_origin(box.lo.z, box.hi.z)};
 }
 
 std::vector<std::string> with_placement_warning(std::vector<std::string> warnings, const Bounds3& box,
@@ -72,7 +84,7 @@ Scene::Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera, 
       id_(next_scene_id()) {
   bounds_ = mesh_.checked_bounds(name_);
   check_extent(bounds_, name_);
-  render_origin_ = 0.5f * bounds_.lo + 0.5f * bounds_.hi;  // halves first: the sum may overflow
+  render_origin_ = exact_origin(bounds_);
   warnings_ = with_placement_warning(std::move(warnings), bounds_, name_);
   validate_masks(masks_, mesh_.triangles.size(), name_);
 }

@@ -29,10 +29,13 @@ class Scene {
   const TriangleMesh& mesh() const { return mesh_; }
   const AlphaMasks& masks() const { return masks_; }
   const Bounds3& bounds() const { return bounds_; }
-  // The point the device's coordinates are relative to: the centre of the
-  // bounds. Rounding in ray/triangle tests and in the offset of rays leaving a
-  // surface then scales with the scene's size, not its distance from the
-  // world origin, so a scene renders the same wherever it is placed.
+  // The point the device's coordinates are relative to. On each axis where the
+  // scene lies farther from 0 than it is wide, its near edge (a vertex
+  // coordinate, so that every vertex moves exactly, Sterbenz's lemma); on the
+  // others 0, where world coordinates are already as fine as the scene's size
+  // allows. Rounding in ray/triangle tests and in the offset of rays leaving a
+  // surface then scales with the scene's size, not its distance from the world
+  // origin, so a scene renders the same wherever it is placed.
   const glm::vec3& render_origin() const { return render_origin_; }
   // The vertex positions relative to render_origin(): what the kd-tree and the device hold.
   std::vector<glm::vec3> local_positions() const;

@@ -9,7 +9,7 @@
 namespace mbao {
 
 // Triangles in world space: what every loader produces. The kd-tree and the
-// device get them relative to the scene's centre (Scene::render_origin).
+// device get them relative to Scene::render_origin, near the scene.
 struct TriangleMesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::uvec3> triangles;  // indices into positions
