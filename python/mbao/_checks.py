@@ -46,7 +46,15 @@ def rows(name, value, columns, kinds, dtype):
         raise TypeError(f"{name} must hold {_kind_names(kinds)}, got dtype {array.dtype}")
     if array.ndim != 2 or array.shape[1] != columns:
         raise ValueError(f"{name} must have shape (N, {columns}), got {array.shape}")
-    return np.ascontiguousarray(array, dtype=dtype)
+    with np.errstate(over="ignore"):  # reported below, naming the row
+        converted = np.ascontiguousarray(array, dtype=dtype)
+    if converted.dtype.kind == "f" and array.dtype.kind in "fiu":
+        overflowed = np.isinf(converted) & np.isfinite(array)
+        if overflowed.any():
+            row = int(np.flatnonzero(overflowed.any(axis=1))[0])
+            raise ValueError(f"{name}: row {row} holds {array[row].tolist()}, beyond the range of {np.dtype(dtype).name} "
+                             f"(+-{np.finfo(dtype).max:.3g})")
+    return converted
 
 
 def _kind_names(kinds):
