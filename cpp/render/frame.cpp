@@ -35,17 +35,8 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
         cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zeros, const_cast<cl_ulong*>(zeros));
   }
 
-  const CameraBasis basis(camera);
-  const float aspect = float(s.width) / float(s.height);
   camera_rays_ = cl::Kernel(program, "trace_camera_rays");
-  cl_uint arg = scene.set_args(camera_rays_);
-  camera_rays_.setArg(arg++, to_float4(camera.eye));
-  camera_rays_.setArg(arg++, to_float4(basis.forward));
-  camera_rays_.setArg(arg++, to_float4(basis.right));
-  camera_rays_.setArg(arg++, to_float4(basis.up));
-  camera_rays_.setArg(arg++, cl_float2{{basis.tan_half_vfov * aspect, basis.tan_half_vfov}});
-  camera_rays_.setArg(arg++, cl_uint(s.width));
-  camera_rays_.setArg(arg++, cl_uint(s.height));
+  cl_uint arg = set_camera_args(camera_rays_, scene.set_args(camera_rays_), camera, s);
   camera_rays_.setArg(arg++, cl_uint(spp_));
   camera_rays_.setArg(arg++, seed_words(s.seed));
   camera_tile_arg_ = arg;

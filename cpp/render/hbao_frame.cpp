@@ -19,17 +19,8 @@ HbaoFrame::HbaoFrame(const cl::Context& context, const cl::Device& device, const
   ao_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   coverage_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
 
-  const CameraBasis basis(camera);
-  const float aspect = float(s.width) / float(s.height);
   gbuffer_ = cl::Kernel(program, "hbao_gbuffer");
-  cl_uint arg = scene.set_args(gbuffer_);
-  gbuffer_.setArg(arg++, to_float4(camera.eye));
-  gbuffer_.setArg(arg++, to_float4(basis.forward));
-  gbuffer_.setArg(arg++, to_float4(basis.right));
-  gbuffer_.setArg(arg++, to_float4(basis.up));
-  gbuffer_.setArg(arg++, cl_float2{{basis.tan_half_vfov * aspect, basis.tan_half_vfov}});
-  gbuffer_.setArg(arg++, cl_uint(s.width));
-  gbuffer_.setArg(arg++, cl_uint(s.height));
+  cl_uint arg = set_camera_args(gbuffer_, scene.set_args(gbuffer_), camera, s);
   gbuffer_.setArg(arg++, positions_);
   gbuffer_.setArg(arg++, normals_);
   gbuffer_group_ = work_group_size_for(gbuffer_, device, s.work_group_size);
@@ -40,7 +31,7 @@ HbaoFrame::HbaoFrame(const cl::Context& context, const cl::Device& device, const
   hbao_.setArg(arg++, normals_);
   hbao_.setArg(arg++, cl_uint(s.width));
   hbao_.setArg(arg++, cl_uint(s.height));
-  hbao_.setArg(arg++, basis.tan_half_vfov);
+  hbao_.setArg(arg++, CameraBasis(camera).tan_half_vfov);
   hbao_.setArg(arg++, s.max_distance);
   hbao_.setArg(arg++, float(std::sin(s.hbao.angle_bias_deg * M_PI / 180.0)));
   hbao_.setArg(arg++, s.hbao.falloff);
