@@ -34,7 +34,6 @@ from gltf_writer import (
     UNSIGNED_SHORT,
     GltfBuilder,
     file_name,
-    png_bytes,
 )
 
 # -- geometry and transforms, computed independently of the loader ------------

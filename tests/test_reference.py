@@ -1,7 +1,6 @@
 """Converged references and the GTAO multi-bounce fit (issue 5)."""
 
 import math
-import warnings
 
 import numpy as np
 import pytest
