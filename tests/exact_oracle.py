@@ -8,14 +8,9 @@ precision, and a ray through an edge hits a triangle whose closed area it
 really crosses. Written independently of mbao's kernels, like oracle.py.
 """
 
-import pyopencl as cl
-
 from oracle import BruteForce
 
-_SOURCE = r"""
-#pragma OPENCL EXTENSION cl_khr_fp64 : enable
-#pragma OPENCL FP_CONTRACT OFF
-
+_HIT_DISTANCE_IN_DOUBLE = r"""
 double pick(double3 v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
 float pickf(float3 v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
 
@@ -39,33 +34,10 @@ float hit_distance(float3 of, float3 d, float3 p0, float3 p1, float3 p2, float t
     double t = (u * pick(A, kz) + v * pick(B, kz) + w * pick(C, kz)) * sz / det;
     return (t > 0.0 && t <= t_max) ? (float)t : INFINITY;
 }
-
-__kernel void closest(__global const float4* corners, uint triangles, __global const float4* origins,
-                      __global const float4* directions, __global float* t_out, __global int* triangle_out) {
-    const uint i = get_global_id(0);
-    const float3 o = origins[i].xyz, d = directions[i].xyz;
-    float best = INFINITY; int best_triangle = -1;
-    for (uint k = 0; k < triangles; ++k) {
-        float t = hit_distance(o, d, corners[3 * k].xyz, corners[3 * k + 1].xyz, corners[3 * k + 2].xyz, directions[i].w);
-        if (t < best) { best = t; best_triangle = (int)k; }
-    }
-    t_out[i] = best;
-    triangle_out[i] = best_triangle;
-}
-
-__kernel void distance_to(__global const float4* corners, __global const float4* origins,
-                          __global const float4* directions, __global const int* triangle, __global float* t_out) {
-    const uint i = get_global_id(0);
-    const int k = triangle[i];
-    t_out[i] = k < 0 ? INFINITY : hit_distance(origins[i].xyz, directions[i].xyz, corners[3 * k].xyz,
-                                               corners[3 * k + 1].xyz, corners[3 * k + 2].xyz, directions[i].w);
-}
 """
 
 
 class ExactBruteForce(BruteForce):
     """BruteForce with every hit decided in double precision."""
 
-    def __init__(self, vertices, indices, device):
-        super().__init__(vertices, indices, device)
-        self.program = cl.Program(self.context, _SOURCE).build()
+    hit_distance = _HIT_DISTANCE_IN_DOUBLE

@@ -10,10 +10,12 @@ import pyopencl as cl
 
 from mbao.devices import resolve
 
-_SOURCE = r"""
+_PRAGMAS = r"""
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #pragma OPENCL FP_CONTRACT OFF
+"""
 
+_HIT_DISTANCE_IN_FLOAT = r"""
 float pick(float3 v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
 
 // Returns t of the hit with 0 < t <= t_max, or INFINITY.
@@ -38,7 +40,10 @@ float hit_distance(float3 o, float3 d, float3 p0, float3 p1, float3 p2, float t_
     float t = (u * sz * pick(A, kz) + v * sz * pick(B, kz) + w * sz * pick(C, kz)) / det;
     return (t > 0.0f && t <= t_max) ? t : INFINITY;
 }
+"""
 
+# The brute force itself, for any hit_distance.
+_KERNELS = r"""
 __kernel void closest(__global const float4* corners, uint triangles, __global const float4* origins,
                       __global const float4* directions, __global float* t_out, __global int* triangle_out) {
     const uint i = get_global_id(0);
@@ -73,10 +78,13 @@ def pyopencl_device(device):
 
 
 class BruteForce:
+    # OpenCL C defining float hit_distance(o, d, p0, p1, p2, t_max): t in (0, t_max], or INFINITY.
+    hit_distance = _HIT_DISTANCE_IN_FLOAT
+
     def __init__(self, vertices, indices, device):
         self.context = cl.Context([pyopencl_device(device)])
         self.queue = cl.CommandQueue(self.context)
-        self.program = cl.Program(self.context, _SOURCE).build()
+        self.program = cl.Program(self.context, _PRAGMAS + self.hit_distance + _KERNELS).build()
         corners = np.zeros((len(indices) * 3, 4), np.float32)
         corners[:, :3] = np.asarray(vertices, np.float32)[np.asarray(indices).ravel()]
         # A triangle of zero area is never hit (its corners as float32, exactly in float64).
