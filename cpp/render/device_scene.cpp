@@ -23,11 +23,11 @@ cl::Buffer DeviceScene::upload(const cl::Context& context, cl::CommandQueue& que
 DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
                          bool with_normals) {
   const TriangleMesh& mesh = scene.mesh();
-  const std::vector<glm::vec3> positions = scene.local_positions();  // the tree's frame
+  const glm::vec3 origin = scene.render_origin();  // the tree's frame
   std::vector<cl_float4> corners;
   corners.reserve(mesh.triangles.size() * 3);
   for (const glm::uvec3& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) corners.push_back(to_float4(positions[t[k]]));
+    for (int k = 0; k < 3; ++k) corners.push_back(to_float4(mesh.positions[t[k]] - origin));
 
   try {
     nodes_ = upload(context, queue, tree.nodes);

@@ -89,20 +89,15 @@ Scene::Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera, 
   validate_masks(masks_, mesh_.triangles.size(), name_);
 }
 
-std::vector<glm::vec3> Scene::local_positions() const {
-  std::vector<glm::vec3> local;
-  local.reserve(mesh_.positions.size());
-  for (const glm::vec3& p : mesh_.positions) local.push_back(p - render_origin_);
-  return local;
-}
 
 Camera Scene::default_camera(float aspect) const { return camera_ ? *camera_ : Camera::framing(bounds_, aspect); }
 
 std::shared_ptr<const KdTree> Scene::kd_tree() const {
   std::lock_guard<std::mutex> lock(tree_mutex_);
   if (!tree_) {
-    TriangleMesh local;
-    local.positions = local_positions();
+    TriangleMesh local;  // the tree is in the device's frame
+    local.positions.reserve(mesh_.positions.size());
+    for (const glm::vec3& p : mesh_.positions) local.positions.push_back(p - render_origin_);
     local.triangles = mesh_.triangles;
     tree_ = std::make_shared<const KdTree>(build_kd_tree(local));
   }

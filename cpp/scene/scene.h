@@ -37,8 +37,6 @@ class Scene {
   // surface then scales with the scene's size, not its distance from the world
   // origin, so a scene renders the same wherever it is placed.
   const glm::vec3& render_origin() const { return render_origin_; }
-  // The vertex positions relative to render_origin(): what the kd-tree and the device hold.
-  std::vector<glm::vec3> local_positions() const;
   const std::string& name() const { return name_; }
   const std::optional<Camera>& camera() const { return camera_; }
   // What the loader skipped or repaired, and a scene placed too far from the

@@ -50,8 +50,8 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
         raise TypeError(f"reference must be an mbao.Reference, got {type(reference).__name__}")
     methods = _method_names(methods)
     rows = []
-    runs = [(name, cost) for name in methods for cost in (time_budgets or sample_counts)]
-    with progress_bar(_checks.boolean("progress", progress), len(runs), "convergence", "render") as bar:
+    renders = len(methods) * len(time_budgets or sample_counts)
+    with progress_bar(_checks.boolean("progress", progress), renders, "convergence", "render") as bar:
         for name in methods:
             measure = _budgets if time_budgets is not None else _costs
             rows += measure(scene, name, reference, time_budgets or sample_counts, seed, device, bar)
