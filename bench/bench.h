@@ -47,6 +47,8 @@ json kernel_builds(const Options& options);
 json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 // Load time and peak memory of each glTF scene: mbao's loader against loading everything.
 json loading(const std::vector<BenchScene>& scenes, const Options& options);
+// The kd-tree clipped everywhere against the default: build time, tree and per-ray counts.
+json kd_builds(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 // Megakernel against wavefront on the Table 1 workload, interleaved, at each of --work-groups.
 json organisation(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 

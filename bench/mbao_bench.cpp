@@ -9,10 +9,12 @@
 // * kernel build time in a fresh process, cold and warm;
 // * load time and peak memory of each scene against loading everything;
 // * the Table 1 workload with the megakernel and the wavefront, interleaved, at
-//   each work-group size of --work-groups (default: the default size).
+//   each work-group size of --work-groups (default: the default size);
+// * the kd-tree clipped everywhere against the default (build time, tree,
+//   per-ray counts).
 // Prints markdown tables and writes everything as JSON. --sections picks some
-// of table1, traversals, embree, masks, kernel-builds, loading, organisation
-// (default: all).
+// of table1, traversals, embree, masks, kernel-builds, loading, organisation,
+// kd-build (default: all).
 //
 //   mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]
 //              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]
@@ -43,7 +45,7 @@ namespace {
   std::exit(2);
 }
 
-const std::vector<std::string> kSections = {"table1", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation"};
+const std::vector<std::string> kSections = {"table1", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation", "kd-build"};
 
 std::vector<std::string> split_commas(const std::string& list) {
   std::vector<std::string> items;
@@ -165,6 +167,7 @@ int run(bench::Options options) {
   if (wanted(options, "kernel-builds")) report["kernel_builds"] = bench::kernel_builds(options);
   if (wanted(options, "loading")) report["loading"] = bench::loading(scenes, options);
   if (wanted(options, "organisation")) report["organisation"] = bench::organisation(renderer, scenes, options);
+  if (wanted(options, "kd-build")) report["kd_build"] = bench::kd_builds(renderer, scenes, options);
   if (!options.json_path.empty()) {
     const fs::path path(options.json_path);
     if (path.has_parent_path()) fs::create_directories(path.parent_path());

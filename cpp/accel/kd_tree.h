@@ -20,6 +20,13 @@ struct KdBuildOptions {
   double empty_bonus = 0.2;        // cost discount of a split that cuts off empty space
   int max_depth = 0;               // 0: 8 + 1.3 log2(N), as pbrt; at most MBAO_KD_MAX_DEPTH
   double reference_budget = 32.0;  // leaf entries per triangle the tree may hold, at most
+  // Nodes with at least this many triangles clip straddling triangles to the
+  // children's cells ("perfect splits"); smaller ones cut a straddler's box at
+  // the plane. Near the leaves clipping costs a fifth of the build and buys
+  // little: with 16, Sponza's tree builds in about four fifths of the time of
+  // clipping everywhere, and the benchmark's AO rays visit 0.7% fewer nodes and
+  // test 5% more triangles (README, "The kd-trees").
+  std::size_t min_triangles_to_clip = 16;
   int threads = 0;                 // 0: one per hardware thread; the tree is the same for any number
 };
 

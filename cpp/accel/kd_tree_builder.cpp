@@ -2,7 +2,9 @@
 // for ray tracing, and on doing that in O(N log N)" (2006): split events are
 // sorted once per axis and then split, in order, between the children.
 //
-// Straddling triangles are clipped to the children's cells ("perfect splits").
+// In nodes of at least KdBuildOptions::min_triangles_to_clip triangles,
+// straddling triangles are clipped to the children's cells ("perfect splits");
+// below that their boxes are cut at the split plane.
 // Two choices differ from the paper, both for exact traversal:
 // * A triangle goes into every child whose closed cell it touches, so a ray
 //   that lies in a split plane finds everything on that plane.
@@ -207,7 +209,8 @@ class Builder {
     Bounds3 below_box = box, above_box = box;
     below_box.hi[split.axis] = split.position;
     above_box.lo[split.axis] = split.position;
-    Children children = partition(events, split, below_box, above_box, scratch);
+    Children children = n >= options_.min_triangles_to_clip ? partition(events, split, below_box, above_box, scratch)
+                                                             : partition_cutting_boxes(events, split, scratch);
     const double entries = double(children.n_below) + double(children.n_above);
     if (entries > share.budget) {
       make_leaf(tree, box, events);
@@ -282,9 +285,10 @@ class Builder {
       };
       std::size_t starts_before = 0, ends_before = 0;
       for (const Event *e = events.begin(axis), *end = events.end(axis); e != end;) {
-        const float p = e->position;
+        const std::uint32_t at = e->position_order();
+        const float p = e->position();
         std::array<std::size_t, 3> count{};  // by EventType
-        for (; e != end && e->position == p; ++e) ++count[e->key >> 30];
+        for (; e != end && e->position_order() == at; ++e) ++count[std::size_t(e->type())];
         const std::size_t planar = count[std::size_t(EventType::Planar)];
         consider(p - min_width_, starts_before, n - ends_before);
         starts_before += count[std::size_t(EventType::Start)] + planar;
@@ -324,7 +328,7 @@ class Builder {
     children.below = NodeEvents(6 * children.n_below);
     children.above = NodeEvents(6 * children.n_above);
     for (int axis = 0; axis < 3; ++axis)
-      merge_sides(events, axis, side, scratch.clipped_below[axis], scratch.clipped_above[axis], children);
+      merge_sides(events, axis, side, scratch.clipped_below[axis], scratch.clipped_above[axis], children, false);
     return children;
   }
 
@@ -335,12 +339,67 @@ class Builder {
     for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
       const std::uint32_t t = e->triangle();
       const EventType type = e->type();
-      if (e->position < split.position) {
+      const float position = e->position();
+      if (position < split.position) {
         side[t] = type == EventType::Start ? Both : Below;
       } else if (type != EventType::End) {
-        side[t] = e->position > split.position ? Above : Both;
+        side[t] = position > split.position ? Above : Both;
       }
     }
+  }
+
+  // Like partition, but a straddling triangle's box is cut at the split: its
+  // interval [s, e] along the split axis becomes [s, split] below and
+  // [split, e] above (planar where that is one point), and its events along
+  // the other axes go to both children as they are.
+  Children partition_cutting_boxes(const NodeEvents& events, const Split& split, Scratch& scratch) const {
+    Side* side = scratch.side.get();
+    classify(events, split, side);
+    std::vector<Event>& below = scratch.clipped_below[std::size_t(split.axis)];
+    std::vector<Event>& above = scratch.clipped_above[std::size_t(split.axis)];
+    below.clear();
+    above.clear();
+    Children children;
+    for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
+      const std::uint32_t t = e->triangle();
+      const EventType type = e->type();
+      if (side[t] != Both) {
+        (side[t] == Below ? children.n_below : children.n_above) += type != EventType::End;
+      } else if (type == EventType::Planar) {  // on the split plane
+        below.push_back(*e);
+        above.push_back(*e);
+        ++children.n_below;
+        ++children.n_above;
+      } else if (type == EventType::Start) {  // s <= split
+        ++children.n_below;
+        ++children.n_above;
+        if (e->position() < split.position) {
+          below.push_back(*e);
+          below.push_back(Event::make(split.position, EventType::End, t));
+        } else {
+          below.push_back(Event::make(split.position, EventType::Planar, t));
+        }
+      } else if (e->position() > split.position) {  // e > split
+        above.push_back(Event::make(split.position, EventType::Start, t));
+        above.push_back(*e);
+      } else {  // e == split
+        above.push_back(Event::make(split.position, EventType::Planar, t));
+      }
+    }
+    children.below = NodeEvents(6 * children.n_below);
+    children.above = NodeEvents(6 * children.n_above);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (axis == split.axis) {
+        merge_sides(events, axis, side, below, above, children, false);
+      } else {
+        std::vector<Event>& none_below = scratch.clipped_below[std::size_t(axis)];
+        std::vector<Event>& none_above = scratch.clipped_above[std::size_t(axis)];
+        none_below.clear();
+        none_above.clear();
+        merge_sides(events, axis, side, none_below, none_above, children, true);
+      }
+    }
+    return children;
   }
 
   // Adds the events of the part of triangle t inside `cell`, if any; returns
@@ -354,27 +413,36 @@ class Builder {
   }
 
   // The children's events along `axis`: the parent's events of triangles
-  // wholly on one side go to that side, merged with the clipped triangles'
-  // new events. One pass over the parent's events fills both children.
+  // wholly on one side go to that side (and with `both_to_both`, those of
+  // triangles on both sides to both), merged with the clipped triangles' new
+  // events. One pass over the parent's events fills both children.
   static void merge_sides(const NodeEvents& parent, int axis, const Side* side, std::vector<Event>& clipped_below,
-                          std::vector<Event>& clipped_above, Children& children) {
-    std::sort(clipped_below.begin(), clipped_below.end());
-    std::sort(clipped_above.begin(), clipped_above.end());
-    auto extra_below = clipped_below.begin(), extra_above = clipped_above.begin();
-    for (const Event *e = parent.begin(axis), *end = parent.end(axis); e != end; ++e) {
-      const Side s = side[e->triangle()];
-      if (s == Below) {
-        for (; extra_below != clipped_below.end() && *extra_below < *e; ++extra_below) children.below.push(*extra_below);
-        children.below.push(*e);
-      } else if (s == Above) {
-        for (; extra_above != clipped_above.end() && *extra_above < *e; ++extra_above) children.above.push(*extra_above);
-        children.above.push(*e);
-      }
+                          std::vector<Event>& clipped_above, Children& children, bool both_to_both) {
+    // A sentinel above every event ends each run of new events without a bounds check.
+    for (std::vector<Event>* clipped : {&clipped_below, &clipped_above}) {
+      std::sort(clipped->begin(), clipped->end());
+      clipped->push_back(Event::after_all());
     }
-    for (; extra_below != clipped_below.end(); ++extra_below) children.below.push(*extra_below);
-    for (; extra_above != clipped_above.end(); ++extra_above) children.above.push(*extra_above);
-    children.below.close_axis(axis);
-    children.above.close_axis(axis);
+    const Event *extra_below = clipped_below.data(), *extra_above = clipped_above.data();
+    Event* below = children.below.next_slot();
+    Event* above = children.above.next_slot();
+    // The side an event goes to is a coin flip to the branch predictor: each
+    // event is written to both children and kept where it belongs.
+    const std::array<std::uint8_t, 3> keep_below{1, 0, both_to_both}, keep_above{0, 1, both_to_both};  // by Side
+    for (const Event *e = parent.begin(axis), *end = parent.end(axis); e != end; ++e) {
+      const Event event = *e;
+      while (*extra_below < event) *below++ = *extra_below++;
+      while (*extra_above < event) *above++ = *extra_above++;
+      const Side s = side[event.triangle()];
+      *below = event;
+      below += keep_below[s];
+      *above = event;
+      above += keep_above[s];
+    }
+    below = std::copy(extra_below, static_cast<const Event*>(&clipped_below.back()), below);
+    above = std::copy(extra_above, static_cast<const Event*>(&clipped_above.back()), above);
+    children.below.close_axis(axis, below);
+    children.above.close_axis(axis, above);
   }
 
   void make_leaf(KdTree& tree, const Bounds3& box, const NodeEvents& events) const {

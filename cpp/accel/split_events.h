@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 
 #include "scene/bounds.h"
@@ -17,24 +18,45 @@ enum class EventType : std::uint32_t { End = 0, Planar = 1, Start = 2 };
 // Triangle indices share a word with the event type.
 constexpr std::uint32_t kMaxEventTriangle = (1u << 30) - 1u;
 
-// 8 bytes: the build streams hundreds of millions of these.
+// 8 bytes: the build streams hundreds of millions of these. One 64-bit word
+// whose integer order is the events' order: the position's bits, mapped so that
+// they order as the floats do, above the type, above the triangle. Sorting and
+// merging thus compare one integer, and equal positions have equal top halves.
 struct Event {
-  float position;
-  std::uint32_t key;  // type in the top two bits, triangle below
+  std::uint64_t bits;
 
   static Event make(float position, EventType type, std::uint32_t triangle) {
-    return {position, (std::uint32_t(type) << 30) | triangle};
+    const std::uint32_t key = (std::uint32_t(type) << 30) | triangle;
+    return {(std::uint64_t(ordered_bits(position)) << 32) | key};
   }
-  EventType type() const { return EventType(key >> 30); }
-  std::uint32_t triangle() const { return key & kMaxEventTriangle; }
+  // Orders after every event of a real position (its top half would be a NaN's).
+  static Event after_all() { return {~std::uint64_t(0)}; }
+  float position() const { return float_of_ordered(std::uint32_t(bits >> 32)); }
+  std::uint32_t position_order() const { return std::uint32_t(bits >> 32); }
+  EventType type() const { return EventType((bits >> 30) & 3u); }
+  std::uint32_t triangle() const { return std::uint32_t(bits) & kMaxEventTriangle; }
+
+ private:
+  // Positive floats get the top bit set, negative ones all bits flipped; -0 is
+  // made +0 first so that the two zeros are one position.
+  static std::uint32_t ordered_bits(float position) {
+    const float canonical = position + 0.0f;
+    std::uint32_t b;
+    std::memcpy(&b, &canonical, sizeof b);
+    return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+  }
+  static float float_of_ordered(std::uint32_t o) {
+    const std::uint32_t b = (o & 0x80000000u) ? (o & 0x7fffffffu) : ~o;
+    float position;
+    std::memcpy(&position, &b, sizeof position);
+    return position;
+  }
 };
 
 // By position; at one position ends before planar before starts (what the
 // sweep counts relies on), then by triangle, so that the order is total and
 // the tree the same whatever sorted the events.
-inline bool operator<(const Event& a, const Event& b) {
-  return a.position < b.position || (a.position == b.position && a.key < b.key);
-}
+inline bool operator<(const Event& a, const Event& b) { return a.bits < b.bits; }
 
 // Hands `push` the events of `box` along `axis`: a start and an end, or one
 // planar event.
@@ -55,7 +77,9 @@ void for_box_events(int axis, const Bounds3& box, std::uint32_t triangle, Push&&
 class NodeEvents {
  public:
   NodeEvents() = default;
-  explicit NodeEvents(std::size_t capacity) : events_(new Event[capacity]), capacity_(capacity) {}
+  // One slot more than asked for: a writer may store an event before it knows
+  // whether to keep it (see next_slot).
+  explicit NodeEvents(std::size_t capacity) : events_(new Event[capacity + 1]), capacity_(capacity) {}
 
   const Event* begin(int axis) const { return events_.get() + start_[std::size_t(axis)]; }
   const Event* end(int axis) const { return events_.get() + start_[std::size_t(axis) + 1]; }
@@ -69,6 +93,14 @@ class NodeEvents {
     events_[size_++] = e;
   }
   void close_axis(int axis) { start_[std::size_t(axis) + 1] = size_; }
+  // Filling by pointer: write from next_slot() on, then close the axis at the
+  // pointer past the last event kept.
+  Event* next_slot() { return events_.get() + size_; }
+  void close_axis(int axis, const Event* filled_to) {
+    size_ = std::size_t(filled_to - events_.get());
+    assert(size_ <= capacity_);
+    close_axis(axis);
+  }
 
   void push_box(int axis, const Bounds3& box, std::uint32_t triangle) {
     for_box_events(axis, box, triangle, [this](const Event& e) { push(e); });
@@ -76,7 +108,8 @@ class NodeEvents {
 
  private:
   std::unique_ptr<Event[]> events_;
-  std::size_t capacity_ = 0, size_ = 0;
+  [[maybe_unused]] std::size_t capacity_ = 0;  // for the asserts
+  std::size_t size_ = 0;
   std::array<std::size_t, 4> start_{};
 };
 

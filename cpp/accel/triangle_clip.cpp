@@ -16,7 +16,9 @@ struct Polygon {
 
 // Keeps the part of `polygon` with sign * (p[axis] - plane) <= 0.
 void clip(Polygon& polygon, int axis, double plane, double sign) {
-  const Polygon in = polygon;
+  Polygon in;  // only the corners in use: most polygons have 3 or 4
+  in.size = polygon.size;
+  std::copy_n(polygon.points.begin(), polygon.size, in.points.begin());
   polygon.size = 0;
   for (int i = 0; i < in.size; ++i) {
     const glm::dvec3& a = in.points[i];

@@ -99,9 +99,15 @@ std::shared_ptr<const KdTree> Scene::kd_tree() const {
     local.positions.reserve(mesh_.positions.size());
     for (const glm::vec3& p : mesh_.positions) local.positions.push_back(p - render_origin_);
     local.triangles = mesh_.triangles;
-    tree_ = std::make_shared<const KdTree>(build_kd_tree(local));
+    tree_ = std::make_shared<const KdTree>(build_kd_tree(local, kd_build_options_));
   }
   return tree_;
+}
+
+void Scene::set_kd_build_options(const KdBuildOptions& options) {
+  std::lock_guard<std::mutex> lock(tree_mutex_);
+  if (tree_) throw std::logic_error("scene " + name_ + ": its kd-tree is built already");
+  kd_build_options_ = options;
 }
 
 bool Scene::has_kd_tree() const {

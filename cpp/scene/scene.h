@@ -50,6 +50,8 @@ class Scene {
 
   std::shared_ptr<const KdTree> kd_tree() const;
   bool has_kd_tree() const;
+  // How kd_tree() builds the tree. Only before it is built: throws std::logic_error after.
+  void set_kd_build_options(const KdBuildOptions& options);
 
  private:
   TriangleMesh mesh_;
@@ -60,6 +62,7 @@ class Scene {
   std::optional<Camera> camera_;
   std::vector<std::string> warnings_;
   std::uint64_t id_;
+  KdBuildOptions kd_build_options_;
   mutable std::mutex tree_mutex_;
   mutable std::shared_ptr<const KdTree> tree_;
 };

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "accel/kd_tree.h"
+#include "accel/split_events.h"
 #include "accel/triangle_clip.h"
 #include "mbao/limits.h"
 #include "scene/cornell_box.h"
@@ -219,6 +220,25 @@ bool same_tree(const KdTree& a, const KdTree& b) {
   return true;
 }
 
+// The sweep and the merges rely on one integer comparison giving the events'
+// order: by position as floats order (the two zeros one position), then ends
+// before planars before starts, then by triangle.
+TEST(SplitEvent, IntegerOrderIsPositionThenTypeThenTriangle) {
+  const std::vector<float> positions{-std::numeric_limits<float>::max(), -1e20f, -2.0f, -1.0f, -1e-30f,
+                                     -std::numeric_limits<float>::denorm_min(), 0.0f,
+                                     std::numeric_limits<float>::denorm_min(), 1e-30f, 1.0f, 3.5f, 1e30f,
+                                     std::numeric_limits<float>::max()};
+  std::vector<Event> events;
+  for (float p : positions)
+    for (EventType type : {EventType::End, EventType::Planar, EventType::Start})
+      for (std::uint32_t triangle : {0u, 7u, kMaxEventTriangle}) events.push_back(Event::make(p, type, triangle));
+  EXPECT_TRUE(std::is_sorted(events.begin(), events.end()));
+  for (std::size_t i = 1; i < events.size(); ++i) EXPECT_LT(events[i - 1], events[i]) << "at " << i;
+  for (const Event& e : events) EXPECT_EQ(Event::make(e.position(), e.type(), e.triangle()).bits, e.bits);
+  EXPECT_EQ(Event::make(-0.0f, EventType::Start, 3).bits, Event::make(0.0f, EventType::Start, 3).bits);
+  EXPECT_LT(events.back(), Event::after_all());
+}
+
 TEST(KdNode, WordsRoundTrip) {
   const KdNode interior = kd_make_interior(2, -3.25f, 123456);
   EXPECT_FALSE(kd_is_leaf(interior));
@@ -263,6 +283,21 @@ TEST(KdTree, RandomSoupsKeepTheLeafContract) {
     const KdTree tree = checked_tree(mesh);
     EXPECT_GT(tree.stats.leaves, 100u);
     EXPECT_LT(tree.stats.sah_cost, KdBuildOptions{}.intersection_cost * double(mesh.triangles.size()) / 20.0);
+  }
+}
+
+// Clipping everywhere, nowhere, and (the default) only in the larger nodes.
+std::vector<KdBuildOptions> clipping_variants() {
+  KdBuildOptions everywhere, nowhere;
+  everywhere.min_triangles_to_clip = 0;
+  nowhere.min_triangles_to_clip = std::numeric_limits<std::size_t>::max();
+  return {everywhere, nowhere, KdBuildOptions{}};
+}
+
+TEST(KdTree, CutBoxesKeepTheLeafContractWithOrWithoutClipping) {
+  for (const KdBuildOptions& options : clipping_variants()) {
+    checked_tree(random_soup(3000, 5), options);
+    checked_tree(axis_aligned_grid(8), options);
   }
 }
 

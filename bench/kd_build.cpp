@@ -1,0 +1,88 @@
+// The kd-tree build: clipping straddling triangles everywhere ("perfect
+// splits") against the default, which clips only in the larger nodes. Build
+// time (interleaved, all threads), the trees, and what the trees cost the
+// Table 1 workload's rays.
+#include <iostream>
+
+#include "bench.h"
+#include "core/timer.h"
+
+namespace bench {
+namespace {
+
+struct Variant {
+  std::string name;
+  mbao::KdBuildOptions options;
+};
+
+std::vector<Variant> variants() {
+  mbao::KdBuildOptions everywhere;
+  everywhere.min_triangles_to_clip = 0;
+  const mbao::KdBuildOptions defaults;
+  return {{"clip everywhere", everywhere},
+          {"clip at >= " + std::to_string(defaults.min_triangles_to_clip) + " triangles (default)", defaults}};
+}
+
+json tree_json(const mbao::KdTreeStats& tree) {
+  return {{"nodes", tree.nodes},          {"leaves", tree.leaves}, {"leaf_references", tree.leaf_references},
+          {"max_depth", tree.max_depth}, {"sah_cost", tree.sah_cost}, {"memory_bytes", tree.memory_bytes}};
+}
+
+// A copy of the scene whose tree is built with `options`.
+std::shared_ptr<mbao::Scene> rebuilt(const BenchScene& s, const mbao::KdBuildOptions& options) {
+  auto scene = std::make_shared<mbao::Scene>(s.scene->mesh(), s.name, s.scene->camera(), std::vector<std::string>{},
+                                             s.scene->masks());
+  scene->set_kd_build_options(options);
+  return scene;
+}
+
+}  // namespace
+
+json kd_builds(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options) {
+  std::cout << "| scene | triangles | tree | build ms | nodes | leaf references | SAH cost | per ray (b=2): nodes"
+               " | leaves | triangle tests |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  const std::vector<Variant> tried = variants();
+  json rows = json::array();
+  for (const BenchScene& s : scenes) {
+    std::vector<std::vector<double>> build_ms(tried.size());
+    std::vector<mbao::KdTreeStats> trees(tried.size());
+    for (int frame = 0; frame < options.frames; ++frame)
+      for (std::size_t v = 0; v < tried.size(); ++v) {
+        trees[v] = mbao::build_kd_tree(s.scene->mesh(), tried[v].options).stats;
+        build_ms[v].push_back(trees[v].build_ms);
+      }
+    json row = {{"scene", s.name}, {"triangles", s.scene->mesh().triangles.size()}, {"trees", json::array()}};
+    for (std::size_t v = 0; v < tried.size(); ++v) {
+      mbao::RenderSettings settings = options.settings;
+      settings.bounces = 2;
+      settings.count_traversal = true;
+      const BenchScene copy{s.name, rebuilt(s, tried[v].options), s.camera, s.file, s.load_ms};
+      const json counts = per_ray_counts(renderer.render(copy.scene, copy.camera, settings).stats);
+      const double ms = median(build_ms[v]);
+      std::cout << "| " << s.name << " | " << s.scene->mesh().triangles.size() << " | " << tried[v].name << " | "
+                << fixed(ms, 1) << " | " << trees[v].nodes << " | " << trees[v].leaf_references << " | "
+                << fixed(trees[v].sah_cost, 2) << " | " << fixed(counts["nodes_per_ray"], 2) << " | "
+                << fixed(counts["leaves_per_ray"], 2) << " | " << fixed(counts["triangles_per_ray"], 2) << " |"
+                << std::endl;
+      row["trees"].push_back({{"tree", tried[v].name},
+                              {"min_triangles_to_clip", tried[v].options.min_triangles_to_clip},
+                              {"build_ms", ms},
+                              {"build_ms_all", build_ms[v]},
+                              {"stats", tree_json(trees[v])},
+                              {"per_ray", counts}});
+    }
+    // Builds next to each other share the machine's state: compare them pairwise.
+    std::vector<double> ratios;
+    for (int frame = 0; frame < options.frames; ++frame) ratios.push_back(build_ms[1][frame] / build_ms[0][frame]);
+    row["build_ratio"] = median(ratios);
+    std::cout << "| " << s.name << " | | default / clip everywhere, build time | " << fixed(median(ratios), 2)
+              << " | | | | | | |" << std::endl;
+    rows.push_back(row);
+  }
+  std::cout << "\nBuild ms: median of " << options.frames
+            << " builds of each tree, interleaved, on every hardware thread (the ratio: median over the pairs);"
+               " per-ray counts: Table 1 configuration, b = 2, max_distance = inf.\n\n";
+  return rows;
+}
+
+}  // namespace bench
