@@ -75,7 +75,15 @@ struct Scratch {
   explicit Scratch(std::size_t triangles) : side(new Side[triangles]) {}
 
   std::unique_ptr<Side[]> side;  // by triangle index
+  // New events of straddling triangles, by axis, before they are merged in.
   std::array<std::vector<Event>, 3> clipped_below, clipped_above;
+
+  void clear_new_events() {
+    for (int axis = 0; axis < 3; ++axis) {
+      clipped_below[axis].clear();
+      clipped_above[axis].clear();
+    }
+  }
 };
 
 struct Children {
@@ -308,10 +316,7 @@ class Builder {
                      const Bounds3& above_box, Scratch& scratch) const {
     Side* side = scratch.side.get();
     classify(events, split, side);
-    for (int axis = 0; axis < 3; ++axis) {
-      scratch.clipped_below[axis].clear();
-      scratch.clipped_above[axis].clear();
-    }
+    scratch.clear_new_events();
     Children children;
     for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
       if (e->type() == EventType::End) continue;
@@ -325,10 +330,7 @@ class Builder {
         children.n_above += clip_into(t, above_box, scratch.clipped_above);
       }
     }
-    children.below = NodeEvents(6 * children.n_below);
-    children.above = NodeEvents(6 * children.n_above);
-    for (int axis = 0; axis < 3; ++axis)
-      merge_sides(events, axis, side, scratch.clipped_below[axis], scratch.clipped_above[axis], children, false);
+    fill_children(events, side, -1, scratch, children);
     return children;
   }
 
@@ -355,10 +357,9 @@ class Builder {
   Children partition_cutting_boxes(const NodeEvents& events, const Split& split, Scratch& scratch) const {
     Side* side = scratch.side.get();
     classify(events, split, side);
+    scratch.clear_new_events();
     std::vector<Event>& below = scratch.clipped_below[std::size_t(split.axis)];
     std::vector<Event>& above = scratch.clipped_above[std::size_t(split.axis)];
-    below.clear();
-    above.clear();
     Children children;
     for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
       const std::uint32_t t = e->triangle();
@@ -386,19 +387,7 @@ class Builder {
         above.push_back(Event::make(split.position, EventType::Planar, t));
       }
     }
-    children.below = NodeEvents(6 * children.n_below);
-    children.above = NodeEvents(6 * children.n_above);
-    for (int axis = 0; axis < 3; ++axis) {
-      if (axis == split.axis) {
-        merge_sides(events, axis, side, below, above, children, false);
-      } else {
-        std::vector<Event>& none_below = scratch.clipped_below[std::size_t(axis)];
-        std::vector<Event>& none_above = scratch.clipped_above[std::size_t(axis)];
-        none_below.clear();
-        none_above.clear();
-        merge_sides(events, axis, side, none_below, none_above, children, true);
-      }
-    }
+    fill_children(events, side, split.axis, scratch, children);
     return children;
   }
 
@@ -410,6 +399,18 @@ class Builder {
     for (std::size_t axis = 0; axis < 3; ++axis)
       for_box_events(int(axis), *box, t, [&](const Event& e) { out[axis].push_back(e); });
     return true;
+  }
+
+  // Allocates the children's events and merges them in, axis by axis.
+  // `cut_axis`: the split axis where straddlers' boxes were cut (their events
+  // along the other axes then go to both children), or -1 where they were clipped.
+  static void fill_children(const NodeEvents& events, const Side* side, int cut_axis, Scratch& scratch,
+                            Children& children) {
+    children.below = NodeEvents(6 * children.n_below);
+    children.above = NodeEvents(6 * children.n_above);
+    for (int axis = 0; axis < 3; ++axis)
+      merge_sides(events, axis, side, scratch.clipped_below[std::size_t(axis)],
+                  scratch.clipped_above[std::size_t(axis)], children, cut_axis >= 0 && axis != cut_axis);
   }
 
   // The children's events along `axis`: the parent's events of triangles
