@@ -185,7 +185,8 @@ class Builder {
     return {mesh_.positions[v[0]], mesh_.positions[v[1]], mesh_.positions[v[2]]};
   }
 
-  // Every triangle of non-zero area, its events sorted (one axis per thread).
+  // Every triangle of non-zero area, its events made in triangle order and
+  // sorted (one axis per thread).
   NodeEvents root_events(std::size_t& placed) const {
     std::vector<std::uint32_t> kept;
     std::vector<Bounds3> boxes;
@@ -200,7 +201,8 @@ class Builder {
       for (std::size_t i = 0; i < kept.size(); ++i) events.push_box(axis, boxes[i], kept[i]);
       events.close_axis(axis);
     }
-    for_each_axis(threads_ > 1, [&events](int axis) { std::sort(events.begin(axis), events.end(axis)); });
+    for_each_axis(threads_ > 1,
+                  [&events](int axis) { sort_events_made_by_triangle(events.begin(axis), events.end(axis)); });
     return events;
   }
 

@@ -8,6 +8,7 @@
 #define MBAO_FN static inline
 #define MBAO_GLOBAL __global
 typedef uint mbao_u32;
+typedef ulong mbao_u64;
 typedef uchar mbao_u8;
 #define mbao_float_as_u32(x) as_uint(x)
 #define mbao_u32_as_float(x) as_float(x)
@@ -19,6 +20,7 @@ typedef uchar mbao_u8;
 #define MBAO_FN inline
 #define MBAO_GLOBAL
 typedef std::uint32_t mbao_u32;
+typedef std::uint64_t mbao_u64;
 typedef std::uint8_t mbao_u8;
 inline float mbao_floor(float x) { return std::floor(x); }
 inline mbao_u32 mbao_float_as_u32(float x) {

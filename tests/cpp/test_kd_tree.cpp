@@ -239,6 +239,29 @@ TEST(SplitEvent, IntegerOrderIsPositionThenTypeThenTriangle) {
   EXPECT_LT(events.back(), Event::after_all());
 }
 
+// The root's events are made triangle by triangle and radix-sorted on their
+// position and type alone: the result must be the full order all the same,
+// with many equal positions (grid values, both zeros) and planar events.
+TEST(SplitEvent, RadixSortOfEventsMadeByTriangleIsTheFullOrder) {
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int> grid(-40, 40);
+  std::uniform_real_distribution<float> anywhere(-1e6f, 1e6f);
+  std::vector<Event> events;
+  for (std::uint32_t t = 0; t < 20000; ++t) {
+    Bounds3 box;
+    const float a = t % 3 == 0 ? anywhere(random) : 0.25f * float(grid(random));
+    const float b = t % 5 == 0 ? a : (t % 7 == 0 ? -0.0f : 0.25f * float(grid(random)));
+    box.lo = glm::vec3(std::min(a, b));
+    box.hi = glm::vec3(std::max(a, b));
+    for_box_events(0, box, t, [&events](const Event& e) { events.push_back(e); });
+  }
+  std::vector<Event> expected = events;
+  std::sort(expected.begin(), expected.end());
+  sort_events_made_by_triangle(events.data(), events.data() + events.size());
+  ASSERT_EQ(events.size(), expected.size());
+  for (std::size_t i = 0; i < events.size(); ++i) ASSERT_EQ(events[i].bits, expected[i].bits) << "at " << i;
+}
+
 TEST(KdNode, WordsRoundTrip) {
   const KdNode interior = kd_make_interior(2, -3.25f, 123456);
   EXPECT_FALSE(kd_is_leaf(interior));
