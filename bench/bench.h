@@ -64,6 +64,8 @@ std::vector<float> distance_limits(const BenchScene& scene);
 // A distance limit in the JSON ("inf" or the number) and in the tables ("inf" or one decimal).
 json distance_json(float max_distance);
 std::string distance_text(float max_distance);
+// A kd-tree's size, shape and SAH cost.
+json tree_stats_json(const mbao::KdTreeStats& tree);
 // Nodes, leaves, triangle tests and restarts per ray of a render with count_traversal.
 json per_ray_counts(const mbao::RenderStats& counted);
 // Median frame over `frames` renders, after one untimed render that builds the

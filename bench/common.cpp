@@ -35,6 +35,17 @@ std::string distance_text(float max_distance) {
   return std::isinf(max_distance) ? std::string("inf") : fixed(max_distance, 1);
 }
 
+json tree_stats_json(const mbao::KdTreeStats& tree) {
+  return {{"nodes", tree.nodes},
+          {"leaves", tree.leaves},
+          {"empty_leaves", tree.empty_leaves},
+          {"max_depth", tree.max_depth},
+          {"mean_triangles_per_leaf", tree.mean_triangles_per_leaf},
+          {"leaf_references", tree.leaf_references},
+          {"sah_cost", tree.sah_cost},
+          {"memory_bytes", tree.memory_bytes}};
+}
+
 json per_ray_counts(const mbao::RenderStats& counted) {
   const double rays = double(counted.rays_primary + counted.rays_secondary);
   return {{"nodes_per_ray", double(counted.traversal->nodes) / rays},

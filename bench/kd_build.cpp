@@ -22,11 +22,6 @@ std::vector<Variant> variants() {
           {"clip at >= " + std::to_string(defaults.min_triangles_to_clip) + " triangles (default)", defaults}};
 }
 
-json tree_json(const mbao::KdTreeStats& tree) {
-  return {{"nodes", tree.nodes},          {"leaves", tree.leaves}, {"leaf_references", tree.leaf_references},
-          {"max_depth", tree.max_depth}, {"sah_cost", tree.sah_cost}, {"memory_bytes", tree.memory_bytes}};
-}
-
 // A copy of the scene whose tree is built with `options`.
 std::shared_ptr<mbao::Scene> rebuilt(const BenchScene& s, const mbao::KdBuildOptions& options) {
   auto scene = std::make_shared<mbao::Scene>(s.scene->mesh(), s.name, s.scene->camera(), std::vector<std::string>{},
@@ -66,7 +61,7 @@ json kd_builds(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, 
                               {"min_triangles_to_clip", tried[v].options.min_triangles_to_clip},
                               {"build_ms", ms},
                               {"build_ms_all", build_ms[v]},
-                              {"stats", tree_json(tree)},
+                              {"stats", tree_stats_json(tree)},
                               {"per_ray", counts}});
     }
     // Builds next to each other share the machine's state: compare them pairwise.

@@ -18,15 +18,7 @@ json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, con
                   {"masked_triangles", s.scene->masks().triangles.size()},
                   {"max_distance", distance_json(radius)},
                   {"build_ms", tree.build_ms},
-                  {"tree",
-                   {{"nodes", tree.nodes},
-                    {"leaves", tree.leaves},
-                    {"empty_leaves", tree.empty_leaves},
-                    {"max_depth", tree.max_depth},
-                    {"mean_triangles_per_leaf", tree.mean_triangles_per_leaf},
-                    {"leaf_references", tree.leaf_references},
-                    {"sah_cost", tree.sah_cost},
-                    {"memory_bytes", tree.memory_bytes}}},
+                  {"tree", tree_stats_json(tree)},
                   {"frames", json::array()}};
       for (int bounces : {1, 2}) {
         settings.bounces = bounces;

@@ -89,7 +89,6 @@ Scene::Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera, 
   validate_masks(masks_, mesh_.triangles.size(), name_);
 }
 
-
 Camera Scene::default_camera(float aspect) const { return camera_ ? *camera_ : Camera::framing(bounds_, aspect); }
 
 std::shared_ptr<const KdTree> Scene::kd_tree() const {
