@@ -57,6 +57,9 @@ typedef struct TraversalCounts {
 #ifndef MBAO_COUNT_TRAVERSAL
 #define MBAO_COUNT_TRAVERSAL 0
 #endif
+#ifndef MBAO_LOAD_BOTH_CHILDREN
+#define MBAO_LOAD_BOTH_CHILDREN 0
+#endif
 #if MBAO_COUNT_TRAVERSAL
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #define MBAO_COUNT(counts, field, n) ((counts)->field += (n))
@@ -101,13 +104,72 @@ static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, Kd
   return 0;
 }
 
+#if MBAO_STACK_SIZE > 0
+// The far children a descent passed by, with their intervals; one slot more
+// than the stack holds, written by the steps that push nothing (a descent
+// step does not branch on whether it pushes).
+typedef struct FarStack {
+  uint node[MBAO_STACK_SIZE + 1];
+  float t_lo[MBAO_STACK_SIZE + 1], t_hi[MBAO_STACK_SIZE + 1];
+  uint top;    // next free slot
+  uint count;  // entries held (the short stack overwrites its oldest)
+} FarStack;
+
+static inline void far_stack_push_if(FarStack* stack, uint push, uint node, float t_lo, float t_hi) {
+#if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
+  // It holds at most one entry per tree level, so top never passes the spare slot.
+  const uint slot = stack->top;
+  stack->top += push;
+#else
+  const uint slot = push ? stack->top : MBAO_STACK_SIZE;
+  stack->top = (stack->top + push) & (MBAO_STACK_SIZE - 1);
+  stack->count = min(stack->count + push, (uint)MBAO_STACK_SIZE);
+#endif
+  stack->node[slot] = node;
+  stack->t_lo[slot] = t_lo;
+  stack->t_hi[slot] = t_hi;
+}
+
+static inline int far_stack_is_empty(const FarStack* stack) {
+#if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
+  return stack->top == 0;
+#else
+  return stack->count == 0;
+#endif
+}
+
+static inline int far_stack_pop(FarStack* stack, uint* node, float* t_lo, float* t_hi) {
+  if (far_stack_is_empty(stack)) return 0;
+#if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
+  --stack->top;
+#else
+  stack->top = (stack->top - 1) & (MBAO_STACK_SIZE - 1);
+  --stack->count;
+#endif
+  *node = stack->node[stack->top];
+  *t_lo = stack->t_lo[stack->top];
+  *t_hi = stack->t_hi[stack->top];
+  return 1;
+}
+#endif
+
 // Finds the closest hit with 0 < t <= t_max (ties go to the lower triangle id),
 // or with any_hit, any hit in that range. Returns 1 on a hit; *hit is no_hit()
 // on a miss.
+//
+// A descent step picks its child and pushes with selects, not with if/else on
+// the ray's data: AO rays take either side of a split at random, and such
+// branches go wrong about every other step. With MBAO_LOAD_BOTH_CHILDREN (the full stack on CPUs) it also
+// loads both children before the choice, so that the next node's fetch
+// overlaps the step's arithmetic instead of following it (README, "Side by
+// side with Embree", has the measurements).
 static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, float t_max,
                             int any_hit, Hit* hit, TraversalCounts* counts) {
   *hit = no_hit();
-  const float3 inv_dir = 1.0f / dir;
+  // From +0 where a component is -0: the descent takes the near child from the
+  // sign of dir and the plane's distance from inv_dir, and for a ray parallel
+  // to a plane the two must agree.
+  const float3 inv_dir = 1.0f / (dir + 0.0f);
   float t_enter, t_exit;
   if (!clip_to_box(origin, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, t_max, &t_enter,
                    &t_exit))
@@ -116,30 +178,25 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
   // Per axis, for the descent: indexing an array costs one load, picking a
   // vector component by a run-time axis a chain of selects.
   const float origin_of[3] = {origin.x, origin.y, origin.z};
-  const float dir_of[3] = {dir.x, dir.y, dir.z};
   const float inv_dir_of[3] = {inv_dir.x, inv_dir.y, inv_dir.z};
+  const uint heads_down_of[3] = {dir.x < 0.0f, dir.y < 0.0f, dir.z < 0.0f};
 
   Hit best = no_hit();
   best.t = t_max;
   uint start_node = 0;
   float t_lo = t_enter;
-  int resumed = 0;  // past the first leaf: zero-length intervals may be skipped
+  uint resumed = 0;  // past the first leaf: zero-length intervals may be skipped
 #if MBAO_STACK_SIZE > 0
-  uint stack_node[MBAO_STACK_SIZE];
-  float stack_lo[MBAO_STACK_SIZE], stack_hi[MBAO_STACK_SIZE];
-  uint stack_top = 0, stack_count = 0;  // next free slot; entries held (the oldest are overwritten)
+  FarStack stack;
+  stack.top = 0;
+  stack.count = 0;
 #endif
   for (;;) {
     uint index;
     float t_hi;
-    int whole_interval_inside;  // so far, the walk's whole remaining interval lies in `index`'s cell
+    uint whole_interval_inside;  // so far, the walk's whole remaining interval lies in `index`'s cell
 #if MBAO_STACK_SIZE > 0
-    if (stack_count > 0) {
-      stack_top = (stack_top - 1) & (MBAO_STACK_SIZE - 1);
-      --stack_count;
-      index = stack_node[stack_top];
-      t_lo = stack_lo[stack_top];
-      t_hi = stack_hi[stack_top];
+    if (far_stack_pop(&stack, &index, &t_lo, &t_hi)) {
       whole_interval_inside = 0;
     } else
 #endif
@@ -154,36 +211,36 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
     MBAO_COUNT(counts, nodes, 1);
     while (!kd_is_leaf(node)) {
       const uint axis = kd_axis(node);
-      const float split = kd_split(node);
-      const float o = origin_of[axis];
-      const float d = dir_of[axis];
-      const float t_split = (split - o) * inv_dir_of[axis];
-      const int below_first = (o < split) || (o == split && d <= 0.0f);
+      const float t_split = (kd_split(node) - origin_of[axis]) * inv_dir_of[axis];
       const uint below = index + 1;
       const uint above = kd_above_child(node);
-      const uint first = below_first ? below : above;
-      const uint second = below_first ? above : below;
-      // NaN t_split (a ray lying in the plane) goes to the first child only.
-      if (!(t_split > 0.0f) || t_split > t_hi) {
-        index = first;
-      } else if (t_split < t_lo || (resumed && t_split == t_lo)) {
-        index = second;
-      } else {
+      const uint swap = (below ^ above) & (0u - heads_down_of[axis]);
+      const uint near = below ^ swap, far = above ^ swap;
+      // The interval meets the far child only where the plane lies behind the
+      // ray or at the interval's start (there only past the first leaf); the
+      // near child only where the plane lies beyond the interval, or where
+      // t_split is NaN: a ray lying in the plane, which +0 sends below.
+      const uint far_only = (t_split <= 0.0f) | (t_split < t_lo) | (resumed & (t_split == t_lo));
+      const uint near_only = !far_only & !(t_split <= t_hi);
+      const uint both = !(far_only | near_only);
 #if MBAO_STACK_SIZE > 0
-        stack_node[stack_top] = second;
-        stack_lo[stack_top] = t_split;
-        stack_hi[stack_top] = t_hi;
-        stack_top = (stack_top + 1) & (MBAO_STACK_SIZE - 1);
-        stack_count = min(stack_count + 1, (uint)MBAO_STACK_SIZE);
+      far_stack_push_if(&stack, both, far, t_split, t_hi);
 #endif
-        index = first;
-        t_hi = t_split;
-        whole_interval_inside = 0;
-      }
+      t_hi = both ? t_split : t_hi;
+      whole_interval_inside &= !both;
+      index = far_only ? far : near;
 #if MBAO_PUSH_DOWN
-      if (whole_interval_inside) start_node = index;
+      start_node = whole_interval_inside ? index : start_node;
 #endif
+#if MBAO_LOAD_BOTH_CHILDREN
+      // volatile: otherwise the compiler turns the choice between two loaded
+      // nodes back into one load of the chosen node.
+      volatile __global const KdNode* nodes = scene->nodes;
+      const KdNode below_node = nodes[below], above_node = nodes[above];
+      node = index == below ? below_node : above_node;
+#else
       node = scene->nodes[index];
+#endif
       MBAO_COUNT(counts, nodes, 1);
     }
 
@@ -193,7 +250,7 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
     t_lo = t_hi;
     resumed = 1;
 #if MBAO_STACK_SIZE > 0
-    if (stack_count == 0 && t_lo >= t_exit) break;
+    if (far_stack_is_empty(&stack) && t_lo >= t_exit) break;
 #else
     if (t_lo >= t_exit) break;
 #endif

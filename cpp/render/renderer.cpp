@@ -30,26 +30,31 @@ struct ProgramFeatures {
   bool alpha_masks = false;
   bool shading_normals = false;
   bool unlimited_distance = true;
+  bool load_both_children = false;  // see trace_ray in kernels/kd_traversal.h
 
   std::string options() const {
     return "-DMBAO_TRAVERSAL=" + std::to_string(int(traversal)) +
            " -DMBAO_COUNT_TRAVERSAL=" + std::to_string(int(count_traversal)) +
            " -DMBAO_ALPHA_MASKS=" + std::to_string(int(alpha_masks)) +
            " -DMBAO_SHADING_NORMALS=" + std::to_string(int(shading_normals)) +
-           " -DMBAO_UNLIMITED_DISTANCE=" + std::to_string(int(unlimited_distance));
+           " -DMBAO_UNLIMITED_DISTANCE=" + std::to_string(int(unlimited_distance)) +
+           " -DMBAO_LOAD_BOTH_CHILDREN=" + std::to_string(int(load_both_children));
   }
 };
 
-ProgramFeatures features_for(const Scene& scene, Traversal traversal, bool count_traversal) {
+ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, Traversal traversal, bool count_traversal) {
   ProgramFeatures features;
   features.traversal = traversal;
   features.count_traversal = count_traversal;
   features.alpha_masks = !scene.masks().empty();
+  // Measured faster only there: with a short stack or none it was slower (README, "Side by side with Embree").
+  features.load_both_children = device.type == "CPU" && traversal == Traversal::Stack;
   return features;
 }
 
-ProgramFeatures features_for(const Scene& scene, const RenderSettings& settings, Traversal traversal) {
-  ProgramFeatures features = features_for(scene, traversal, settings.count_traversal);
+ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, const RenderSettings& settings,
+                             Traversal traversal) {
+  ProgramFeatures features = features_for(scene, device, traversal, settings.count_traversal);
   features.shading_normals = settings.normals == NormalMode::Shading && scene.mesh().has_normals();
   features.unlimited_distance = std::isinf(settings.max_distance);
   return features;
@@ -133,7 +138,7 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
 
   const Traversal traversal = traversal_for(settings.traversal, device());
   stats.traversal_mode = to_string(traversal);
-  const ProgramFeatures features = features_for(*scene, settings, traversal);
+  const ProgramFeatures features = features_for(*scene, device(), settings, traversal);
   Stopwatch upload_clock;
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, features.shading_normals);
   stats.upload_ms = upload_clock.elapsed_ms();
@@ -234,7 +239,8 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
   std::lock_guard<std::mutex> lock(mutex_);
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
   const BuiltProgram built =
-      compute_.programs().get("trace.cl", features_for(*scene, traversal_for(traversal, device()), count_traversal).options());
+      compute_.programs().get("trace.cl",
+                              features_for(*scene, device(), traversal_for(traversal, device()), count_traversal).options());
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {
     const cl::Context& context = compute_.context();
