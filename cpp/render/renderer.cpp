@@ -47,7 +47,8 @@ ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, Trave
   features.traversal = traversal;
   features.count_traversal = count_traversal;
   features.alpha_masks = !scene.masks().empty();
-  // Measured faster only there: with a short stack or none it was slower (README, "Side by side with Embree").
+  // Faster only for the full stack on a CPU; with a short stack or none it was slower there, and GPUs are
+  // unmeasured (README, "Side by side with Embree"; docs/gpu.md).
   features.load_both_children = device.type == "CPU" && traversal == Traversal::Stack;
   return features;
 }
