@@ -112,7 +112,7 @@ typedef struct FarStack {
   uint node[MBAO_STACK_SIZE + 1];
   float t_lo[MBAO_STACK_SIZE + 1], t_hi[MBAO_STACK_SIZE + 1];
   uint top;    // next free slot
-  uint count;  // entries held (the short stack overwrites its oldest)
+  uint count;  // entries held by the short stack, which overwrites its oldest (the full stack's is top)
 } FarStack;
 
 static inline void far_stack_push_if(FarStack* stack, uint push, uint node, float t_lo, float t_hi) {
@@ -159,10 +159,10 @@ static inline int far_stack_pop(FarStack* stack, uint* node, float* t_lo, float*
 //
 // A descent step picks its child and pushes with selects, not with if/else on
 // the ray's data: AO rays take either side of a split at random, and such
-// branches go wrong about every other step. With MBAO_LOAD_BOTH_CHILDREN (the full stack on CPUs) it also
-// loads both children before the choice, so that the next node's fetch
-// overlaps the step's arithmetic instead of following it (README, "Side by
-// side with Embree", has the measurements).
+// branches go wrong about every other step. With MBAO_LOAD_BOTH_CHILDREN (the
+// full stack on CPUs) it also loads both children before the choice, so that
+// the next node's fetch overlaps the step's arithmetic instead of following it
+// (README, "Side by side with Embree", has the measurements).
 static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, float t_max,
                             int any_hit, Hit* hit, TraversalCounts* counts) {
   *hit = no_hit();
