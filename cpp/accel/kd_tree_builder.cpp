@@ -266,11 +266,12 @@ class Builder {
     return spare > 0;
   }
 
-  // Sweeps each axis's sorted events. At an event position p two planes are
-  // tried: p - min_width (what starts at p goes above) and p + min_width
-  // (what ends at p goes below). The counts treat them as just below and just
-  // above p; the partition itself is exact. Costs are compared times the
-  // node's half area, which saves a division per candidate.
+  // Sweeps each axis's sorted events. Between two event positions p < q the
+  // planes p + min_width (what ends at p goes below) and q - min_width (what
+  // starts at q goes above) are candidates, with the same counts on either
+  // side; below the first position and above the last one, the planes that
+  // cut off empty space. The partition itself is exact. Costs are compared
+  // times the node's half area, which saves a division per candidate.
   Split find_split(const Bounds3& box, const NodeEvents& events, std::size_t n) const {
     Split best;
     const glm::dvec3 extent = glm::dvec3(box.hi) - glm::dvec3(box.lo);
@@ -284,8 +285,8 @@ class Builder {
       // A child's half area is cap + (its width along axis) * girth.
       const double cap = extent[(axis + 1) % 3] * extent[(axis + 2) % 3];
       const double girth = extent[(axis + 1) % 3] + extent[(axis + 2) % 3];
+      const auto fits = [&](float position) { return position - lo >= min_width_ && hi - position >= min_width_; };
       const auto consider = [&](float position, std::size_t n_below, std::size_t n_above) {
-        if (!(position - lo >= min_width_ && hi - position >= min_width_)) return;
         const double area_below = cap + (double(position) - double(lo)) * girth;
         const double area_above = cap + (double(hi) - double(position)) * girth;
         const double lambda = (n_below == 0 || n_above == 0) ? empty_factor : 1.0;
@@ -293,18 +294,38 @@ class Builder {
             lambda * (traversal + intersection * (area_below * double(n_below) + area_above * double(n_above)));
         if (cost < best.cost) best = {axis, position, cost};
       };
+      // Between two positions the cost is linear in the plane's position,
+      // rising where more triangles lie below than above: only the cheaper
+      // end is priced (the lower one on a tie, as the sweep meets it first),
+      // or the other one where the cheaper does not fit.
+      const auto consider_gap = [&](float left, float right, std::size_t n_below, std::size_t n_above) {
+        const bool rising = n_below > n_above;
+        const bool take_left = n_below == n_above || rising == (left <= right);
+        const float cheaper = take_left ? left : right, dearer = take_left ? right : left;
+        if (fits(cheaper)) {
+          consider(cheaper, n_below, n_above);
+        } else if (fits(dearer)) {
+          consider(dearer, n_below, n_above);
+        }
+      };
       std::size_t starts_before = 0, ends_before = 0;
-      for (const Event *e = events.begin(axis), *end = events.end(axis); e != end;) {
+      const Event *e = events.begin(axis), *end = events.end(axis);
+      if (e == end) continue;
+      if (fits(e->position() - min_width_)) consider(e->position() - min_width_, 0, n);
+      float previous = 0.0f;  // the last position swept
+      while (e != end) {
         const std::uint32_t at = e->position_order();
         const float p = e->position();
+        if (e != events.begin(axis))
+          consider_gap(previous + min_width_, p - min_width_, starts_before, n - ends_before);
         std::array<std::size_t, 3> count{};  // by EventType
         for (; e != end && e->position_order() == at; ++e) ++count[std::size_t(e->type())];
         const std::size_t planar = count[std::size_t(EventType::Planar)];
-        consider(p - min_width_, starts_before, n - ends_before);
         starts_before += count[std::size_t(EventType::Start)] + planar;
         ends_before += count[std::size_t(EventType::End)] + planar;
-        consider(p + min_width_, starts_before, n - ends_before);
+        previous = p;
       }
+      if (fits(previous + min_width_)) consider(previous + min_width_, n, 0);
     }
     best.cost /= half_area;
     return best;
@@ -328,8 +349,9 @@ class Builder {
       } else if (side[t] == Above) {
         ++children.n_above;
       } else {
-        children.n_below += clip_into(t, below_box, scratch.clipped_below);
-        children.n_above += clip_into(t, above_box, scratch.clipped_above);
+        const auto [below_part, above_part] = clipped_bounds_of_split(corners(t), below_box, above_box, split.axis);
+        children.n_below += add_events(t, below_part, scratch.clipped_below);
+        children.n_above += add_events(t, above_part, scratch.clipped_above);
       }
     }
     fill_children(events, side, -1, scratch, children);
@@ -393,10 +415,9 @@ class Builder {
     return children;
   }
 
-  // Adds the events of the part of triangle t inside `cell`, if any; returns
-  // whether there was one.
-  bool clip_into(std::uint32_t t, const Bounds3& cell, std::array<std::vector<Event>, 3>& out) const {
-    const std::optional<Bounds3> box = clipped_bounds(corners(t), cell);
+  // Adds the events of `box`, the part of triangle t in a child's cell, if
+  // there is one; returns whether there was.
+  static bool add_events(std::uint32_t t, const std::optional<Bounds3>& box, std::array<std::vector<Event>, 3>& out) {
     if (!box) return false;
     for (std::size_t axis = 0; axis < 3; ++axis)
       for_box_events(int(axis), *box, t, [&](const Event& e) { out[axis].push_back(e); });

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <glm/common.hpp>
 #include <limits>
 
@@ -49,28 +51,47 @@ void clip_to_slab(Polygon& polygon, int axis, double lo, double hi) {
   if (max > hi) clip(polygon, axis, hi, 1.0);
 }
 
+// The next float toward -infinity (direction -1) or +infinity (+1), from a
+// float that is not NaN and not already the infinity it steps toward, as
+// std::nextafter, which is a library call: the build rounds millions of corners.
+float float_step(float f, int direction) {
+  if (f == 0.0f) return float(direction) * std::numeric_limits<float>::denorm_min();
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  // Away from zero adds one to the magnitude's bits, toward zero takes one.
+  bits = (f > 0.0f) == (direction > 0) ? bits + 1u : bits - 1u;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
 float round_down(double x) {
   const float f = float(x);
-  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+  return double(f) > x ? float_step(f, -1) : f;
 }
 
 float round_up(double x) {
   const float f = float(x);
-  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+  return double(f) < x ? float_step(f, +1) : f;
 }
 
-}  // namespace
-
-std::optional<Bounds3> clipped_bounds(const std::array<glm::vec3, 3>& triangle, const Bounds3& cell) {
+Polygon polygon_of(const std::array<glm::vec3, 3>& triangle) {
   Polygon polygon;
   for (const glm::vec3& p : triangle) polygon.points[polygon.size++] = glm::dvec3(p);
-  for (int axis = 0; axis < 3 && polygon.size > 0; ++axis) {
-    // A few float steps of the cell's coordinates: far more than the double
-    // rounding of the crossings, far less than anything a float ray resolves.
-    const double margin = 1e-3 * std::numeric_limits<float>::epsilon() *
-                          std::max(std::abs(double(cell.lo[axis])), std::abs(double(cell.hi[axis])));
-    clip_to_slab(polygon, axis, double(cell.lo[axis]) - margin, double(cell.hi[axis]) + margin);
-  }
+  return polygon;
+}
+
+// Clips `polygon` to the cell's slab along `axis`, moved out by a few float
+// steps of the cell's coordinates: far more than the double rounding of the
+// crossings, far less than anything a float ray resolves.
+void clip_to_cell(Polygon& polygon, const Bounds3& cell, int axis) {
+  if (polygon.size == 0) return;
+  const double margin = 1e-3 * std::numeric_limits<float>::epsilon() *
+                        std::max(std::abs(double(cell.lo[axis])), std::abs(double(cell.hi[axis])));
+  clip_to_slab(polygon, axis, double(cell.lo[axis]) - margin, double(cell.hi[axis]) + margin);
+}
+
+// The polygon's box, rounded outward to float and clamped to the cell.
+std::optional<Bounds3> bounds_in_cell(const Polygon& polygon, const Bounds3& cell) {
   if (polygon.size == 0) return std::nullopt;
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (int i = 0; i < polygon.size; ++i) {
@@ -83,6 +104,26 @@ std::optional<Bounds3> clipped_bounds(const std::array<glm::vec3, 3>& triangle, 
     box.hi[axis] = std::min(round_up(hi[axis]), cell.hi[axis]);
   }
   return box;
+}
+
+}  // namespace
+
+std::optional<Bounds3> clipped_bounds(const std::array<glm::vec3, 3>& triangle, const Bounds3& cell) {
+  Polygon polygon = polygon_of(triangle);
+  for (int axis = 0; axis < 3; ++axis) clip_to_cell(polygon, cell, axis);
+  return bounds_in_cell(polygon, cell);
+}
+
+std::array<std::optional<Bounds3>, 2> clipped_bounds_of_split(const std::array<glm::vec3, 3>& triangle,
+                                                              const Bounds3& below, const Bounds3& above,
+                                                              int axis) {
+  Polygon shared = polygon_of(triangle);
+  for (int other = 0; other < 3; ++other)
+    if (other != axis) clip_to_cell(shared, below, other);
+  Polygon above_part = shared;
+  clip_to_cell(shared, below, axis);
+  clip_to_cell(above_part, above, axis);
+  return {bounds_in_cell(shared, below), bounds_in_cell(above_part, above)};
 }
 
 }  // namespace mbao
