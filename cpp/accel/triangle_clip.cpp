@@ -117,13 +117,13 @@ std::optional<Bounds3> clipped_bounds(const std::array<glm::vec3, 3>& triangle, 
 std::array<std::optional<Bounds3>, 2> clipped_bounds_of_split(const std::array<glm::vec3, 3>& triangle,
                                                               const Bounds3& below, const Bounds3& above,
                                                               int axis) {
-  Polygon shared = polygon_of(triangle);
+  Polygon below_part = polygon_of(triangle);
   for (int other = 0; other < 3; ++other)
-    if (other != axis) clip_to_cell(shared, below, other);
-  Polygon above_part = shared;
-  clip_to_cell(shared, below, axis);
+    if (other != axis) clip_to_cell(below_part, below, other);  // the walls both cells share
+  Polygon above_part = below_part;
+  clip_to_cell(below_part, below, axis);
   clip_to_cell(above_part, above, axis);
-  return {bounds_in_cell(shared, below), bounds_in_cell(above_part, above)};
+  return {bounds_in_cell(below_part, below), bounds_in_cell(above_part, above)};
 }
 
 }  // namespace mbao
