@@ -56,6 +56,15 @@ struct Split {
   int axis = -1;
   float position = 0.0f;
   double cost = std::numeric_limits<double>::infinity();
+  // Where the sweep of `axis` priced it: -1 below all events, i between
+  // events i - 1 and i, the event count above all. Of planes of equal cost
+  // the first in the order (axis, sweep_index) wins.
+  std::ptrdiff_t sweep_index = 0;
+
+  bool is_beaten_by(const Split& other) const {
+    if (other.cost != cost) return other.cost < cost;
+    return other.axis < axis || (other.axis == axis && other.sweep_index < sweep_index);
+  }
 };
 
 // Exact for float input: the differences and products of floats are exact in
@@ -77,6 +86,10 @@ struct Scratch {
   std::unique_ptr<Side[]> side;  // by triangle index
   // New events of straddling triangles, by axis, before they are merged in.
   std::array<std::vector<Event>, 3> clipped_below, clipped_above;
+  // The sweep's blocks of events: counts before each, and the least cost
+  // of a plane in each.
+  std::vector<std::size_t> starts_before_block, ends_before_block;
+  std::vector<double> block_bound;
 
   void clear_new_events() {
     for (int axis = 0; axis < 3; ++axis) {
@@ -128,6 +141,58 @@ void for_each_axis(bool parallel, const AxisFunction& f) {
   y.get();
   z.get();
 }
+
+// Events per block of the sweep's pruning, and the fewest events along an
+// axis for which the blocks' bounds pay.
+constexpr std::size_t kSweepBlock = 16;
+constexpr std::size_t kMinEventsToPrune = 4 * kSweepBlock;
+
+// The axes by decreasing extent, of equal ones the lower first.
+std::array<int, 3> longest_first(const glm::dvec3& extent) {
+  std::array<int, 3> axes{0, 1, 2};
+  const auto order = [&](int& a, int& b) {
+    if (extent[b] > extent[a]) std::swap(a, b);
+  };
+  order(axes[0], axes[1]);
+  order(axes[1], axes[2]);
+  order(axes[0], axes[1]);
+  return axes;
+}
+
+// The SAH cost of a plane across one axis of a node, times the node's half
+// area: a child's half area is cap + (its width along the axis) * girth.
+class AxisCost {
+ public:
+  AxisCost(const Bounds3& box, const glm::dvec3& extent, int axis, const KdBuildOptions& options, double half_area)
+      : lo_(box.lo[axis]),
+        hi_(box.hi[axis]),
+        cap_(extent[(axis + 1) % 3] * extent[(axis + 2) % 3]),
+        girth_(extent[(axis + 1) % 3] + extent[(axis + 2) % 3]),
+        traversal_(options.traversal_cost * half_area),
+        intersection_(options.intersection_cost),
+        empty_factor_(1.0 - options.empty_bonus) {}
+
+  double operator()(float position, std::size_t n_below, std::size_t n_above) const {
+    const double area_below = cap_ + (double(position) - lo_) * girth_;
+    const double area_above = cap_ + (hi_ - double(position)) * girth_;
+    const double lambda = (n_below == 0 || n_above == 0) ? empty_factor_ : 1.0;
+    return lambda * (traversal_ + intersection_ * (area_below * double(n_below) + area_above * double(n_above)));
+  }
+
+  // At most the cost of any plane from `lowest` to `highest` with at least
+  // n_below triangles below and n_above above (the cost grows with each);
+  // -infinity where costs with negative constants need not grow.
+  double least(float lowest, float highest, std::size_t n_below, std::size_t n_above) const {
+    if (intersection_ < 0.0 || empty_factor_ < 0.0) return -std::numeric_limits<double>::infinity();
+    const double area_below = cap_ + std::max(0.0, double(lowest) - lo_) * girth_;
+    const double area_above = cap_ + std::max(0.0, hi_ - double(highest)) * girth_;
+    const double lambda = (n_below == 0 || n_above == 0) ? std::min(empty_factor_, 1.0) : 1.0;
+    return lambda * (traversal_ + intersection_ * (area_below * double(n_below) + area_above * double(n_above)));
+  }
+
+ private:
+  double lo_, hi_, cap_, girth_, traversal_, intersection_, empty_factor_;
+};
 
 class Builder {
  public:
@@ -211,7 +276,7 @@ class Builder {
   void build_node(KdTree& tree, Scratch& scratch, const Bounds3& box, NodeEvents events, Share share, int depth) {
     tree.stats.max_depth = std::max(tree.stats.max_depth, depth);
     const std::size_t n = share.triangles;
-    const Split split = n > 0 && depth < max_depth_ ? find_split(box, events, n) : Split{};
+    const Split split = n > 0 && depth < max_depth_ ? find_split(box, events, n, scratch) : Split{};
     if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
       make_leaf(tree, box, events);
       return;
@@ -272,63 +337,119 @@ class Builder {
   // side; below the first position and above the last one, the planes that
   // cut off empty space. The partition itself is exact. Costs are compared
   // times the node's half area, which saves a division per candidate.
-  Split find_split(const Bounds3& box, const NodeEvents& events, std::size_t n) const {
+  //
+  // Most planes cannot win, and whole runs of them can be shown not to from
+  // a bound on their cost: an axis whose planes between events all cost more
+  // than the best found is not swept, and a long one is swept in blocks
+  // (sweep_block_bounds), the block of least bound first, then each other
+  // one whose bound does not exceed the best cost found by then. The longest
+  // axis, where the best plane usually lies, goes first. The plane found is
+  // the one a full sweep of the axes in order finds: Split::is_beaten_by
+  // orders ties as that sweep meets them. (Sponza: 49% of the events are
+  // swept, 39% in axes too short for blocks; 0.93 of the instructions.)
+  Split find_split(const Bounds3& box, const NodeEvents& events, std::size_t n, Scratch& scratch) const {
     Split best;
     const glm::dvec3 extent = glm::dvec3(box.hi) - glm::dvec3(box.lo);
     const double half_area = extent.x * extent.y + extent.y * extent.z + extent.z * extent.x;
     if (!(half_area > 0.0)) return best;
-    const double traversal = options_.traversal_cost * half_area, intersection = options_.intersection_cost;
-    const double empty_factor = 1.0 - options_.empty_bonus;
-    for (int axis = 0; axis < 3; ++axis) {
+    const bool prune = options_.prune_sweep;
+    for (const int axis : prune ? longest_first(extent) : std::array<int, 3>{0, 1, 2}) {
+      const AxisCost cost(box, extent, axis, options_, half_area);
       const float lo = box.lo[axis], hi = box.hi[axis];
       if (hi - lo < 2.0f * min_width_) continue;
-      // A child's half area is cap + (its width along axis) * girth.
-      const double cap = extent[(axis + 1) % 3] * extent[(axis + 2) % 3];
-      const double girth = extent[(axis + 1) % 3] + extent[(axis + 2) % 3];
+      const Event* first = events.begin(axis);
+      const std::size_t count = events.size(axis);
+      if (count == 0) continue;
       const auto fits = [&](float position) { return position - lo >= min_width_ && hi - position >= min_width_; };
-      const auto consider = [&](float position, std::size_t n_below, std::size_t n_above) {
-        const double area_below = cap + (double(position) - double(lo)) * girth;
-        const double area_above = cap + (double(hi) - double(position)) * girth;
-        const double lambda = (n_below == 0 || n_above == 0) ? empty_factor : 1.0;
-        const double cost =
-            lambda * (traversal + intersection * (area_below * double(n_below) + area_above * double(n_above)));
-        if (cost < best.cost) best = {axis, position, cost};
+      const auto consider = [&](float position, std::size_t n_below, std::size_t n_above, std::ptrdiff_t index) {
+        const Split candidate{axis, position, cost(position, n_below, n_above), index};
+        if (best.is_beaten_by(candidate)) best = candidate;
       };
+      const float below_all = first->position() - min_width_, above_all = first[count - 1].position() + min_width_;
+      if (fits(below_all)) consider(below_all, 0, n, -1);
+      if (fits(above_all)) consider(above_all, n, 0, std::ptrdiff_t(count));
       // Between two positions the cost is linear in the plane's position,
       // rising where more triangles lie below than above: only the cheaper
-      // end is priced (the lower one on a tie, as the sweep meets it first),
-      // or the other one where the cheaper does not fit.
-      const auto consider_gap = [&](float left, float right, std::size_t n_below, std::size_t n_above) {
-        const bool rising = n_below > n_above;
-        const bool take_left = n_below == n_above || rising == (left <= right);
-        const float cheaper = take_left ? left : right, dearer = take_left ? right : left;
-        if (fits(cheaper)) {
-          consider(cheaper, n_below, n_above);
-        } else if (fits(dearer)) {
-          consider(dearer, n_below, n_above);
+      // end is priced (the lower one on a tie), or the other one where the
+      // cheaper does not fit. Events [from, to), after `starts` starts and
+      // `ends` ends (planar events count as both).
+      const auto sweep = [&](std::size_t from, std::size_t to, std::size_t starts, std::size_t ends) {
+        for (std::size_t i = from; i < to; ++i) {
+          const Event e = first[i];
+          if (i > 0 && first[i - 1].position_order() != e.position_order()) {
+            const float left = first[i - 1].position() + min_width_, right = e.position() - min_width_;
+            const std::size_t n_below = starts, n_above = n - ends;
+            const bool rising = n_below > n_above;
+            const bool take_left = n_below == n_above || rising == (left <= right);
+            const float cheaper = take_left ? left : right, dearer = take_left ? right : left;
+            if (fits(cheaper)) {
+              consider(cheaper, n_below, n_above, std::ptrdiff_t(i));
+            } else if (fits(dearer)) {
+              consider(dearer, n_below, n_above, std::ptrdiff_t(i));
+            }
+          }
+          starts += e.type() != EventType::End;
+          ends += e.type() != EventType::Start;
         }
       };
-      std::size_t starts_before = 0, ends_before = 0;
-      const Event *e = events.begin(axis), *end = events.end(axis);
-      if (e == end) continue;
-      if (fits(e->position() - min_width_)) consider(e->position() - min_width_, 0, n);
-      float previous = 0.0f;  // the last position swept
-      while (e != end) {
-        const std::uint32_t at = e->position_order();
-        const float p = e->position();
-        if (e != events.begin(axis))
-          consider_gap(previous + min_width_, p - min_width_, starts_before, n - ends_before);
-        std::array<std::size_t, 3> count{};  // by EventType
-        for (; e != end && e->position_order() == at; ++e) ++count[std::size_t(e->type())];
-        const std::size_t planar = count[std::size_t(EventType::Planar)];
-        starts_before += count[std::size_t(EventType::Start)] + planar;
-        ends_before += count[std::size_t(EventType::End)] + planar;
-        previous = p;
+      // The margin covers the rounding of costs and bounds.
+      const auto cannot_win = [&](double bound) { return bound > best.cost + std::abs(best.cost) * 0x1p-30; };
+      // A plane between events has a triangle on either side (event 0 starts
+      // one, the last ends one) and each triangle on one side at least.
+      if (prune && cannot_win(cost.least(lo, hi, n - 1, 1))) continue;
+      if (!prune || count < kMinEventsToPrune) {
+        sweep(0, count, 0, 0);
+        continue;
       }
-      if (fits(previous + min_width_)) consider(previous + min_width_, n, 0);
+      sweep_block_bounds(first, count, n, cost, scratch);
+      const auto sweep_block = [&](std::size_t block) {
+        if (cannot_win(scratch.block_bound[block])) return;
+        sweep(block * kSweepBlock, std::min(count, (block + 1) * kSweepBlock), scratch.starts_before_block[block],
+              scratch.ends_before_block[block]);
+      };
+      const std::size_t blocks = scratch.block_bound.size();
+      const std::size_t most_promising = std::size_t(
+          std::min_element(scratch.block_bound.begin(), scratch.block_bound.end()) - scratch.block_bound.begin());
+      sweep_block(most_promising);
+      for (std::size_t block = 0; block < blocks; ++block)
+        if (block != most_promising) sweep_block(block);
     }
     best.cost /= half_area;
     return best;
+  }
+
+  // Cuts an axis's events into blocks of kSweepBlock and bounds the cost of
+  // every plane the sweep prices in each (those between events i - 1 and i
+  // for i in the block): such a plane lies from event i - 1's position less
+  // min_width to event i's plus min_width, with no fewer triangles below
+  // than start before the block, and no fewer above than end in or after it.
+  // Leaves the counts before each block and its bound in scratch.
+  void sweep_block_bounds(const Event* first, std::size_t count, std::size_t n, const AxisCost& cost,
+                          Scratch& scratch) const {
+    const std::size_t blocks = (count + kSweepBlock - 1) / kSweepBlock;
+    scratch.starts_before_block.resize(blocks + 1);
+    scratch.ends_before_block.resize(blocks + 1);
+    std::size_t starts = 0, ends = 0;
+    for (std::size_t block = 0; block < blocks; ++block) {
+      scratch.starts_before_block[block] = starts;
+      scratch.ends_before_block[block] = ends;
+      const std::size_t end = std::min(count, (block + 1) * kSweepBlock);
+      for (std::size_t i = block * kSweepBlock; i < end; ++i) {
+        const EventType type = first[i].type();
+        starts += type != EventType::End;
+        ends += type != EventType::Start;
+      }
+    }
+    scratch.starts_before_block[blocks] = starts;
+    scratch.ends_before_block[blocks] = ends;
+    scratch.block_bound.resize(blocks);
+    for (std::size_t block = 0; block < blocks; ++block) {
+      const std::size_t begin = block * kSweepBlock, end = std::min(count, begin + kSweepBlock);
+      const float lowest = first[begin > 0 ? begin - 1 : 0].position() - min_width_;
+      const float highest = first[end - 1].position() + min_width_;
+      scratch.block_bound[block] =
+          cost.least(lowest, highest, scratch.starts_before_block[block], n - scratch.ends_before_block[block + 1]);
+    }
   }
 
   // Splits the events between the children, keeping their order. A triangle

@@ -453,6 +453,32 @@ TEST(KdTree, DepthStaysWithinTheLimit) {
   EXPECT_LE(tree.stats.max_depth, 3);
 }
 
+// The pruned sweep skips planes only where a bound shows they cost more
+// than the best found; ties go as the full sweep meets them (axis 0 first,
+// then along the axis), so the tree is the same. The grid's planes tie often.
+TEST(KdTree, PruningTheSweepKeepsTheTree) {
+  std::vector<TriangleMesh> meshes = {random_soup(3000, 31), random_soup(500, 32), axis_aligned_grid(8),
+                                      overlapping_coplanar(400, 33), shrinking_spiral(300, 0.99f),
+                                      cornell_box()->mesh()};
+  TriangleMesh slab = random_soup(3000, 34);  // long cells: whole axes are skipped
+  for (glm::vec3& p : slab.positions) p *= glm::vec3(40.0f, 1.0f, 0.2f);
+  meshes.push_back(slab);
+  std::vector<KdBuildOptions> variants = clipping_variants();
+  KdBuildOptions expensive_triangles, no_empty_bonus;
+  expensive_triangles.intersection_cost = 20.0;
+  no_empty_bonus.empty_bonus = 0.0;
+  variants.insert(variants.end(), {expensive_triangles, no_empty_bonus});
+  for (std::size_t m = 0; m < meshes.size(); ++m)
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+      KdBuildOptions pruned = variants[v], full = variants[v];
+      pruned.prune_sweep = true;
+      full.prune_sweep = false;
+      const KdTree tree = build_kd_tree(meshes[m], pruned);
+      EXPECT_GT(tree.stats.leaves, 1u) << "mesh " << m;
+      EXPECT_TRUE(same_tree(tree, build_kd_tree(meshes[m], full))) << "mesh " << m << ", options " << v;
+    }
+}
+
 TEST(KdTree, TheTreeDoesNotDependOnTheNumberOfThreads) {
   // Big enough for subtrees on spare threads (2048 triangles and more).
   const TriangleMesh mesh = random_soup(30000, 21);
