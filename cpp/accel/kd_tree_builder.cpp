@@ -86,8 +86,8 @@ struct Scratch {
   std::unique_ptr<Side[]> side;  // by triangle index
   // New events of straddling triangles, by axis, before they are merged in.
   std::array<std::vector<Event>, 3> clipped_below, clipped_above;
-  // The sweep's blocks of events: counts before each, and the least cost
-  // of a plane in each.
+  // The sweep's blocks of events: counts before each (ends also past the
+  // last), and the least cost of a plane in each.
   std::vector<std::size_t> starts_before_block, ends_before_block;
   std::vector<double> block_bound;
 
@@ -173,10 +173,8 @@ class AxisCost {
         empty_factor_(1.0 - options.empty_bonus) {}
 
   double operator()(float position, std::size_t n_below, std::size_t n_above) const {
-    const double area_below = cap_ + (double(position) - lo_) * girth_;
-    const double area_above = cap_ + (hi_ - double(position)) * girth_;
     const double lambda = (n_below == 0 || n_above == 0) ? empty_factor_ : 1.0;
-    return lambda * (traversal_ + intersection_ * (area_below * double(n_below) + area_above * double(n_above)));
+    return priced(position - lo_, hi_ - position, n_below, n_above, lambda);
   }
 
   // At most the cost of any plane from `lowest` to `highest` with at least
@@ -184,13 +182,19 @@ class AxisCost {
   // -infinity where costs with negative constants need not grow.
   double least(float lowest, float highest, std::size_t n_below, std::size_t n_above) const {
     if (intersection_ < 0.0 || empty_factor_ < 0.0) return -std::numeric_limits<double>::infinity();
-    const double area_below = cap_ + std::max(0.0, double(lowest) - lo_) * girth_;
-    const double area_above = cap_ + std::max(0.0, hi_ - double(highest)) * girth_;
     const double lambda = (n_below == 0 || n_above == 0) ? std::min(empty_factor_, 1.0) : 1.0;
-    return lambda * (traversal_ + intersection_ * (area_below * double(n_below) + area_above * double(n_above)));
+    return priced(std::max(0.0, lowest - lo_), std::max(0.0, hi_ - highest), n_below, n_above, lambda);
   }
 
  private:
+  // One formula for costs and bounds, so that a bound rounds as the costs it bounds.
+  double priced(double width_below, double width_above, std::size_t n_below, std::size_t n_above,
+                double lambda) const {
+    const double area_below = cap_ + width_below * girth_;
+    const double area_above = cap_ + width_above * girth_;
+    return lambda * (traversal_ + intersection_ * (area_below * double(n_below) + area_above * double(n_above)));
+  }
+
   double lo_, hi_, cap_, girth_, traversal_, intersection_, empty_factor_;
 };
 
@@ -428,7 +432,7 @@ class Builder {
   void sweep_block_bounds(const Event* first, std::size_t count, std::size_t n, const AxisCost& cost,
                           Scratch& scratch) const {
     const std::size_t blocks = (count + kSweepBlock - 1) / kSweepBlock;
-    scratch.starts_before_block.resize(blocks + 1);
+    scratch.starts_before_block.resize(blocks);
     scratch.ends_before_block.resize(blocks + 1);
     std::size_t starts = 0, ends = 0;
     for (std::size_t block = 0; block < blocks; ++block) {
@@ -441,7 +445,6 @@ class Builder {
         ends += type != EventType::Start;
       }
     }
-    scratch.starts_before_block[blocks] = starts;
     scratch.ends_before_block[blocks] = ends;
     scratch.block_bound.resize(blocks);
     for (std::size_t block = 0; block < blocks; ++block) {
