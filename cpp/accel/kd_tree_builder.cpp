@@ -583,7 +583,7 @@ class Builder {
                           std::vector<Event>& clipped_above, Children& children, bool both_to_both) {
     // A sentinel above every event ends each run of new events without a bounds check.
     for (std::vector<Event>* clipped : {&clipped_below, &clipped_above}) {
-      std::sort(clipped->begin(), clipped->end());
+      sort_events(clipped->data(), clipped->data() + clipped->size());
       clipped->push_back(Event::after_all());
     }
     const Event *extra_below = clipped_below.data(), *extra_above = clipped_above.data();

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/sorting_network.h"
 #include "scene/bounds.h"
 
 namespace mbao {
@@ -84,6 +85,36 @@ inline void sort_events_made_by_triangle(Event* first, Event* last) {
     std::swap(from, to);
   }
   if (from != first) std::copy(from, from + n, first);
+}
+
+// Sorts up to N = 2^k events through a sorting network on their bits, the
+// keys past the last padded with after_all's.
+template <std::size_t N>
+void sort_few_events(Event* first, std::size_t n) {
+  std::uint64_t keys[N];
+  for (std::size_t i = 0; i < N; ++i) keys[i] = i < n ? first[i].bits : Event::after_all().bits;
+  network_sort(keys);
+  for (std::size_t i = 0; i < N; ++i)
+    if (i < n) first[i].bits = keys[i];
+}
+
+// Sorts events in no particular order. The new events of a node's clipped
+// triangles come a few to a few tens at a time, in an order the branch
+// predictor cannot follow: up to 32 go through a sorting network, more
+// through std::sort.
+inline void sort_events(Event* first, Event* last) {
+  const std::size_t n = std::size_t(last - first);
+  if (n <= 4) {
+    sort_few_events<4>(first, n);
+  } else if (n <= 8) {
+    sort_few_events<8>(first, n);
+  } else if (n <= 16) {
+    sort_few_events<16>(first, n);
+  } else if (n <= 32) {
+    sort_few_events<32>(first, n);
+  } else {
+    std::sort(first, last);
+  }
 }
 
 // Hands `push` the events of `box` along `axis`: a start and an end, or one

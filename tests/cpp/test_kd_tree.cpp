@@ -262,6 +262,49 @@ TEST(SplitEvent, RadixSortOfEventsMadeByTriangleIsTheFullOrder) {
   for (std::size_t i = 0; i < events.size(); ++i) ASSERT_EQ(events[i].bits, expected[i].bits) << "at " << i;
 }
 
+// A network sorts every input if it sorts every input of 0s and 1s (Knuth's
+// 0-1 principle): checked exhaustively for the networks on 4, 8 and 16 keys.
+template <std::size_t N>
+void expect_network_sorts_all_zero_one_inputs() {
+  for (std::uint32_t pattern = 0; pattern < (1u << N); ++pattern) {
+    std::uint64_t keys[N];
+    for (std::size_t i = 0; i < N; ++i) keys[i] = (pattern >> i) & 1u;
+    network_sort(keys);
+    ASSERT_TRUE(std::is_sorted(std::begin(keys), std::end(keys))) << N << " keys, pattern " << pattern;
+  }
+}
+
+TEST(SplitEvent, SortingNetworksSortEveryZeroOneInput) {
+  expect_network_sorts_all_zero_one_inputs<4>();
+  expect_network_sorts_all_zero_one_inputs<8>();
+  expect_network_sorts_all_zero_one_inputs<16>();
+}
+
+// sort_events gives std::sort's order for every count the networks take and
+// beyond, with repeated positions and planar events.
+TEST(SplitEvent, SortEventsIsTheFullOrder) {
+  std::mt19937 random(5);
+  std::uniform_int_distribution<int> grid(-6, 6);
+  for (std::size_t count = 0; count <= 40; ++count) {
+    for (int trial = 0; trial < 200; ++trial) {
+      std::vector<Event> events;
+      for (std::uint32_t t = 0; events.size() < count; ++t) {
+        Bounds3 box;
+        const float a = 0.5f * float(grid(random)), b = t % 4 == 0 ? a : 0.5f * float(grid(random));
+        box.lo = glm::vec3(std::min(a, b));
+        box.hi = glm::vec3(std::max(a, b));
+        for_box_events(0, box, t, [&events](const Event& e) { events.push_back(e); });
+      }
+      events.resize(count);
+      std::shuffle(events.begin(), events.end(), random);
+      std::vector<Event> expected = events;
+      std::sort(expected.begin(), expected.end());
+      sort_events(events.data(), events.data() + events.size());
+      for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(events[i].bits, expected[i].bits) << count << " events";
+    }
+  }
+}
+
 TEST(KdNode, WordsRoundTrip) {
   const KdNode interior = kd_make_interior(2, -3.25f, 123456);
   EXPECT_FALSE(kd_is_leaf(interior));
