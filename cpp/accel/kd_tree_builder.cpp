@@ -81,9 +81,10 @@ bool has_zero_area(const TriangleMesh& mesh, std::uint32_t t) {
 // What a thread needs while it splits a node, reused from node to node.
 struct Scratch {
   // Written for every triangle of a node before it is read: no need to clear.
-  explicit Scratch(std::size_t triangles) : side(new Side[triangles]) {}
+  explicit Scratch(std::size_t triangles) : side(new Side[triangles]), straddlers(new std::uint32_t[triangles]) {}
 
   std::unique_ptr<Side[]> side;  // by triangle index
+  std::unique_ptr<std::uint32_t[]> straddlers;  // of a node, to be clipped
   // New events of straddling triangles, by axis, before they are merged in.
   std::array<std::vector<Event>, 3> clipped_below, clipped_above;
   // The sweep's blocks of events: counts before each (ends also past the
@@ -480,18 +481,25 @@ class Builder {
     classify(events, split, side);
     scratch.clear_new_events();
     Children children;
+    // Which side a triangle is on is a coin flip to the branch predictor:
+    // the counts add comparisons, and each triangle is written to the list of
+    // straddlers and kept there by moving its end past it.
+    std::uint32_t* straddlers = scratch.straddlers.get();
+    std::size_t n_straddlers = 0;
     for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
-      if (e->type() == EventType::End) continue;
       const std::uint32_t t = e->triangle();
-      if (side[t] == Below) {
-        ++children.n_below;
-      } else if (side[t] == Above) {
-        ++children.n_above;
-      } else {
-        const auto [below_part, above_part] = clipped_bounds_of_split(corners(t), below_box, above_box, split.axis);
-        children.n_below += add_events(t, below_part, scratch.clipped_below);
-        children.n_above += add_events(t, above_part, scratch.clipped_above);
-      }
+      const bool first_event = e->type() != EventType::End;  // a start or the planar event
+      const Side s = side[t];
+      children.n_below += first_event & (s == Below);
+      children.n_above += first_event & (s == Above);
+      straddlers[n_straddlers] = t;
+      n_straddlers += first_event & (s == Both);
+    }
+    for (std::size_t i = 0; i < n_straddlers; ++i) {
+      const std::uint32_t t = straddlers[i];
+      const auto [below_part, above_part] = clipped_bounds_of_split(corners(t), below_box, above_box, split.axis);
+      children.n_below += add_events(t, below_part, scratch.clipped_below);
+      children.n_above += add_events(t, above_part, scratch.clipped_above);
     }
     fill_children(events, side, -1, scratch, children);
     return children;
@@ -499,17 +507,18 @@ class Builder {
 
   // Which side of the split each triangle of the node is on, from one pass
   // over the split axis's events in order: a start below the split makes a
-  // triangle straddle until its end, if that is below too, makes it Below.
+  // triangle straddle until its end, if that is below too, makes it Below;
+  // an end at or above the split leaves what its start made it. Positions
+  // compare as their order bits, and the side is selected, not branched to.
   static void classify(const NodeEvents& events, const Split& split, Side* side) {
+    const std::uint32_t split_order = Event::make(split.position, EventType::End, 0).position_order();
     for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
-      const std::uint32_t t = e->triangle();
+      const std::uint32_t t = e->triangle(), order = e->position_order();
       const EventType type = e->type();
-      const float position = e->position();
-      if (position < split.position) {
-        side[t] = type == EventType::Start ? Both : Below;
-      } else if (type != EventType::End) {
-        side[t] = position > split.position ? Above : Both;
-      }
+      const bool below = order < split_order, above = order > split_order;
+      const Side made = below ? (type == EventType::Start ? Both : Below) : (above ? Above : Both);
+      const Side before = side[t];
+      side[t] = below || type != EventType::End ? made : before;
     }
   }
 
