@@ -80,8 +80,12 @@ bool has_zero_area(const TriangleMesh& mesh, std::uint32_t t) {
 
 // What a thread needs while it splits a node, reused from node to node.
 struct Scratch {
-  // Written for every triangle of a node before it is read: no need to clear.
-  explicit Scratch(std::size_t triangles) : side(new Side[triangles]), straddlers(new std::uint32_t[triangles]) {}
+  // `side` is zeroed once (classify reads a triangle's side before it
+  // selects what to write) and written for every triangle of a node before
+  // its side is used. `straddlers` has one slot more than a node can list: the
+  // partition writes a triangle before it knows whether to keep it.
+  explicit Scratch(std::size_t triangles)
+      : side(new Side[triangles]()), straddlers(new std::uint32_t[triangles + 1]) {}
 
   std::unique_ptr<Side[]> side;  // by triangle index
   std::unique_ptr<std::uint32_t[]> straddlers;  // of a node, to be clipped
