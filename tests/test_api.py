@@ -428,6 +428,31 @@ def test_camera_refuses_degenerate_views(eye, target, up, vfov, message):
         mbao.Camera(eye, target, up, vfov)
 
 
+@pytest.mark.parametrize(
+    "eye, target, up",
+    [
+        ((0, 0, 3e19), (0, 0, 0), (0, 1, 0)),
+        ((0, 0, 1e-30), (0, 0, 0), (0, 1, 0)),
+        ((0, 0, 5), (0, 0, 0), (0, 1e-30, 0)),
+        ((0, 0, 3e38), (0, 0, -3e38), (0, 3e19, 0)),
+    ],
+)
+def test_camera_frames_views_at_extreme_scales(eye, target, up):
+    """Float squares overflow from about 1.8e19 and underflow below about 1e-23;
+    these views are valid all the same, and were once refused as 'up parallel'."""
+    camera = mbao.Camera(eye, target, up, 45)
+    assert camera.eye == pytest.approx(eye)
+
+
+def test_a_camera_far_beyond_the_box_sees_it_smaller_than_a_pixel():
+    scene = mbao.cornell_box()
+    default = scene.camera
+    far = mbao.Camera((278, 273, -3e19), default.target, default.up, default.vfov_deg)
+    result = mbao.render(scene, camera=far, width=32, height=32)
+    assert not result.mask.any()
+    assert np.all(result.ao == 1.0)
+
+
 def write_json(path, document):
     path.write_text(json.dumps(document) if not isinstance(document, str) else document)
     return path

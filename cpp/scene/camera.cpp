@@ -14,6 +14,11 @@ namespace {
 
 bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// target - eye in double, where lengths and cross products of float vectors
+// neither overflow nor underflow: in float, a camera 1e19 from its target (or
+// with up that long) squares to infinity, one 1e-30 from it to zero.
+glm::dvec3 view_direction(const Camera& camera) { return glm::dvec3(camera.target) - glm::dvec3(camera.eye); }
+
 glm::vec3 read_vec3(const nlohmann::json& doc, const char* key, const std::string& path) {
   const auto it = doc.find(key);
   if (it == doc.end()) throw LoadError(path + ": \"" + key + "\" is missing");
@@ -75,10 +80,10 @@ void Camera::validate() const {
     throw std::invalid_argument("camera: eye, target and up must be finite");
   if (!(vfov_deg > 0.0f && vfov_deg < 180.0f))
     throw std::invalid_argument("camera: vfov_deg must be in (0, 180), got " + std::to_string(vfov_deg));
-  const glm::vec3 forward = target - eye;
-  if (glm::length(forward) == 0.0f) throw std::invalid_argument("camera: eye and target are the same point");
-  const glm::vec3 side = glm::cross(glm::normalize(forward), up);
-  if (!(glm::length(side) > 1e-6f * glm::length(up)))
+  const glm::dvec3 forward = view_direction(*this);
+  if (glm::length(forward) == 0.0) throw std::invalid_argument("camera: eye and target are the same point");
+  const glm::dvec3 side = glm::cross(glm::normalize(forward), glm::dvec3(up));
+  if (!(glm::length(side) > 1e-6 * glm::length(glm::dvec3(up))))
     throw std::invalid_argument("camera: up is zero or parallel to the view direction (target - eye)");
   if (max_distance && !(*max_distance > 0.0f))
     throw std::invalid_argument("camera: max_distance must be > 0");
@@ -92,10 +97,13 @@ Camera Camera::relative_to(const glm::vec3& origin) const {
 }
 
 CameraBasis::CameraBasis(const Camera& camera)
-    : forward(glm::normalize(camera.target - camera.eye)),
-      right(glm::normalize(glm::cross(forward, camera.up))),
-      up(glm::cross(right, forward)),
-      tan_half_vfov(static_cast<float>(std::tan(glm::radians(double(camera.vfov_deg)) / 2.0))) {}
+    : tan_half_vfov(static_cast<float>(std::tan(glm::radians(double(camera.vfov_deg)) / 2.0))) {
+  const glm::dvec3 view_forward = glm::normalize(view_direction(camera));
+  const glm::dvec3 view_right = glm::normalize(glm::cross(view_forward, glm::dvec3(camera.up)));
+  forward = glm::vec3(view_forward);
+  right = glm::vec3(view_right);
+  up = glm::vec3(glm::cross(view_right, view_forward));
+}
 
 glm::vec3 CameraBasis::direction(float px, float py, int width, int height) const {
   const float u = (px / float(width)) * 2.0f - 1.0f;

@@ -30,6 +30,37 @@ TEST(Camera, BasisFollowsSpec31) {
   EXPECT_NEAR(basis.tan_half_vfov, 1.0f, 1e-6f);
 }
 
+// Float squares overflow from about 1.8e19 and underflow below about 1e-23:
+// a view's frame is found all the same from 1e-30 to 3e38, and a truly
+// degenerate view is still refused at those scales.
+TEST(Camera, ExtremeScalesKeepTheirFrame) {
+  struct View {
+    glm::vec3 eye, target, up;
+  };
+  const View valid[] = {{{0, 0, 3e19f}, {0, 0, 0}, {0, 1, 0}},      {{0, 0, 1e-30f}, {0, 0, 0}, {0, 1, 0}},
+                        {{0, 0, 5}, {0, 0, 0}, {0, 1e-30f, 0}},     {{0, 0, 5}, {0, 0, 0}, {0, 3e19f, 0}},
+                        {{0, 0, 3e38f}, {0, 0, -3e38f}, {0, 1, 0}}, {{0, 0, 1e-30f}, {0, 0, -1e-30f}, {0, 1e30f, 0}}};
+  for (const View& view : valid) {
+    Camera camera;
+    camera.eye = view.eye;
+    camera.target = view.target;
+    camera.up = view.up;
+    EXPECT_NO_THROW(camera.validate()) << view.eye.z << " " << view.up.y;
+    const CameraBasis basis(camera);
+    EXPECT_NEAR(glm::distance(basis.forward, glm::vec3(0, 0, -1)), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::distance(basis.right, glm::vec3(1, 0, 0)), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::distance(basis.up, glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
+  }
+  Camera parallel;
+  parallel.eye = {0, 0, 3e19f};
+  parallel.target = {0, 0, 0};
+  parallel.up = {0, 0, 3e19f};
+  EXPECT_THROW(parallel.validate(), std::invalid_argument);
+  Camera same;
+  same.eye = same.target = {1e-30f, 0, 0};
+  EXPECT_THROW(same.validate(), std::invalid_argument);
+}
+
 TEST(Camera, LoadsCameraJsonWithOptionalMaxDistance) {
   const Camera c = Camera::load(write_temp(
       "cam.json", R"({"eye": [1, 2, 3], "target": [1, 2, 0], "up": [0, 1, 0], "vfov_deg": 45, "max_distance": 7.5})"));
