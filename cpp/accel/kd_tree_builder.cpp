@@ -412,8 +412,8 @@ class Builder {
               consider(dearer, n_below, n_above, std::ptrdiff_t(i));
             }
           }
-          starts += e.type() != EventType::End;
-          ends += e.type() != EventType::Start;
+          starts += begins_triangle(e.type());
+          ends += ends_triangle(e.type());
         }
       };
       // The margin covers the rounding of costs and bounds.
@@ -460,8 +460,8 @@ class Builder {
       const std::size_t end = std::min(count, (block + 1) * kSweepBlock);
       for (std::size_t i = block * kSweepBlock; i < end; ++i) {
         const EventType type = first[i].type();
-        starts += type != EventType::End;
-        ends += type != EventType::Start;
+        starts += begins_triangle(type);
+        ends += ends_triangle(type);
       }
     }
     scratch.ends_before_block[blocks] = ends;
@@ -492,12 +492,12 @@ class Builder {
     std::size_t n_straddlers = 0;
     for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
       const std::uint32_t t = e->triangle();
-      const bool first_event = e->type() != EventType::End;  // a start or the planar event
+      const bool begins = begins_triangle(e->type());
       const Side s = side[t];
-      children.n_below += first_event & (s == Below);
-      children.n_above += first_event & (s == Above);
+      children.n_below += begins & (s == Below);
+      children.n_above += begins & (s == Above);
       straddlers[n_straddlers] = t;
-      n_straddlers += first_event & (s == Both);
+      n_straddlers += begins & (s == Both);
     }
     for (std::size_t i = 0; i < n_straddlers; ++i) {
       const std::uint32_t t = straddlers[i];
@@ -541,7 +541,7 @@ class Builder {
       const std::uint32_t t = e->triangle();
       const EventType type = e->type();
       if (side[t] != Both) {
-        (side[t] == Below ? children.n_below : children.n_above) += type != EventType::End;
+        (side[t] == Below ? children.n_below : children.n_above) += begins_triangle(type);
       } else if (type == EventType::Planar) {  // on the split plane
         below.push_back(*e);
         above.push_back(*e);
@@ -624,7 +624,7 @@ class Builder {
   void make_leaf(KdTree& tree, const Bounds3& box, const NodeEvents& events) const {
     const std::size_t first = tree.leaf_triangles.size();
     for (const Event *e = events.begin(0), *end = events.end(0); e != end; ++e)
-      if (e->type() != EventType::End) tree.leaf_triangles.push_back(e->triangle());
+      if (begins_triangle(e->type())) tree.leaf_triangles.push_back(e->triangle());
     std::sort(tree.leaf_triangles.begin() + std::ptrdiff_t(first), tree.leaf_triangles.end());
     const std::size_t count = tree.leaf_triangles.size() - first;
     if (count > MBAO_KD_MAX_INDEX) throw Error("kd-tree: leaf too large for the node format");

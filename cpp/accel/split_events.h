@@ -19,6 +19,12 @@ namespace mbao {
 
 enum class EventType : std::uint32_t { End = 0, Planar = 1, Start = 2 };
 
+// A planar event both begins and ends its triangle: counting the events that
+// begin triangles counts each triangle once, and so does counting those that
+// end them.
+inline bool begins_triangle(EventType type) { return type != EventType::End; }
+inline bool ends_triangle(EventType type) { return type != EventType::Start; }
+
 // Triangle indices share a word with the event type.
 constexpr std::uint32_t kMaxEventTriangle = (1u << 30) - 1u;
 
