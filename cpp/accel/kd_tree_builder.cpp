@@ -24,16 +24,17 @@
 // go to both children, and the entries double with each level (4000 such
 // triangles took 7 minutes and 1.3 GB).
 //
-// Subtrees big enough to pay for a thread are built on spare threads into
-// arrays of their own and appended in depth-first order, so the tree does not
-// depend on the number of threads.
+// Subtrees big enough to pay for a hand-over are offered to idle threads
+// (core/work_sharing.h); one that another thread takes is built into arrays of
+// its own and appended in depth-first order, so the tree does not depend on
+// the number of threads.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <future>
 #include <glm/geometric.hpp>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "accel/kd_tree.h"
@@ -41,14 +42,15 @@
 #include "accel/triangle_clip.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "core/work_sharing.h"
 #include "mbao/limits.h"
 
 namespace mbao {
 namespace {
 
 // Below this many triangles a subtree is built by the thread that split its
-// parent: starting a thread would cost more than the subtree takes.
-constexpr std::size_t kMinTrianglesPerThread = 2048;
+// parent: handing it over would cost more than the subtree takes.
+constexpr std::size_t kMinTrianglesToOffer = 2048;
 
 enum Side : std::uint8_t { Below, Above, Both };
 
@@ -113,6 +115,14 @@ struct Children {
 struct Share {
   std::size_t triangles = 0;
   double budget = 0.0;
+};
+
+// A node still to be built, with what building it needs.
+struct Subtree {
+  Bounds3 box;
+  NodeEvents events;
+  Share share;
+  int depth = 0;
 };
 
 // Appends a subtree built in arrays of its own: its child and leaf-list
@@ -213,8 +223,7 @@ class Builder {
   Builder(const TriangleMesh& mesh, const KdBuildOptions& options)
       : mesh_(mesh),
         options_(options),
-        threads_(options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()))),
-        spare_threads_(threads_ - 1) {}
+        threads_(options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()))) {}
 
   KdTree build() {
     Stopwatch clock;
@@ -238,7 +247,13 @@ class Builder {
     NodeEvents events = root_events(placed);
     tree.stats.degenerate_triangles = n - placed;
     Scratch scratch(n);
+    if (threads_ > 1) {
+      sharing_ = std::make_unique<SubtreeSharing>(
+          threads_ - 1, [n] { return Scratch(n); },
+          [this](Subtree& subtree, Scratch& helper_scratch) { return build_apart(subtree, helper_scratch); });
+    }
     build_node(tree, scratch, tree.bounds, std::move(events), {placed, options_.reference_budget * double(placed)}, 0);
+    sharing_.reset();
 
     if (tree.nodes.size() > MBAO_KD_MAX_INDEX) throw Error("kd-tree: more nodes than the node format can address");
     if (tree.leaf_triangles.size() > std::numeric_limits<std::uint32_t>::max())
@@ -312,37 +327,27 @@ class Builder {
     tree.nodes.push_back(kd_make_interior(std::uint32_t(split.axis), split.position, 0));
     const Share below{children.n_below, share.budget * double(children.n_below) / entries};
     const Share above{children.n_above, share.budget * double(children.n_above) / entries};
-    std::future<KdTree> above_part = build_on_spare_thread(above_box, children.above, above, depth + 1);
+    Subtree above_part{above_box, std::move(children.above), above, depth + 1};
+    const SubtreeSharing::OfferHandle offer =
+        sharing_ && above.triangles >= kMinTrianglesToOffer ? sharing_->offer(std::move(above_part)) : nullptr;
     build_node(tree, scratch, below_box, std::move(children.below), below, depth + 1);
     tree.nodes[index] = kd_make_interior(std::uint32_t(split.axis), split.position, std::uint32_t(tree.nodes.size()));
-    if (above_part.valid()) {
-      append_subtree(tree, above_part.get());
-    } else {
-      build_node(tree, scratch, above_box, std::move(children.above), above, depth + 1);
+    if (offer) {
+      std::optional<Subtree> taken_back = sharing_->take_back(offer);
+      if (!taken_back) {
+        append_subtree(tree, sharing_->wait_for(offer, scratch));
+        return;
+      }
+      above_part = std::move(*taken_back);
     }
+    build_node(tree, scratch, above_part.box, std::move(above_part.events), above_part.share, above_part.depth);
   }
 
-  // A subtree on a thread of its own, when one is spare and the subtree is
-  // big enough to pay for it; else an empty future and `events` untouched.
-  std::future<KdTree> build_on_spare_thread(const Bounds3& box, NodeEvents& events, Share share, int depth) {
-    if (share.triangles < kMinTrianglesPerThread || !take_spare_thread()) return {};
-    return std::async(std::launch::async, [this, box, events = std::move(events), share, depth]() mutable {
-      struct GiveBack {
-        std::atomic<int>& spare;
-        ~GiveBack() { spare.fetch_add(1); }
-      } give_back{spare_threads_};
-      KdTree part;
-      Scratch scratch(mesh_.triangles.size());
-      build_node(part, scratch, box, std::move(events), share, depth);
-      return part;
-    });
-  }
-
-  bool take_spare_thread() {
-    int spare = spare_threads_.load();
-    while (spare > 0 && !spare_threads_.compare_exchange_weak(spare, spare - 1)) {
-    }
-    return spare > 0;
+  // A subtree that another thread took, in arrays of its own.
+  KdTree build_apart(Subtree& subtree, Scratch& scratch) {
+    KdTree part;
+    build_node(part, scratch, subtree.box, std::move(subtree.events), subtree.share, subtree.depth);
+    return part;
   }
 
   // Sweeps each axis's sorted events. Between two event positions p < q the
@@ -637,10 +642,13 @@ class Builder {
   const TriangleMesh& mesh_;
   const KdBuildOptions& options_;
   const int threads_;
-  std::atomic<int> spare_threads_;
   int max_depth_ = 0;
   float min_width_ = 0.0f;
   double root_area_ = 0.0;
+  using SubtreeSharing = WorkSharing<Subtree, Scratch, KdTree>;
+  // With more than one thread. Last, so that its helpers stop before the
+  // rest of the builder goes.
+  std::unique_ptr<SubtreeSharing> sharing_;
 };
 
 }  // namespace
