@@ -3,6 +3,8 @@ transparent to every ray where baseColorFactor.a * texture alpha, sampled
 bilinearly with the sampler's wrap modes, is below alphaCutoff."""
 
 import math
+import struct
+import zlib
 
 import numpy as np
 import pytest
@@ -206,6 +208,38 @@ def test_only_mask_textures_are_decoded(tmp_path):
     builder.doc["materials"][opaque]["alphaMode"] = "MASK"
     with pytest.raises(mbao.LoadError, match="image 0"):
         mbao.load(builder.write(tmp_path / "mask.glb"))
+
+
+def png_header_only(width, height, colour_type, bit_depth=8):
+    """A PNG that declares width x height texels but holds a single
+    zlib-compressed byte of them."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    header = struct.pack(">IIBBBBB", width, height, bit_depth, colour_type, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(b"\0"))
+            + chunk(b"IEND", b""))
+
+
+GREY_ALPHA, RGB = 4, 2  # PNG colour types
+
+
+def scene_masked_by(tmp_path, encoded_image):
+    """The square with a MASK material whose texture is `encoded_image`, as a glb path."""
+    builder = GltfBuilder()
+    material = builder.add_material("MASK", texture=builder.add_texture(builder.add_image(encoded_image)))
+    builder.add_scene([builder.add_node(mesh=builder.add_mesh([
+        builder.primitive(SQUARE, SQUARE_TRIANGLES, texcoords=SQUARE_UV, material=material)]))], default=True)  # fmt: skip
+    return builder.write(tmp_path / "masked.glb")
+
+
+@pytest.mark.parametrize("width, height, bit_depth", [(16385, 16384, 8), (16384, 16385, 16), (20000, 14000, 8)])
+def test_a_mask_image_over_2_to_the_28_texels_is_refused_from_its_header(tmp_path, width, height, bit_depth):
+    """Refused before decoding, which would take 1-2 GiB (stb_image itself
+    refuses images of more than 2^30 values)."""
+    with pytest.raises(mbao.LoadError, match=rf"image 0: the image is {width} x {height} texels; .* at most 2\^28"):
+        mbao.load(scene_masked_by(tmp_path, png_header_only(width, height, GREY_ALPHA, bit_depth)))
+    # Without an alpha channel the image is never decoded, whatever its size.
+    assert mbao.load(scene_masked_by(tmp_path, png_header_only(width, height, RGB, bit_depth))).alpha_masks is None
 
 
 def test_a_masked_primitive_needs_its_texture_coordinates(tmp_path):

@@ -4,6 +4,7 @@
 
 #include <climits>
 #include <memory>
+#include <string>
 
 #include "core/error.h"
 
@@ -35,6 +36,9 @@ AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std:
   image.has_alpha = channels == 2 || channels == 4;
   if (!image.has_alpha) return image;  // alpha 1 everywhere: no texels needed
   const std::size_t texels = std::size_t(image.width) * std::size_t(image.height);
+  if (texels > kMaxAlphaTexels)
+    throw LoadError(what + ": the image is " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                    " texels; a mask texture may have at most 2^28 (16384 x 16384)");
   int w = 0, h = 0;
   // The alpha is read for the size and channels stbi_info reported, so the decoded image must have them.
   const auto check_decoded = [&](const void* pixels) {

@@ -15,6 +15,11 @@ struct AlphaImage {
   std::vector<std::uint8_t> alpha;   // width * height values when has_alpha, else empty
 };
 
+// The most texels a mask image may have: 16384 x 16384, the largest texture
+// size GPUs take. Checked from the image's header, before anything is decoded,
+// so a small file that declares a huge image is refused without the memory.
+constexpr std::size_t kMaxAlphaTexels = std::size_t(1) << 28;
+
 // Decodes an encoded image (PNG, JPEG, ... with 8 or 16 bits per channel)
 // keeping only its alpha. Throws LoadError naming `what` when it cannot.
 AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std::string& what);
