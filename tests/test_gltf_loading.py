@@ -172,6 +172,26 @@ def test_gltf_with_data_uri_with_external_bin_and_glb_load_identically(tmp_path)
         assert other.camera.vfov_deg == first.camera.vfov_deg
 
 
+@pytest.mark.parametrize("media_type, payload", [
+    ("application/octet-stream", "@" * 12000),  # not base64
+    ("text/plain", "QUJD" * 3000),  # base64, but not a buffer's media type
+], ids=["not-base64", "not-a-buffer-media-type"])  # fmt: skip
+def test_an_undecodable_data_uri_is_named_not_quoted_in_full(tmp_path, media_type, payload):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE, [0, 1, 2])]))])
+    path = b.write(tmp_path / "scene.gltf", "gltf")
+    doc = json.loads(path.read_text())
+    uri = f"data:{media_type};base64,{payload}"
+    doc["buffers"][0]["uri"] = uri
+    path.write_text(json.dumps(doc))
+    with pytest.raises(mbao.LoadError) as raised:
+        mbao.load(path)
+    message = str(raised.value)
+    assert re.search(rf"data:{media_type};base64,{re.escape(payload[:16])}\.\.\. \({len(uri)} characters\)", message)
+    assert len(message) < 200 + len(str(path)), message
+    assert not message.endswith("\n")
+
+
 @pytest.mark.parametrize("name_length", [1, 2, 3, 4])
 def test_glb_json_chunk_padded_with_spaces_loads(tmp_path, name_length):
     # Different node name lengths give each of the four JSON paddings.

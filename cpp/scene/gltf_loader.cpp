@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <glm/geometric.hpp>
@@ -294,6 +295,27 @@ void check_supported(const tinygltf::Model& model, const std::string& name) {
                     "; mbao supports no glTF extension");
 }
 
+// tinygltf quotes in full a data URI it cannot decode, which may be megabytes
+// of base64: its media type and the payload's first characters are kept.
+std::string abbreviate_data_uris(const std::string& message) {
+  constexpr std::size_t kPayloadKept = 16;
+  std::string shortened;
+  std::size_t copied_to = 0;
+  for (std::size_t uri = message.find("data:"); uri != std::string::npos; uri = message.find("data:", copied_to)) {
+    const std::size_t end = std::min(message.find_first_of(" \t\r\n'\"", uri), message.size());
+    const std::size_t payload = message.find(',', uri) + 1;  // 0 when there is no comma
+    const std::size_t kept_to = payload + kPayloadKept;
+    if (payload == 0 || payload > end || end < kept_to + 32) {  // short enough to quote
+      shortened.append(message, copied_to, end - copied_to);
+    } else {
+      shortened.append(message, copied_to, kept_to - copied_to);
+      shortened += "... (" + std::to_string(end - uri) + " characters)";
+    }
+    copied_to = end;
+  }
+  return shortened.append(message, copied_to);
+}
+
 }  // namespace
 
 std::shared_ptr<Scene> load_gltf(const std::string& path, const LoadOptions& options) {
@@ -318,9 +340,13 @@ std::shared_ptr<Scene> load_gltf_from_memory(const unsigned char* bytes, std::si
                       ? loader.LoadBinaryFromMemory(&model, &error, &warning, bytes, length, base_dir)
                       : loader.LoadASCIIFromString(&model, &error, &warning, reinterpret_cast<const char*>(bytes),
                                                    length, base_dir);
-  if (!ok) throw LoadError(name + ": not a readable glTF 2.0 file: " + (error.empty() ? "unknown error" : error));
+  if (!ok) {
+    error.erase(error.find_last_not_of(" \t\r\n") + 1);  // tinygltf ends each error with a newline
+    throw LoadError(name + ": not a readable glTF 2.0 file: " +
+                    (error.empty() ? "unknown error" : abbreviate_data_uris(error)));
+  }
   check_supported(model, name);
-  return SceneAssembler(model, name, base_dir, options, warning).assemble();
+  return SceneAssembler(model, name, base_dir, options, abbreviate_data_uris(warning)).assemble();
 }
 
 }  // namespace mbao
