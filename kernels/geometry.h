@@ -4,6 +4,18 @@
 
 #define MBAO_NO_TRIANGLE 0xFFFFFFFFu
 
+// The double-precision fallbacks (near-zero edge functions, geometric normals)
+// where the device has fp64, float where it has not. Building with
+// -DMBAO_USE_FP64=0 takes the float paths on any device, so that they can be
+// tested where fp64 exists (tests/test_without_fp64.py).
+#ifndef MBAO_USE_FP64
+#ifdef cl_khr_fp64
+#define MBAO_USE_FP64 1
+#else
+#define MBAO_USE_FP64 0
+#endif
+#endif
+
 // The watertight test relies on a*b - c*d being rounded once per product: a
 // fused multiply-add would make the edge functions of a shared edge, or of a
 // triangle with coinciding corners, differ from exact zero in their sign.
@@ -89,7 +101,7 @@ static inline FrameCorner corner_in_ray_frame(const WatertightRay* ray, float4 p
   return c;
 }
 
-#ifdef cl_khr_fp64
+#if MBAO_USE_FP64
 static inline double double_component(double3 v, uint axis) {
   return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
 }
@@ -122,7 +134,7 @@ static inline float edge_function_in_double(const WatertightRay* ray, float4 p, 
 static inline float edge_function(const WatertightRay* ray, float4 p, float4 q, const FrameCorner* a,
                                   const FrameCorner* b) {
   float e = a->x * b->y - a->y * b->x;
-#ifdef cl_khr_fp64
+#if MBAO_USE_FP64
   if (fabs(e) <= ray->edge_error * (a->across + b->across)) e = edge_function_in_double(ray, p, q);
 #endif
   return e;

@@ -23,7 +23,7 @@
 // normal, for a triangle whose area only exceeds zero in the last bits). In
 // double the corners' differences are exact and the products keep 29 more bits.
 static inline float3 geometric_normal(float3 p0, float3 p1, float3 p2) {
-#ifdef cl_khr_fp64
+#if MBAO_USE_FP64
   const double3 q0 = convert_double3(p0);
   return convert_float3(normalize(cross(convert_double3(p1) - q0, convert_double3(p2) - q0)));
 #else
