@@ -78,7 +78,8 @@ def original(request):
     return request.param, first, noise
 
 
-@pytest.mark.parametrize("scale", [1e-4, 1e4])
+# The ends of the sizes mbao takes: 1e-17 and 1e18 across.
+@pytest.mark.parametrize("scale", [1e-4, 1e4, 1e-17 / EXTENT, 1e18 / EXTENT])
 def test_scaled_scene_renders_the_same_image(original, scale):
     settings, image, noise = original
     vertices, camera = moved(scale, 0.0)
@@ -146,6 +147,16 @@ def test_the_render_origin_is_a_corner_on_far_axes_and_zero_on_near_ones():
     assert mesh.kd_tree()["origin"] == (lo[0], lo[1], hi[2])
     half_away = mbao.Mesh(CORNELL.vertices + [0.5 * EXTENT, 0, 0], CORNELL.indices)
     assert half_away.kd_tree()["origin"] == (0.0, 0.0, 0.0)  # nearer to 0 than it is wide
+
+
+@pytest.mark.parametrize("scale", [1e-22, 1e17])
+def test_a_scene_too_small_or_too_large_for_exact_float32_ray_tests_is_refused(scale):
+    """Not rendered silently wrong: the Cornell box 5.6e-20 across hit 877 of its
+    941 pixels, all with AO 1, and 5.6e19 across 119 with AO near 1."""
+    vertices, _ = moved(scale, 0.0)
+    size = f"{EXTENT * scale:g}".replace("+", r"\+")
+    with pytest.raises(ValueError, match=rf"the scene is {size} across; .* exact for scenes 1e-17 to 1e\+18 across"):
+        mbao.Mesh(vertices, CORNELL.indices)
 
 
 def test_scene_wider_than_float32_can_span_is_rejected():

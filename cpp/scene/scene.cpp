@@ -16,12 +16,28 @@ namespace {
 // cannot undo rounding that happened before the vertices reached mbao.
 constexpr float kMaxVertexSpacing = 1e-3f;
 
+// The sizes across which the float32 ray/triangle test is exact: its edge
+// functions multiply coordinates relative to the ray's origin, whose squares
+// overflow float from about 1.8e19 and fall into denormals below about 1e-19.
+// The Cornell box renders the same AO from 2e-18 to 8e18 across and silently
+// wrong at 5.6e-20 and 5.6e19 (tests/test_scale_and_placement.py); the limits
+// leave a margin for rays from outside the scene and for small triangles.
+constexpr float kMinSceneSize = 1e-17f;
+constexpr float kMaxSceneSize = 1e18f;
+
 float largest(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
 
 void check_extent(const Bounds3& box, const std::string& name) {
   const glm::vec3 extent = box.extent();
   if (!std::isfinite(extent.x) || !std::isfinite(extent.y) || !std::isfinite(extent.z))
     throw std::invalid_argument(name + ": the scene is wider than float32 can span (its bounds' extent overflows)");
+  const float size = largest(extent);
+  if (size > kMaxSceneSize || (size > 0.0f && size < kMinSceneSize)) {
+    std::ostringstream message;
+    message << name << ": the scene is " << size << " across; mbao's float32 ray tests are exact for scenes "
+            << kMinSceneSize << " to " << kMaxSceneSize << " across: scale it into that range";
+    throw std::invalid_argument(message.str());
+  }
 }
 
 // Scene::render_origin: per axis, the near edge where the range lies within a
