@@ -44,23 +44,28 @@ class WorkSharing {
 
   // Starts `helpers` threads, each with a context from make_context, that
   // take offers until the pool is destroyed.
+  // A helper whose context cannot be made does nothing: the offers it would
+  // have taken are done by the threads that made them.
   WorkSharing(int helpers, std::function<Context()> make_context, Do do_task) : do_task_(std::move(do_task)) {
-    for (int i = 0; i < helpers; ++i)
-      helpers_.emplace_back([this, make_context] {
-        Context context = make_context();
-        help_until_stopped(context);
-      });
+    try {
+      for (int i = 0; i < helpers; ++i)
+        helpers_.emplace_back([this, make_context] {
+          std::optional<Context> context;
+          try {
+            context.emplace(make_context());
+          } catch (...) {
+            return;
+          }
+          help_until_stopped(*context);
+        });
+    } catch (...) {  // a thread that could not start: the started ones must not outlive this
+      stop_helpers();
+      throw;
+    }
   }
 
   // Helpers finish the task they are doing, take no other, and are joined.
-  ~WorkSharing() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stopping_ = true;
-    }
-    changed_.notify_all();
-    for (std::thread& helper : helpers_) helper.join();
-  }
+  ~WorkSharing() { stop_helpers(); }
 
   WorkSharing(const WorkSharing&) = delete;
   WorkSharing& operator=(const WorkSharing&) = delete;
@@ -104,6 +109,15 @@ class WorkSharing {
   }
 
  private:
+  void stop_helpers() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stopping_ = true;
+    }
+    changed_.notify_all();
+    for (std::thread& helper : helpers_) helper.join();
+  }
+
   void help_until_stopped(Context& context) {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stopping_) {

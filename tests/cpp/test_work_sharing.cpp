@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <future>
+#include <new>
 #include <stdexcept>
 #include <thread>
 
@@ -127,6 +128,12 @@ TEST(WorkSharing, EveryOfferIsDoneOnceWhateverTheThreads) {
     const int n = 20000;
     EXPECT_EQ(sum_range(sharing, 0, n, context), n * (n - 1) / 2) << helpers << " helpers";
   }
+}
+
+TEST(WorkSharing, HelpersWithoutAContextLeaveTheOffersToTheirOwners) {
+  Sharing sharing(3, []() -> int { throw std::bad_alloc(); }, run_task());
+  int context = 0;
+  EXPECT_EQ(sum_range(sharing, 0, 20000, context), 20000 * 19999 / 2);
 }
 
 }  // namespace
