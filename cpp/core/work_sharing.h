@@ -97,13 +97,7 @@ class WorkSharing {
   // `context` until it is there. Rethrows what the task threw.
   Result wait_for(const OfferHandle& offer, Context& context) {
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!offer->finished_) {
-      if (open_.empty()) {
-        changed_.wait(lock);
-      } else {
-        do_oldest(lock, context);
-      }
-    }
+    help_until(lock, context, [&offer] { return offer->finished_; });
     if (offer->error_) std::rethrow_exception(offer->error_);
     return std::move(*offer->result_);
   }
@@ -120,7 +114,14 @@ class WorkSharing {
 
   void help_until_stopped(Context& context) {
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!stopping_) {
+    help_until(lock, context, [this] { return stopping_; });
+  }
+
+  // Does open offers, or sleeps while there are none, until `done` (read
+  // under the lock).
+  template <class Done>
+  void help_until(std::unique_lock<std::mutex>& lock, Context& context, const Done& done) {
+    while (!done()) {
       if (open_.empty()) {
         changed_.wait(lock);
       } else {
