@@ -73,7 +73,8 @@ json measure_frames(mbao::Renderer& renderer, const BenchScene& scene, const mba
           {"rays_secondary", stats.rays_secondary},
           {"mrays_per_s", rays / frame_ms / 1e3},
           {"memory_bytes", stats.memory_bytes},
-          {"kernel_options", stats.kernel_options}};
+          {"kernel_options", stats.kernel_options},
+          {"organisation", stats.organisation}};
 }
 
 std::string shell_quoted(const std::string& text) {

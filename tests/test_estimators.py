@@ -126,6 +126,15 @@ def test_auto_traversal_is_the_full_stack_on_cpus_and_the_short_stack_elsewhere(
     assert mbao.render(cornell, traversal="restart", **settings).stats["traversal_mode"] == "restart"
 
 
+def test_auto_organisation_is_the_wavefront_on_gpus_and_the_megakernel_elsewhere(cornell):
+    device = mbao.devices()[0]
+    settings = dict(width=8, height=8, bounces=2, device=device)
+    expected = "wavefront" if device.type == "GPU" else "megakernel"
+    assert mbao.render(cornell, **settings).stats["organisation"] == expected
+    assert mbao.render(cornell, estimator="path", **settings).stats["organisation"] == "megakernel"
+    assert mbao.render(cornell, organisation="wavefront", **settings).stats["organisation"] == "wavefront"
+
+
 def test_camera_samples_average_over_the_pixel():
     """spp > 1 jitters the camera rays uniformly over the pixel and averages
     (a box filter). Seen from straight above, a half-plane x <= 0 whose shading

@@ -108,6 +108,7 @@ def test_stats_describe_an_hbao_frame(cornell):
     result = render_hbao(cornell, cornell.camera, 100.0)
     assert result.stats["rays_primary"] == SIZE * SIZE and result.stats["rays_secondary"] == 0
     assert result.stats["frame_ms"] > 0 and result.stats["memory_bytes"] > SIZE * SIZE * 32
+    assert result.stats["organisation"] is None  # the kernel organisations are the ray-traced method's
 
 
 @pytest.mark.parametrize("arguments, message", [

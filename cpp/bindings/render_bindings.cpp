@@ -26,6 +26,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["kernel_cache"] = s.kernel_cache;
   d["kernel_options"] = s.kernel_options;
   d["traversal_mode"] = s.traversal_mode;
+  d["organisation"] = s.organisation.empty() ? py::object(py::none()) : py::str(s.organisation);
   d["upload_ms"] = s.upload_ms;
   d["frame_ms"] = s.frame_ms;
   d["rays_primary"] = s.rays_primary;

@@ -43,7 +43,8 @@ Traversal parse_traversal(const std::string& name) {
 KernelOrganisation parse_organisation(const std::string& name) {
   if (name == "megakernel") return KernelOrganisation::Megakernel;
   if (name == "wavefront") return KernelOrganisation::Wavefront;
-  bad("organisation must be \"megakernel\" or \"wavefront\", got \"" + name + "\"");
+  if (name == "auto") return KernelOrganisation::Auto;
+  bad("organisation must be \"auto\", \"megakernel\" or \"wavefront\", got \"" + name + "\"");
 }
 
 Method parse_method(const std::string& name) {
@@ -67,7 +68,11 @@ std::string to_string(Traversal traversal) {
 }
 
 std::string to_string(KernelOrganisation organisation) {
-  return organisation == KernelOrganisation::Megakernel ? "megakernel" : "wavefront";
+  switch (organisation) {
+    case KernelOrganisation::Megakernel: return "megakernel";
+    case KernelOrganisation::Wavefront: return "wavefront";
+    default: return "auto";
+  }
 }
 
 std::uint64_t RenderSettings::max_rays_per_camera_sample() const {
@@ -100,6 +105,11 @@ std::uint64_t RenderSettings::max_queue_entries_per_camera_sample() const {
   return deepest + second;
 }
 
+bool RenderSettings::wavefront_can_run() const {
+  return method == Method::RayTraced && estimator == Estimator::Branching &&
+         max_queue_entries_per_camera_sample() * std::uint64_t(spp) <= kMaxWavefrontQueueEntries;
+}
+
 void RenderSettings::validate() const {
   check_range("width", width, 1, 16384);
   check_range("height", height, 1, 16384);
@@ -130,7 +140,7 @@ void RenderSettings::validate_hbao() const {
   if (spp != 1) bad("HBAO samples each pixel at its centre, got spp=" + std::to_string(spp));
   if (!std::isfinite(max_distance))
     bad("HBAO needs a finite max_distance: it is the radius, in world units, that it searches for occluders");
-  if (organisation != KernelOrganisation::Megakernel) bad("organisation applies to the ray-traced method only");
+  if (organisation == KernelOrganisation::Wavefront) bad("organisation \"wavefront\" applies to the ray-traced method only");
   check_range("hbao directions", hbao.directions, 1, 64);
   check_range("hbao steps", hbao.steps, 1, 64);
   if (!(hbao.angle_bias_deg >= 0.0f && hbao.angle_bias_deg < 90.0f))

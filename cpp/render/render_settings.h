@@ -15,7 +15,9 @@ enum class NormalMode { Shading, Geometric };
 enum class Traversal { Restart, PushDown, ShortStack, Stack, Auto };
 // How the AO work is cut into kernels: one work item per pixel runs the whole
 // estimator, or one launch per bounce over a queue of the surfaces that bounce on.
-enum class KernelOrganisation { Megakernel, Wavefront };
+// Auto: the faster measured for the device's type where the wavefront can run
+// the settings (see organisation_for).
+enum class KernelOrganisation { Megakernel, Wavefront, Auto };
 // What computes the image: the ray-traced estimators of SPEC 2, or HBAO (SPEC 4).
 enum class Method { RayTraced, Hbao };
 
@@ -63,7 +65,7 @@ struct RenderSettings {
   // How the work is cut up; none of these changes the image.
   std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory (the wavefront's always)
   std::size_t work_group_size = 0;  // 0 lets the OpenCL driver choose
-  KernelOrganisation organisation = KernelOrganisation::Megakernel;  // wavefront: branching estimator only
+  KernelOrganisation organisation = KernelOrganisation::Auto;  // wavefront: branching estimator only
   Method method = Method::RayTraced;
   HbaoSettings hbao;  // method Hbao only
   // Renders that could trace more rays than this are refused before they start.
@@ -79,6 +81,9 @@ struct RenderSettings {
   // surfaces of the two deepest bounces that bounce on, r^(b-1) + r^(b-2)
   // (a bounce reads one queue and fills the other).
   std::uint64_t max_queue_entries_per_camera_sample() const;
+  // Whether the wavefront organisation can run these settings: the ray-traced
+  // branching estimator, with a pixel's queue entries within kMaxWavefrontQueueEntries.
+  bool wavefront_can_run() const;
 
  private:
   void validate_wavefront() const;

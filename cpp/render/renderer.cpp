@@ -47,8 +47,8 @@ ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, Trave
   features.traversal = traversal;
   features.count_traversal = count_traversal;
   features.alpha_masks = !scene.masks().empty();
-  // Faster only for the full stack on a CPU; with a short stack or none it was slower there, and GPUs are
-  // unmeasured (README, "Side by side with Embree"; docs/gpu.md).
+  // Faster only for the full stack on a CPU; with a short stack or none it was slower there, and on an
+  // H100 it made every traversal 1.7-6.4 times slower (README, "Side by side with Embree"; docs/gpu.md).
   features.load_both_children = device.type == "CPU" && traversal == Traversal::Stack;
   return features;
 }
@@ -112,6 +112,12 @@ Traversal traversal_for(Traversal requested, const DeviceInfo& device) {
   return device.type == "CPU" ? Traversal::Stack : Traversal::ShortStack;
 }
 
+KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device) {
+  if (settings.organisation != KernelOrganisation::Auto) return settings.organisation;
+  return device.type == "GPU" && settings.wavefront_can_run() ? KernelOrganisation::Wavefront
+                                                             : KernelOrganisation::Megakernel;
+}
+
 Renderer& Renderer::for_device(const DeviceInfo& device) {
   static std::mutex mutex;
   // Never destroyed: releasing OpenCL objects during static destruction can run
@@ -169,8 +175,11 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
 }
 
 void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                          const RenderSettings& settings, const TileCallback& between_tiles, RenderResult& result) {
+                          const RenderSettings& requested, const TileCallback& between_tiles, RenderResult& result) {
   RenderStats& stats = result.stats;
+  RenderSettings settings = requested;
+  settings.organisation = organisation_for(requested, device());
+  stats.organisation = to_string(settings.organisation);
   const std::size_t pixels = result.ao.size();
   const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
   std::vector<cl_uint> secondary_rays(pixels);

@@ -34,9 +34,16 @@ struct TraceResult {
 // What `requested` means on `device`: Auto is the full stack on CPUs (the
 // fewest nodes per ray; on PoCL the fastest frames or within the noise of the
 // short stack: mbao_bench's "traversals" section) and the short stack on other devices, Horn et al.'s
-// choice for GPUs, where a 64-entry stack per ray spills out of registers
-// (not measured here yet).
+// choice for GPUs. On an H100 the two tie and restart and push-down are slower
+// (bench/results/nvidia-h100.json); the short stack keeps a work item's state small.
 Traversal traversal_for(Traversal requested, const DeviceInfo& device);
+
+// The organisation `settings` run with on `device`: Auto is the wavefront on GPUs
+// wherever it can run the settings (on an H100, 0.73-0.94 of the megakernel's frame at
+// b = 2 and a tie at b = 1; bench/results/nvidia-h100.json) and the megakernel
+// otherwise (on PoCL they tie and the wavefront needs memory for its queues;
+// README "Megakernel against wavefront").
+KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device);
 
 // Renders and traces on one OpenCL device, keeping its built programs and the
 // scenes uploaded to it. One per device for the life of the process (for_device);
@@ -64,7 +71,7 @@ class Renderer {
  private:
   // The two kinds of frame, given the scene on the device and the camera in its frame.
   void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                  const RenderSettings& settings, const TileCallback& between_tiles, RenderResult& result);
+                  const RenderSettings& requested, const TileCallback& between_tiles, RenderResult& result);
   void run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                 const RenderSettings& settings, RenderResult& result);
 

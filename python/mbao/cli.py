@@ -43,7 +43,7 @@ def _parser():
     r.add_argument("--traversal", choices=TRAVERSALS, default="auto")
     r.add_argument("--seed", type=int, default=0)
     r.add_argument("--traversal-stats", action="store_true", help="count nodes, leaves, triangle tests per ray")
-    r.add_argument("--organisation", choices=ORGANISATIONS, default="megakernel")
+    r.add_argument("--organisation", choices=ORGANISATIONS, default="auto")
     r.add_argument("--method", choices=METHODS, default="raytraced", help="hbao: the screen-space baseline")
     r.add_argument("--hbao-directions", type=int, default=8)
     r.add_argument("--hbao-steps", type=int, default=6)

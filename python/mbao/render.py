@@ -11,7 +11,7 @@ from .devices import resolve
 ESTIMATORS = ("branching", "path")
 NORMAL_MODES = ("shading", "geometric")
 TRAVERSALS = ("auto", "pushdown", "restart", "short-stack", "stack")
-ORGANISATIONS = ("megakernel", "wavefront")
+ORGANISATIONS = ("auto", "megakernel", "wavefront")
 METHODS = ("raytraced", "hbao")
 
 
@@ -58,7 +58,7 @@ def render(
     traversal="auto",
     device=None,
     traversal_stats=False,
-    organisation="megakernel",
+    organisation="auto",
     tile_pixels=None,
     work_group_size=None,
     max_rays=None,
@@ -81,14 +81,16 @@ def render(
         the settings, whatever the device, tiling or work-group size.
     traversal: how rays walk the kd-tree: "pushdown" or "short-stack" (Horn et al. 2007),
         "restart" (Foley and Sugerman 2005), "stack" (a full stack), or "auto": "stack"
-        on CPUs, "short-stack" on GPUs (stats["traversal_mode"] says which ran). Same image
-        either way.
+        on CPUs, "short-stack" on GPUs (stats["traversal_mode"] says which ran; on an H100 the
+        two stacks tie). Same image either way.
     device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
     traversal_stats: count nodes, leaves, triangle tests and restarts per ray into
         stats["traversal"] (kernels built to count, somewhat slower).
-    organisation: "megakernel" (one work item runs a pixel's whole estimator) or
+    organisation: "megakernel" (one work item runs a pixel's whole estimator),
         "wavefront" (branching only: one launch per bounce over a compacted queue of
-        the surfaces that bounce on). Same image bit for bit; on CPUs they tie.
+        the surfaces that bounce on), or "auto": the wavefront on GPUs where it can run
+        the settings (faster there at b >= 2), else the megakernel (on CPUs they tie).
+        Same image bit for bit; stats["organisation"] says which ran.
     tile_pixels, work_group_size: how the work is cut up (None: automatic); they do not change the image.
     max_rays: a render that could trace more rays than this (camera rays included) is refused
         with a ValueError saying how many it would take; None: mbao.DEFAULT_MAX_RAYS (1e10).

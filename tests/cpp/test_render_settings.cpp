@@ -26,7 +26,7 @@ TEST(RenderSettings, DefaultsAreTheSeedPapersConfiguration) {
   EXPECT_EQ(s.samples, 4);
   EXPECT_EQ(s.bounces, 1);
   EXPECT_EQ(s.estimator, Estimator::Branching);
-  EXPECT_EQ(s.organisation, KernelOrganisation::Megakernel);
+  EXPECT_EQ(s.organisation, KernelOrganisation::Auto);
   EXPECT_EQ(s.rho, 1.0f);
   EXPECT_TRUE(std::isinf(s.max_distance));
 }
@@ -95,8 +95,25 @@ TEST(RenderSettings, TheWavefrontRefusesThePathEstimatorAndQueuesPastItsLimit) {
   s.samples = 128;
   s.bounces = 4;  // 128^3 + 128^2 queued surfaces per pixel, but only 128 + ... + 128^4 < 2^32 rays
   EXPECT_NE(complaint(s).find("surfaces per pixel"), std::string::npos) << complaint(s);
+  EXPECT_FALSE(s.wavefront_can_run());
   s.organisation = KernelOrganisation::Megakernel;
   EXPECT_EQ(complaint(s), "");
+}
+
+TEST(RenderSettings, TheWavefrontCanRunTheRayTracedBranchingEstimatorWithinItsQueues) {
+  RenderSettings s;
+  s.bounces = 3;
+  EXPECT_TRUE(s.wavefront_can_run());
+  s.estimator = Estimator::Path;
+  EXPECT_FALSE(s.wavefront_can_run());
+  s.estimator = Estimator::Branching;
+  s.method = Method::Hbao;
+  EXPECT_FALSE(s.wavefront_can_run());
+  s.method = Method::RayTraced;
+  s.spp = std::int64_t(kMaxWavefrontQueueEntries / s.max_queue_entries_per_camera_sample());
+  EXPECT_TRUE(s.wavefront_can_run());
+  s.spp += 1;
+  EXPECT_FALSE(s.wavefront_can_run());
 }
 
 TEST(RenderSettings, RaysInTotalAreBoundedByMaxRays) {
@@ -122,7 +139,7 @@ TEST(RenderSettings, NamesParseAndPrintBothWays) {
   for (const char* name : {"shading", "geometric"}) EXPECT_EQ(to_string(parse_normal_mode(name)), name);
   for (const char* name : {"pushdown", "restart", "short-stack", "stack"})
     EXPECT_EQ(to_string(parse_traversal(name)), name);
-  for (const char* name : {"megakernel", "wavefront"}) EXPECT_EQ(to_string(parse_organisation(name)), name);
+  for (const char* name : {"auto", "megakernel", "wavefront"}) EXPECT_EQ(to_string(parse_organisation(name)), name);
   EXPECT_THROW(parse_estimator("Branching"), std::invalid_argument);
   EXPECT_THROW(parse_traversal("short_stack"), std::invalid_argument);
 }

@@ -58,6 +58,37 @@ RenderSettings small(std::int64_t bounces) {
   return s;
 }
 
+TEST(Wavefront, AutoIsTheWavefrontOnGpusWhereItCanRunAndTheMegakernelElsewhere) {
+  DeviceInfo gpu, cpu;
+  gpu.type = "GPU";
+  cpu.type = "CPU";
+  RenderSettings s = small(2);
+  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Wavefront);
+  EXPECT_EQ(organisation_for(s, cpu), KernelOrganisation::Megakernel);
+  s.estimator = Estimator::Path;
+  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Megakernel);
+  s.estimator = Estimator::Branching;
+  s.method = Method::Hbao;
+  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Megakernel);
+  // What is asked for by name runs, on either device.
+  s = small(2);
+  s.organisation = KernelOrganisation::Megakernel;
+  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Megakernel);
+  s.organisation = KernelOrganisation::Wavefront;
+  EXPECT_EQ(organisation_for(s, cpu), KernelOrganisation::Wavefront);
+}
+
+TEST(Wavefront, StatsNameTheOrganisationThatRan) {
+  const auto box = cornell_box();
+  RenderSettings s = small(2);
+  s.width = s.height = 8;
+  Renderer& renderer = Renderer::for_device(default_device());
+  EXPECT_EQ(renderer.render(box, *box->camera(), s).stats.organisation,
+            to_string(organisation_for(s, renderer.device())));
+  for (KernelOrganisation named : {KernelOrganisation::Megakernel, KernelOrganisation::Wavefront})
+    EXPECT_EQ(render(box, *box->camera(), s, named).stats.organisation, to_string(named));
+}
+
 TEST(Wavefront, CornellBoxIsTheMegakernelsImageBitForBit) {
   const auto cornell = cornell_box();
   for (std::int64_t b : {1, 2, 3}) expect_same_render(cornell, *cornell->camera(), small(b));
