@@ -168,12 +168,12 @@ void RenderSettings::validate_wavefront() const {
   if (estimator != Estimator::Branching)
     bad("the wavefront organisation runs the branching estimator only; the path estimator needs "
         "organisation \"megakernel\"");
-  const std::uint64_t per_pixel = max_queue_entries_per_camera_sample() * std::uint64_t(spp);
-  if (per_pixel > kMaxWavefrontQueueEntries)
-    bad("the wavefront organisation with samples=" + std::to_string(samples) + ", bounces=" +
-        std::to_string(bounces) + " and spp=" + std::to_string(spp) + " queues up to " + std::to_string(per_pixel) +
-        " surfaces per pixel, more than its limit of " + std::to_string(kMaxWavefrontQueueEntries) +
-        "; organisation \"megakernel\" keeps one surface per bounce");
+  if (wavefront_can_run()) return;
+  bad("the wavefront organisation with samples=" + std::to_string(samples) + ", bounces=" + std::to_string(bounces) +
+      " and spp=" + std::to_string(spp) + " queues up to " +
+      std::to_string(max_queue_entries_per_camera_sample() * std::uint64_t(spp)) +
+      " surfaces per pixel, more than its limit of " + std::to_string(kMaxWavefrontQueueEntries) +
+      "; organisation \"megakernel\" keeps one surface per bounce");
 }
 
 }  // namespace mbao
