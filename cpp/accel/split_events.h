@@ -152,23 +152,21 @@ class NodeEvents {
   Event* end(int axis) { return events_.get() + start_[std::size_t(axis) + 1]; }
   std::size_t size(int axis) const { return start_[std::size_t(axis) + 1] - start_[std::size_t(axis)]; }
 
-  // Filling, one axis after the other: push the axis's events, then close it.
-  void push(const Event& e) {
-    assert(size_ < capacity_);
-    events_[size_++] = e;
-  }
-  void close_axis(int axis) { start_[std::size_t(axis) + 1] = size_; }
-  // Filling by pointer: write from next_slot() on, then close the axis at the
-  // pointer past the last event kept.
+  // Filling one axis after the other: write from next_slot() on, then close
+  // the axis at the pointer past the last event kept.
   Event* next_slot() { return events_.get() + size_; }
   void close_axis(int axis, const Event* filled_to) {
     size_ = std::size_t(filled_to - events_.get());
     assert(size_ <= capacity_);
-    close_axis(axis);
+    start_[std::size_t(axis) + 1] = size_;
   }
 
-  void push_box(int axis, const Bounds3& box, std::uint32_t triangle) {
-    for_box_events(axis, box, triangle, [this](const Event& e) { push(e); });
+  // Filling in place, the axes at once: lay the runs out with these sizes,
+  // then write each from begin(axis).
+  void lay_out(const std::array<std::size_t, 3>& sizes) {
+    for (std::size_t axis = 0; axis < 3; ++axis) start_[axis + 1] = start_[axis] + sizes[axis];
+    size_ = start_[3];
+    assert(size_ <= capacity_);
   }
 
  private:

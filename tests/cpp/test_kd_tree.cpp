@@ -523,8 +523,11 @@ TEST(KdTree, PruningTheSweepKeepsTheTree) {
 }
 
 TEST(KdTree, TheTreeDoesNotDependOnTheNumberOfThreads) {
-  // Big enough for subtrees on spare threads (2048 triangles and more).
-  const TriangleMesh mesh = random_soup(30000, 21);
+  // Big enough for subtrees on spare threads (2048 triangles and more), with
+  // triangles of no area spread over the parts in which threads make the
+  // root's boxes.
+  TriangleMesh mesh = random_soup(30000, 21);
+  for (std::size_t t = 0; t < mesh.triangles.size(); t += 997) mesh.triangles[t][2] = mesh.triangles[t][1];
   KdBuildOptions one_thread, four_threads;
   one_thread.threads = 1;
   four_threads.threads = 4;
@@ -538,6 +541,8 @@ TEST(KdTree, TheTreeDoesNotDependOnTheNumberOfThreads) {
   EXPECT_EQ(serial.leaf_triangles, parallel.leaf_triangles);
   EXPECT_EQ(serial.stats.max_depth, parallel.stats.max_depth);
   EXPECT_EQ(serial.stats.leaves, parallel.stats.leaves);
+  EXPECT_GE(serial.stats.degenerate_triangles, 31u);
+  EXPECT_EQ(serial.stats.degenerate_triangles, parallel.stats.degenerate_triangles);
   // Subtrees' costs are summed in another order.
   EXPECT_NEAR(serial.stats.sah_cost, parallel.stats.sah_cost, 1e-12 * serial.stats.sah_cost);
 }
