@@ -309,7 +309,7 @@ class Builder {
     for (std::uint32_t t = 0; t < n; ++t) {
       if (boxes[t].empty()) continue;
       kept.push_back(t);
-      for (int axis = 0; axis < 3; ++axis) events_per_axis[axis] += boxes[t].lo[axis] == boxes[t].hi[axis] ? 1 : 2;
+      for (int axis = 0; axis < 3; ++axis) events_per_axis[std::size_t(axis)] += box_event_count(axis, boxes[t]);
     }
     placed = kept.size();
     NodeEvents events(6 * kept.size());

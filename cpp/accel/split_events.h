@@ -123,11 +123,14 @@ inline void sort_events(Event* first, Event* last) {
   }
 }
 
-// Hands `push` the events of `box` along `axis`: a start and an end, or one
-// planar event.
+// How many events `box` has along `axis`: a start and an end, or one planar
+// event where it is flat.
+inline std::size_t box_event_count(int axis, const Bounds3& box) { return box.lo[axis] == box.hi[axis] ? 1 : 2; }
+
+// Hands `push` the box_event_count(axis, box) events of `box` along `axis`.
 template <class Push>
 void for_box_events(int axis, const Bounds3& box, std::uint32_t triangle, Push&& push) {
-  if (box.lo[axis] == box.hi[axis]) {
+  if (box_event_count(axis, box) == 1) {
     push(Event::make(box.lo[axis], EventType::Planar, triangle));
   } else {
     push(Event::make(box.lo[axis], EventType::Start, triangle));
