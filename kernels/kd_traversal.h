@@ -162,7 +162,7 @@ static inline int far_stack_pop(FarStack* stack, uint* node, float* t_lo, float*
 // branches go wrong about every other step. With MBAO_LOAD_BOTH_CHILDREN (the
 // full stack on CPUs) it also loads both children before the choice, so that
 // the next node's fetch overlaps the step's arithmetic instead of following it
-// (README, "Side by side with Embree", has the measurements).
+// (docs/traversal-on-pocl.md has the measurements).
 static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, float t_max,
                             int any_hit, Hit* hit, TraversalCounts* counts) {
   *hit = no_hit();

@@ -48,7 +48,7 @@ ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, Trave
   features.count_traversal = count_traversal;
   features.alpha_masks = !scene.masks().empty();
   // Faster only for the full stack on a CPU; with a short stack or none it was slower there, and on an
-  // H100 it made every traversal 1.7-6.4 times slower (README, "Side by side with Embree"; docs/gpu.md).
+  // H100 it made every traversal 1.7-6.4 times slower (docs/traversal-on-pocl.md; README, "On an NVIDIA H100").
   features.load_both_children = device.type == "CPU" && traversal == Traversal::Stack;
   return features;
 }
