@@ -66,20 +66,24 @@ json kernel_builds(const Options& options) {
   const json cold = run_child(command);
   const json warm = run_child(command);
   std::filesystem::remove_all(caches);
-  std::cout << "| kernels of a Cornell box render in a new process | ms | from |\n|---|---:|---|\n"
-            << "| cold (empty caches) | " << fixed(cold["kernel_build_ms"], 1) << " | " << cold["kernel_cache"].get<std::string>()
-            << " |\n| warm (second process) | " << fixed(warm["kernel_build_ms"], 1) << " | "
-            << warm["kernel_cache"].get<std::string>() << " |\n\n";
+  std::cout << "| a 512x512 Cornell box render in a new process | kernels ms | from | its frame ms |\n"
+            << "|---|---:|---|---:|\n";
+  for (const auto& [name, run] : {std::pair{"cold (empty caches)", cold}, std::pair{"warm (second process)", warm}})
+    std::cout << "| " << name << " | " << fixed(run["kernel_build_ms"], 1) << " | "
+              << run["kernel_cache"].get<std::string>() << " | " << fixed(run["frame_ms"], 1) << " |\n";
+  std::cout << "\n";
   return {{"cold", cold}, {"warm", warm}};
 }
 
 int child_build_kernels(const std::string& device) {
   const mbao::DeviceInfo info = device == "default" ? mbao::default_device() : mbao::find_device(device);
   const auto cornell = mbao::cornell_box();
-  mbao::RenderSettings settings;
-  settings.width = settings.height = 8;
+  mbao::RenderSettings settings;  // Table 1's size: one tile, wider than a grid PoCL builds apart (launch_empty)
   const mbao::RenderStats stats = mbao::Renderer::for_device(info).render(cornell, *cornell->camera(), settings).stats;
-  std::cout << json{{"kernel_build_ms", stats.kernel_build_ms}, {"kernel_cache", stats.kernel_cache}}.dump() << "\n";
+  std::cout << json{{"kernel_build_ms", stats.kernel_build_ms}, {"kernel_cache", stats.kernel_cache},
+                    {"frame_ms", stats.frame_ms}}
+                   .dump()
+            << "\n";
   return 0;
 }
 

@@ -27,4 +27,10 @@ void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items
   queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * work_group), cl::NDRange(work_group));
 }
 
+void launch_empty(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t largest_items,
+                  std::size_t work_group) {
+  launch(queue, kernel, 0, work_group);
+  if (largest_items > work_group) launch(queue, kernel, largest_items, work_group);
+}
+
 }  // namespace mbao

@@ -19,4 +19,13 @@ void set_buffer_or_null(cl::Kernel& kernel, cl_uint index, const cl::Buffer& buf
 // so an empty launch still runs: the kernels return for indices past their count).
 void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items, std::size_t work_group);
 
+// Launches `kernel`, whose arguments make every work item return at once, on
+// one group and on `largest_items` items. Some drivers build a kernel at its
+// first launch, for its work-group size and also for the size of its grid
+// (PoCL: grids under 65535 items wide and wider ones get builds of their own):
+// launched so over the smallest and the largest grid a frame uses, a kernel
+// is built before the frame, whatever its tiles' sizes.
+void launch_empty(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t largest_items,
+                  std::size_t work_group);
+
 }  // namespace mbao

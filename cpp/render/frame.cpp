@@ -23,7 +23,7 @@ std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
              const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels)
-    : pixels_(std::size_t(s.width) * std::size_t(s.height)), spp_(std::size_t(s.spp)) {
+    : pixels_(std::size_t(s.width) * std::size_t(s.height)), tile_pixels_(tile_pixels), spp_(std::size_t(s.spp)) {
   buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
   buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
@@ -64,17 +64,30 @@ void Frame::set_up_megakernel(const cl::Device& device, const cl::Program& progr
   ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
 }
 
-void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
+void Frame::set_tile(std::size_t first, std::size_t count) {
   camera_rays_.setArg(camera_tile_arg_, cl_uint(first));
   camera_rays_.setArg(camera_tile_arg_ + 1, cl_uint(count));
-  launch(queue, camera_rays_, count * spp_, camera_group_);
-  if (wavefront_) {
-    wavefront_->enqueue_tile(queue, first, count);
-    return;
-  }
+  if (wavefront_) return;  // it sets its own kernels' tile
   ao_kernel_.setArg(ao_tile_arg_, cl_uint(first));
   ao_kernel_.setArg(ao_tile_arg_ + 1, cl_uint(count));
-  launch(queue, ao_kernel_, count, ao_group_);
+}
+
+void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
+  set_tile(first, count);
+  launch(queue, camera_rays_, count * spp_, camera_group_);
+  if (wavefront_)
+    wavefront_->enqueue_tile(queue, first, count);
+  else
+    launch(queue, ao_kernel_, count, ao_group_);
+}
+
+void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
+  set_tile(0, 0);
+  launch_empty(queue, camera_rays_, tile_pixels_ * spp_, camera_group_);
+  if (wavefront_)
+    wavefront_->enqueue_empty_tiles(queue, tile_pixels_);
+  else
+    launch_empty(queue, ao_kernel_, tile_pixels_, ao_group_);
 }
 
 void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask, cl_uint* secondary_rays) {
@@ -93,7 +106,8 @@ std::string Frame::launch_signature() const {
   const cl::Program program = camera_rays_.getInfo<CL_KERNEL_PROGRAM>();
   const std::string ao = wavefront_ ? wavefront_->launch_signature()
                                     : ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(ao_group_);
-  return std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " " + std::to_string(camera_group_) + " " + ao;
+  return std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " " + std::to_string(camera_group_) + " " + ao +
+         " tile " + std::to_string(tile_pixels_);
 }
 
 }  // namespace mbao

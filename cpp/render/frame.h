@@ -24,8 +24,12 @@ class Frame {
   Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
         const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels);
 
-  // Camera rays and AO for pixels [first, first + count).
+  // Camera rays and AO for pixels [first, first + count), count <= the tile size.
   void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
+  // Launches every kernel of a tile over no pixels, on the smallest grid and on
+  // a whole tile's (launch_empty): what a driver builds at a kernel's first
+  // launch, it builds here rather than in a tile.
+  void enqueue_empty_tiles(cl::CommandQueue& queue);
   // Copies the image and the per-pixel secondary ray counts back (non-blocking).
   void enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask, cl_uint* secondary_rays);
   // The frame's traversal counts (programs built with MBAO_COUNT_TRAVERSAL), once it has finished.
@@ -35,14 +39,16 @@ class Frame {
   std::size_t bytes() const { return bytes_; }
   // What a frame with these settings and tile size allocates: known before it does.
   static std::size_t device_bytes(const RenderSettings& settings, std::size_t tile_pixels);
-  // What decides whether the kernels have been launched before: program, AO kernels and work-group sizes.
+  // What decides whether the kernels have been launched before: program, AO kernels, work-group sizes
+  // and the tile size (the largest grid).
   std::string launch_signature() const;
 
  private:
   void set_up_megakernel(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
                          const Camera& camera, const RenderSettings& s);
+  void set_tile(std::size_t first, std::size_t count);
 
-  std::size_t pixels_, spp_;
+  std::size_t pixels_, tile_pixels_, spp_;
   FrameBuffers buffers_;
   cl::Kernel camera_rays_;
   cl_uint camera_tile_arg_ = 0;

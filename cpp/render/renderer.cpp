@@ -187,11 +187,11 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels), settings);
   Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels);
   stats.memory_bytes = scene.bytes() + frame.bytes();
-  // Some drivers (PoCL) compile a kernel for its work-group size at its first
-  // launch: do that in an empty launch, counted as kernel build time.
+  // Some drivers (PoCL) build a kernel at its first launch, for its work-group
+  // size and its grid's size: launched empty first, counted as kernel build time.
   if (launched_.insert(frame.launch_signature()).second) {
     Stopwatch clock;
-    frame.enqueue_tile(queue, 0, 0);
+    frame.enqueue_empty_tiles(queue);
     queue.finish();
     stats.kernel_build_ms += clock.elapsed_ms();
   }
@@ -219,9 +219,11 @@ void Renderer::run_hbao(const DeviceScene& scene, const cl::Program& program, co
   check_device_memory(device(), scene, HbaoFrame::device_bytes(result.ao.size()), settings);
   HbaoFrame frame(compute_.context(), device().device, program, scene, camera, settings);
   stats.memory_bytes = scene.bytes() + frame.bytes();
-  // As above, a first launch compiles the kernels on some drivers; HBAO has no
-  // empty launch, so a whole first frame is counted as kernel build time.
-  const std::string signature = std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " hbao";
+  // As above, a first launch builds the kernels on some drivers, for the grid's
+  // size too; HBAO has no empty launch, so the first frame of each image size is
+  // counted as kernel build time.
+  const std::string signature = std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " hbao " +
+                                std::to_string(result.ao.size());
   if (launched_.insert(signature).second) {
     Stopwatch clock;
     frame.enqueue(queue);

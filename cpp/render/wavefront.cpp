@@ -1,5 +1,6 @@
 #include "render/wavefront.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #include "mbao/wavefront.h"
@@ -48,6 +49,7 @@ Wavefront::Wavefront(const cl::Context& context, const cl::Device& device, const
   sample_rays_ = allocate(sizes.sample_rays);
   queue_lengths_ = allocate(sizes.queue_lengths);
   for (int parity : {0, 1}) queues_[parity] = allocate(sizes.queues[parity]);
+  longest_queue_ = std::max(sizes.queues[0], sizes.queues[1]) / sizeof(QueuedSurface);
   bytes_ = sizes.total();
 
   first_bounce_ = cl::Kernel(program, "wavefront_first_bounce");
@@ -83,23 +85,39 @@ Wavefront::Wavefront(const cl::Context& context, const cl::Device& device, const
   finish_group_ = work_group_size_for(finish_, device, s.work_group_size);
 }
 
-void Wavefront::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
+void Wavefront::start_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   queue.enqueueFillBuffer(queue_lengths_, cl_uint(0), 0, (bounces_ + 1) * sizeof(cl_uint));
   first_bounce_.setArg(first_bounce_tile_arg_, cl_uint(first));
   first_bounce_.setArg(first_bounce_tile_arg_ + 1, cl_uint(count * spp_));
-  launch(queue, first_bounce_, count * spp_, first_bounce_group_);
-
   bounce_.setArg(bounce_tile_arg_, cl_uint(first));
-  for (std::size_t bounce = 2; bounce <= bounces_; ++bounce) {
-    bounce_.setArg(bounce_tile_arg_ + 1, cl_uint(bounce));
-    bounce_.setArg(bounce_tile_arg_ + 2, queue_of(bounce - 1));
-    set_buffer_or_null(bounce_, bounce_tile_arg_ + 5, queue_of(bounce));
-    launch(queue, bounce_, queue_length(queue, bounce - 1), bounce_group_);
-  }
-
   finish_.setArg(finish_tile_arg_, cl_uint(first));
   finish_.setArg(finish_tile_arg_ + 1, cl_uint(count));
+}
+
+void Wavefront::set_bounce(std::size_t bounce) {
+  bounce_.setArg(bounce_tile_arg_ + 1, cl_uint(bounce));
+  bounce_.setArg(bounce_tile_arg_ + 2, queue_of(bounce - 1));
+  set_buffer_or_null(bounce_, bounce_tile_arg_ + 5, queue_of(bounce));
+}
+
+void Wavefront::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
+  start_tile(queue, first, count);
+  launch(queue, first_bounce_, count * spp_, first_bounce_group_);
+  for (std::size_t bounce = 2; bounce <= bounces_; ++bounce) {
+    set_bounce(bounce);
+    launch(queue, bounce_, queue_length(queue, bounce - 1), bounce_group_);
+  }
   launch(queue, finish_, count, finish_group_);
+}
+
+void Wavefront::enqueue_empty_tiles(cl::CommandQueue& queue, std::size_t tile_pixels) {
+  start_tile(queue, 0, 0);
+  launch_empty(queue, first_bounce_, tile_pixels * spp_, first_bounce_group_);
+  if (bounces_ > 1) {  // with one bounce the bounce kernel never runs
+    set_bounce(2);
+    launch_empty(queue, bounce_, longest_queue_, bounce_group_);
+  }
+  launch_empty(queue, finish_, tile_pixels, finish_group_);
 }
 
 std::size_t Wavefront::queue_length(cl::CommandQueue& queue, std::size_t bounce) const {

@@ -25,6 +25,9 @@ class Wavefront {
   // AO for pixels [first, first + count), whose camera hits the frame holds.
   // Blocks until each queue is filled: its length sizes the launch that reads it.
   void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
+  // Frame::enqueue_empty_tiles's part: each kernel launched over no pixels, on
+  // the smallest grid and on the largest a tile of tile_pixels may launch it on.
+  void enqueue_empty_tiles(cl::CommandQueue& queue, std::size_t tile_pixels);
 
   std::size_t bytes() const { return bytes_; }
   // What the constructor will allocate for these settings and tile size.
@@ -42,8 +45,13 @@ class Wavefront {
   // The queue that bounce `bounce` fills; null where no bounce fills it.
   const cl::Buffer& queue_of(std::size_t bounce) const { return queues_[bounce % 2]; }
   std::size_t queue_length(cl::CommandQueue& queue, std::size_t bounce) const;
+  // Empties every queue and points the kernels at pixels [first, first + count).
+  void start_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
+  // Points the bounce kernel at bounce `bounce`: the queue it reads and the one it fills.
+  void set_bounce(std::size_t bounce);
 
   std::size_t spp_, bounces_;
+  std::size_t longest_queue_ = 0;  // entries, the larger queue's
   cl::Buffer escape_counts_, sample_rays_, queue_lengths_;
   cl::Buffer queues_[2];
   cl::Kernel first_bounce_, bounce_, finish_;

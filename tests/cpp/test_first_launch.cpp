@@ -1,0 +1,104 @@
+// A frame's empty tiles launch each kernel on every kind of grid its tiles
+// launch it on, so that what a driver builds at a kernel's first launch is
+// built before the frame's time starts (Renderer::run_traced counts it as
+// kernel build time). PoCL shows what it builds: a file in its cache
+// directory for each kernel, work-group size and kind of grid.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <algorithm>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <unistd.h>
+
+#include "opencl/compute_context.h"
+#include "opencl/devices.h"
+#include "render/device_scene.h"
+#include "render/frame.h"
+#include "scene/cornell_box.h"
+
+namespace mbao {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::set<std::string> files_under(const fs::path& dir) {
+  std::set<std::string> files;
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file()) files.insert(fs::relative(entry.path(), dir).string());
+  return files;
+}
+
+std::set<std::string> added(const std::set<std::string>& before, const std::set<std::string>& after) {
+  std::set<std::string> new_files;
+  for (const std::string& file : after)
+    if (!before.count(file)) new_files.insert(file);
+  return new_files;
+}
+
+// Everything rendered from here on is built afresh: PoCL reads its cache
+// directory when it starts, so this runs before the process's first OpenCL call.
+fs::path fresh_caches() {
+  const fs::path root = fs::temp_directory_path() / ("mbao-first-launch-" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "pocl");
+  fs::create_directories(root / "mbao");
+  ::setenv("POCL_CACHE_DIR", (root / "pocl").c_str(), 1);
+  ::setenv("MBAO_CACHE_DIR", (root / "mbao").c_str(), 1);
+  return root;
+}
+
+// Tiles of 100000 pixels and a last one of 62144: grids on either side of
+// PoCL's 65535 items, the width up to which it builds a kernel of its own.
+RenderSettings three_tiles(KernelOrganisation organisation) {
+  RenderSettings s;
+  s.width = s.height = 512;
+  s.bounces = 2;
+  s.samples = 1;
+  s.organisation = organisation;
+  return s;
+}
+constexpr std::size_t kTilePixels = 100000;
+
+TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
+  const fs::path caches = fresh_caches();
+  ComputeContext compute(default_device());
+  if (compute.device().platform != "Portable Computing Language")
+    GTEST_SKIP() << "only PoCL's cache directory shows what a launch builds";
+  const std::shared_ptr<const Scene> scene = cornell_box();
+  DeviceSceneCache scenes;
+  const std::shared_ptr<const DeviceScene> device_scene = scenes.get(compute, scene, false);
+  // The options the renderer builds the Cornell box's program with on a CPU.
+  const cl::Program program =
+      compute.programs()
+          .get("render.cl",
+               "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 -DMBAO_ALPHA_MASKS=0 -DMBAO_SHADING_NORMALS=0 "
+               "-DMBAO_UNLIMITED_DISTANCE=1 -DMBAO_LOAD_BOTH_CHILDREN=1")
+          .program;
+  if (files_under(caches / "pocl").empty())
+    GTEST_SKIP() << "PoCL started before this test set its cache directory: run the test in a process of its "
+                    "own, as ctest does";
+
+  for (const KernelOrganisation organisation : {KernelOrganisation::Megakernel, KernelOrganisation::Wavefront}) {
+    SCOPED_TRACE(to_string(organisation));
+    const RenderSettings settings = three_tiles(organisation);
+    const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
+    cl::CommandQueue& queue = compute.queue();
+    const Camera camera = scene->camera()->relative_to(scene->render_origin());
+    Frame frame(compute.context(), compute.device().device, program, *device_scene, camera, settings, kTilePixels);
+    const std::set<std::string> before = files_under(caches / "pocl");
+    frame.enqueue_empty_tiles(queue);
+    queue.finish();
+    const std::set<std::string> warmed = files_under(caches / "pocl");
+    EXPECT_FALSE(added(before, warmed).empty());  // the kernels were built at their first launch, here
+    for (std::size_t first = 0; first < pixels; first += kTilePixels)
+      frame.enqueue_tile(queue, first, std::min(kTilePixels, pixels - first));
+    queue.finish();
+    EXPECT_EQ(added(warmed, files_under(caches / "pocl")), std::set<std::string>{});
+  }
+  fs::remove_all(caches);
+}
+
+}  // namespace
+}  // namespace mbao
