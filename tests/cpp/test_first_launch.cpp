@@ -69,7 +69,7 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
   const std::shared_ptr<const Scene> scene = cornell_box();
   DeviceSceneCache scenes;
   const std::shared_ptr<const DeviceScene> device_scene = scenes.get(compute, scene, false);
-  // The options the renderer builds the Cornell box's program with on a CPU.
+  // Any build of render.cl shows it; these are the options of the Cornell box's on a CPU today.
   const cl::Program program =
       compute.programs()
           .get("render.cl",
