@@ -105,17 +105,22 @@ static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, Kd
 }
 
 #if MBAO_STACK_SIZE > 0
-// The far children a descent passed by, with their intervals; one slot more
-// than the stack holds, written by the steps that push nothing (a descent
-// step does not branch on whether it pushes).
+// The far children a descent passed by, each with the end of its interval. Its
+// start need not be kept: the intervals of the leaves a walk visits follow one
+// another, so a popped child's interval starts where the leaf before it ended,
+// which is where the walk stands. The entries, (node, t_hi bits), lie in an
+// array the walk declares, one slot more than the stack holds, written by the
+// steps that push nothing (a descent step does not branch on whether it
+// pushes). The array is not a member: beside an array indexed at run time the
+// compiler left the counters in memory, and every step waited on a store and
+// a load of `top` (docs/traversal-on-pocl.md).
 typedef struct FarStack {
-  uint node[MBAO_STACK_SIZE + 1];
-  float t_lo[MBAO_STACK_SIZE + 1], t_hi[MBAO_STACK_SIZE + 1];
+  __private uint2* entries;
   uint top;    // next free slot
   uint count;  // entries held by the short stack, which overwrites its oldest (the full stack's is top)
 } FarStack;
 
-static inline void far_stack_push_if(FarStack* stack, uint push, uint node, float t_lo, float t_hi) {
+static inline void far_stack_push_if(FarStack* stack, uint push, uint node, float t_hi) {
 #if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
   // It holds at most one entry per tree level, so top never passes the spare slot.
   const uint slot = stack->top;
@@ -125,9 +130,7 @@ static inline void far_stack_push_if(FarStack* stack, uint push, uint node, floa
   stack->top = (stack->top + push) & (MBAO_STACK_SIZE - 1);
   stack->count = min(stack->count + push, (uint)MBAO_STACK_SIZE);
 #endif
-  stack->node[slot] = node;
-  stack->t_lo[slot] = t_lo;
-  stack->t_hi[slot] = t_hi;
+  stack->entries[slot] = (uint2)(node, as_uint(t_hi));
 }
 
 static inline int far_stack_is_empty(const FarStack* stack) {
@@ -138,7 +141,7 @@ static inline int far_stack_is_empty(const FarStack* stack) {
 #endif
 }
 
-static inline int far_stack_pop(FarStack* stack, uint* node, float* t_lo, float* t_hi) {
+static inline int far_stack_pop(FarStack* stack, uint* node, float* t_hi) {
   if (far_stack_is_empty(stack)) return 0;
 #if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
   --stack->top;
@@ -146,9 +149,9 @@ static inline int far_stack_pop(FarStack* stack, uint* node, float* t_lo, float*
   stack->top = (stack->top - 1) & (MBAO_STACK_SIZE - 1);
   --stack->count;
 #endif
-  *node = stack->node[stack->top];
-  *t_lo = stack->t_lo[stack->top];
-  *t_hi = stack->t_hi[stack->top];
+  const uint2 entry = stack->entries[stack->top];
+  *node = entry.x;
+  *t_hi = as_float(entry.y);
   return 1;
 }
 #endif
@@ -175,11 +178,14 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
                    &t_exit))
     return 0;
   const WatertightRay ray = make_watertight_ray(origin, dir, scene->bounds_lo, scene->bounds_hi);
-  // Per axis, for the descent: indexing an array costs one load, picking a
-  // vector component by a run-time axis a chain of selects.
-  const float origin_of[3] = {origin.x, origin.y, origin.z};
-  const float inv_dir_of[3] = {inv_dir.x, inv_dir.y, inv_dir.z};
-  const uint heads_down_of[3] = {dir.x < 0.0f, dir.y < 0.0f, dir.z < 0.0f};
+  // Per axis, for the descent: the origin, 1 / dir and whether the ray heads
+  // down (all bits set), in one vector that a step loads by its axis. Picking
+  // a vector component by a run-time axis costs a chain of selects; three
+  // arrays cost three loads, and the compiler kept their addresses in spill slots.
+  const float4 axis_ray[3] = {
+      (float4)(origin.x, inv_dir.x, as_float(-(int)(dir.x < 0.0f)), 0.0f),
+      (float4)(origin.y, inv_dir.y, as_float(-(int)(dir.y < 0.0f)), 0.0f),
+      (float4)(origin.z, inv_dir.z, as_float(-(int)(dir.z < 0.0f)), 0.0f)};
 
   Hit best = no_hit();
   best.t = t_max;
@@ -187,16 +193,15 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
   float t_lo = t_enter;
   uint resumed = 0;  // past the first leaf: zero-length intervals may be skipped
 #if MBAO_STACK_SIZE > 0
-  FarStack stack;
-  stack.top = 0;
-  stack.count = 0;
+  uint2 far_entries[MBAO_STACK_SIZE + 1];
+  FarStack stack = {far_entries, 0, 0};
 #endif
   for (;;) {
     uint index;
     float t_hi;
     uint whole_interval_inside;  // so far, the walk's whole remaining interval lies in `index`'s cell
 #if MBAO_STACK_SIZE > 0
-    if (far_stack_pop(&stack, &index, &t_lo, &t_hi)) {
+    if (far_stack_pop(&stack, &index, &t_hi)) {
       whole_interval_inside = 0;
     } else
 #endif
@@ -207,24 +212,27 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
       if (resumed) MBAO_COUNT(counts, restarts, 1);
     }
 
+    // A step sends the walk to the far child alone where the plane lies behind
+    // the ray or at the interval's start (there only past the first leaf):
+    // with t_lo >= 0, where t_split <= 0 or t_split < t_lo (t_split at most the
+    // float below t_lo) on the first descent, and where t_split <= t_lo after
+    // it. Either way one compare with far_bound.
+    const float far_bound = resumed ? t_lo : t_lo > 0.0f ? as_float(as_uint(t_lo) - 1u) : 0.0f;
     KdNode node = scene->nodes[index];
     MBAO_COUNT(counts, nodes, 1);
     while (!kd_is_leaf(node)) {
-      const uint axis = kd_axis(node);
-      const float t_split = (kd_split(node) - origin_of[axis]) * inv_dir_of[axis];
+      const float4 along_axis = axis_ray[kd_axis(node)];
+      const float t_split = (kd_split(node) - along_axis.x) * along_axis.y;
       const uint below = index + 1;
       const uint above = kd_above_child(node);
-      const uint swap = (below ^ above) & (0u - heads_down_of[axis]);
+      const uint swap = (below ^ above) & as_uint(along_axis.z);
       const uint near = below ^ swap, far = above ^ swap;
-      // The interval meets the far child only where the plane lies behind the
-      // ray or at the interval's start (there only past the first leaf); the
-      // near child only where the plane lies beyond the interval, or where
-      // t_split is NaN: a ray lying in the plane, which +0 sends below.
-      const uint far_only = (t_split <= 0.0f) | (t_split < t_lo) | (resumed & (t_split == t_lo));
-      const uint near_only = !far_only & !(t_split <= t_hi);
-      const uint both = !(far_only | near_only);
+      // To the near child alone where the plane lies beyond the interval, or
+      // where t_split is NaN: a ray lying in the plane, which +0 sends below.
+      const uint far_only = t_split <= far_bound;
+      const uint both = !far_only & (t_split <= t_hi);
 #if MBAO_STACK_SIZE > 0
-      far_stack_push_if(&stack, both, far, t_split, t_hi);
+      far_stack_push_if(&stack, both, far, t_hi);
 #endif
       t_hi = both ? t_split : t_hi;
       whole_interval_inside &= !both;
@@ -234,10 +242,13 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
 #endif
 #if MBAO_LOAD_BOTH_CHILDREN
       // volatile: otherwise the compiler turns the choice between two loaded
-      // nodes back into one load of the chosen node.
-      volatile __global const KdNode* nodes = scene->nodes;
-      const KdNode below_node = nodes[below], above_node = nodes[above];
-      node = index == below ? below_node : above_node;
+      // nodes back into one load of the chosen node. As words, not as KdNode:
+      // a volatile struct is copied through memory.
+      volatile __global const uint2* node_words = (volatile __global const uint2*)scene->nodes;
+      const uint2 below_words = node_words[below], above_words = node_words[above];
+      const uint2 words = index == below ? below_words : above_words;
+      node.header = words.x;
+      node.payload = words.y;
 #else
       node = scene->nodes[index];
 #endif
