@@ -178,14 +178,13 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
                    &t_exit))
     return 0;
   const WatertightRay ray = make_watertight_ray(origin, dir, scene->bounds_lo, scene->bounds_hi);
-  // Per axis, for the descent: the origin, 1 / dir and whether the ray heads
-  // down (all bits set), in one vector that a step loads by its axis. Picking
-  // a vector component by a run-time axis costs a chain of selects; three
-  // arrays cost three loads, and the compiler kept their addresses in spill slots.
-  const float4 axis_ray[3] = {
-      (float4)(origin.x, inv_dir.x, as_float(-(int)(dir.x < 0.0f)), 0.0f),
-      (float4)(origin.y, inv_dir.y, as_float(-(int)(dir.y < 0.0f)), 0.0f),
-      (float4)(origin.z, inv_dir.z, as_float(-(int)(dir.z < 0.0f)), 0.0f)};
+  // Per axis, for the descent: the origin and 1 / dir in one vector that a
+  // step loads by its axis. Picking a vector component by a run-time axis
+  // costs a chain of selects; separate arrays cost a load each, and the
+  // compiler kept their addresses in spill slots. The sign of 1 / dir says
+  // whether the ray heads down: dir + 0 is never -0.
+  const float2 axis_ray[3] = {(float2)(origin.x, inv_dir.x), (float2)(origin.y, inv_dir.y),
+                              (float2)(origin.z, inv_dir.z)};
 
   Hit best = no_hit();
   best.t = t_max;
@@ -221,11 +220,12 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
     KdNode node = scene->nodes[index];
     MBAO_COUNT(counts, nodes, 1);
     while (!kd_is_leaf(node)) {
-      const float4 along_axis = axis_ray[kd_axis(node)];
+      const float2 along_axis = axis_ray[kd_axis(node)];
       const float t_split = (kd_split(node) - along_axis.x) * along_axis.y;
       const uint below = index + 1;
       const uint above = kd_above_child(node);
-      const uint swap = (below ^ above) & as_uint(along_axis.z);
+      const uint heads_down = (uint)(as_int(along_axis.y) >> 31);  // all bits set or none
+      const uint swap = (below ^ above) & heads_down;
       const uint near = below ^ swap, far = above ^ swap;
       // To the near child alone where the plane lies beyond the interval, or
       // where t_split is NaN: a ray lying in the plane, which +0 sends below.
