@@ -169,9 +169,10 @@ static inline int far_stack_pop(FarStack* stack, uint* node, float* t_hi) {
 static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, float t_max,
                             int any_hit, Hit* hit, TraversalCounts* counts) {
   *hit = no_hit();
-  // From +0 where a component is -0: the descent takes the near child from the
-  // sign of dir and the plane's distance from inv_dir, and for a ray parallel
-  // to a plane the two must agree.
+  // From +0 where a component is -0: the descent reads which way the ray heads
+  // from the sign of inv_dir, so a ray that does not move along an axis counts
+  // as heading up there, whatever the sign of its zero, and a ray lying in a
+  // split plane (t_split NaN) goes below.
   const float3 inv_dir = 1.0f / (dir + 0.0f);
   float t_enter, t_exit;
   if (!clip_to_box(origin, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, t_max, &t_enter,
