@@ -50,17 +50,20 @@ static inline Hit no_hit(void) {
 // Per-ray setup of the watertight test (Woop, Benthin and Wald, JCGT 2013): the
 // ray is turned into +z of a sheared frame where the triangle test is 2D.
 typedef struct WatertightRay {
-  float4 origin;
-  uint4 axes;  // (kx, ky, kz, 3): one shuffle turns a vector into the ray's frame
+  uint kx, ky, kz;  // the axes that become x, y and z of the ray's frame
+  float origin_x, origin_y, origin_z;  // the origin's coordinates along kx, ky and kz
   float shear_x, shear_y, shear_z;
-  float edge_error;  // see edge_function
+  float edge_error;  // see edge_errors
 } WatertightRay;
 
-// A corner relative to the ray's origin, in the ray's frame.
-typedef struct FrameCorner {
-  float x, y, z;  // x, y across the ray (sheared), z along it
-  float across;   // |x| + |y|
-} FrameCorner;
+// A triangle as the test reads it: per axis, the coordinates of its corners
+// (p0, p1, p2, 0) in one vector. The ray's frame is then three loads by the
+// ray's axes and the test runs on the three corners at once; with a vector per
+// corner it would take a permutation by the ray's axes per corner, which the
+// compiler made a store and three loads.
+typedef struct TriangleCoordinates {
+  float4 along[3];
+} TriangleCoordinates;
 
 // The largest 1-norm |x| + |y| + |z| of a point of the box [lo, hi] relative to
 // origin: it bounds that of every corner of the scene.
@@ -82,8 +85,12 @@ static inline WatertightRay make_watertight_ray(float3 origin, float3 dir, float
     kx = ky;
     ky = k;
   }
-  ray.origin = (float4)(origin, 0.0f);
-  ray.axes = (uint4)(kx, ky, kz, 3);
+  ray.kx = kx;
+  ray.ky = ky;
+  ray.kz = kz;
+  ray.origin_x = component(origin, (int)kx);
+  ray.origin_y = component(origin, (int)ky);
+  ray.origin_z = component(origin, (int)kz);
   ray.shear_x = component(dir, (int)kx) / dz;
   ray.shear_y = component(dir, (int)ky) / dz;
   ray.shear_z = 1.0f / dz;
@@ -91,71 +98,96 @@ static inline WatertightRay make_watertight_ray(float3 origin, float3 dir, float
   return ray;
 }
 
-static inline FrameCorner corner_in_ray_frame(const WatertightRay* ray, float4 p) {
-  const float4 a = shuffle(p - ray->origin, ray->axes);
-  FrameCorner c;
-  c.x = a.x - ray->shear_x * a.z;
-  c.y = a.y - ray->shear_y * a.z;
-  c.z = a.z;
-  c.across = fabs(c.x) + fabs(c.y);
-  return c;
+// A triangle's corners relative to the ray's origin, in the ray's frame: lane
+// k of each vector is corner p_k.
+typedef struct FrameTriangle {
+  float4 x, y;  // across the ray (sheared)
+  float4 z;     // along it
+} FrameTriangle;
+
+static inline FrameTriangle triangle_in_ray_frame(const WatertightRay* ray, __global const TriangleCoordinates* t) {
+  FrameTriangle f;
+  f.z = t->along[ray->kz] - ray->origin_z;
+  f.x = (t->along[ray->kx] - ray->origin_x) - ray->shear_x * f.z;
+  f.y = (t->along[ray->ky] - ray->origin_y) - ray->shear_y * f.z;
+  return f;
+}
+
+// Whether any lane is set, as ors of the lanes: PoCL's any() tests them one
+// after another, with branches.
+static inline int any_lane(int3 v) { return (v.x | v.y | v.z) != 0; }
+
+// Bounds on the rounding errors of the edge functions (e0, e1, e2). In float
+// an edge function is within 5 u R (|x_p| + |y_p| + |x_q| + |y_q|) of its
+// exact value for the ray's shear, to first order, for its corners p and q in
+// the ray's frame (u = 2^-24; R, the farthest_in_box of the ray, bounds
+// |x| + |y| + |z| of the corners relative to the origin before the shear, and
+// so the error of their x and y, 3 u R); nearer zero than twice that its sign
+// is unknown.
+static inline float3 edge_errors(const WatertightRay* ray, const FrameTriangle* f) {
+  const float3 across = (fabs(f->x) + fabs(f->y)).xyz;
+  return ray->edge_error * (across.yzx + across.zxy);
 }
 
 #if MBAO_USE_FP64
-static inline double double_component(double3 v, uint axis) {
-  return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
+// The edge function of corners p and q from their coordinates along (kx, ky,
+// kz), in double: the differences from the origin are exact and the shear and
+// products keep 29 more bits than in float.
+static inline float edge_function_in_double(const WatertightRay* ray, float3 p, float3 q) {
+  const double3 o = (double3)(ray->origin_x, ray->origin_y, ray->origin_z);
+  const double3 a = convert_double3(p) - o, b = convert_double3(q) - o;
+  const double ax = a.x - (double)ray->shear_x * a.z;
+  const double ay = a.y - (double)ray->shear_y * a.z;
+  const double bx = b.x - (double)ray->shear_x * b.z;
+  const double by = b.y - (double)ray->shear_y * b.z;
+  return (float)(ax * by - ay * bx);
 }
 
-// The edge function of corners p and q from their coordinates, in double: the
-// differences from the origin are exact and the shear and products keep 29
-// more bits than in float.
-static inline float edge_function_in_double(const WatertightRay* ray, float4 p, float4 q) {
-  const double3 o = convert_double3(ray->origin.xyz);
-  const double3 a = convert_double3(p.xyz) - o, b = convert_double3(q.xyz) - o;
-  const uint kx = ray->axes.x, ky = ray->axes.y, kz = ray->axes.z;
-  const double ax = double_component(a, kx) - (double)ray->shear_x * double_component(a, kz);
-  const double ay = double_component(a, ky) - (double)ray->shear_y * double_component(a, kz);
-  const double bx = double_component(b, kx) - (double)ray->shear_x * double_component(b, kz);
-  const double by = double_component(b, ky) - (double)ray->shear_y * double_component(b, kz);
-  return (float)(ax * by - ay * bx);
+// The edge functions whose sign float leaves unknown, recomputed in double from
+// the corners themselves.
+static inline float3 edge_functions_in_double(const WatertightRay* ray, __global const TriangleCoordinates* t,
+                                              float3 e, int3 unknown) {
+  const float4 kx = t->along[ray->kx], ky = t->along[ray->ky], kz = t->along[ray->kz];
+  const float3 p0 = (float3)(kx.x, ky.x, kz.x), p1 = (float3)(kx.y, ky.y, kz.y), p2 = (float3)(kx.z, ky.z, kz.z);
+  if (unknown.x) e.x = edge_function_in_double(ray, p1, p2);
+  if (unknown.y) e.y = edge_function_in_double(ray, p2, p0);
+  if (unknown.z) e.z = edge_function_in_double(ray, p0, p1);
+  return e;
 }
 #endif
 
-// The edge function of corners p and q (a and b in the ray's frame). In float
-// it is within 5 u R (a.across + b.across) of its exact value for the ray's
-// shear, to first order (u = 2^-24; R, the farthest_in_box of the ray, bounds
-// |x| + |y| + |z| of p and q relative to the origin before the shear, and so
-// the error of their x and y, 3 u R). Nearer zero than twice that its sign is
-// unknown, and it is recomputed in double from the corners themselves. The
-// test depends on the edge alone, so the two triangles of a shared edge decide
-// alike and a ray through it hits one of them (Woop et al.'s watertightness);
-// and the edges of a T-junction, whose corners are collinear but not shared,
-// agree to double precision, where float would leave a crack along the long edge.
-static inline float edge_function(const WatertightRay* ray, float4 p, float4 q, const FrameCorner* a,
-                                  const FrameCorner* b) {
-  float e = a->x * b->y - a->y * b->x;
+// The edge functions (e0, e1, e2) of the edges (p1, p2), (p2, p0) and (p0, p1):
+// the weights of p0, p1 and p2. Where float leaves a sign unknown (edge_errors)
+// it is recomputed in double. Each depends on its edge alone, so the two
+// triangles of a shared edge decide alike and a ray through it hits one of them
+// (Woop et al.'s watertightness); and the edges of a T-junction, whose corners
+// are collinear but not shared, agree to double precision, where float would
+// leave a crack along the long edge.
+static inline float3 edge_functions(const WatertightRay* ray, __global const TriangleCoordinates* t,
+                                    const FrameTriangle* f) {
+  const float3 x = f->x.xyz, y = f->y.xyz;
+  float3 e = x.yzx * y.zxy - y.yzx * x.zxy;
 #if MBAO_USE_FP64
-  if (fabs(e) <= ray->edge_error * (a->across + b->across)) e = edge_function_in_double(ray, p, q);
+  const int3 unknown = fabs(e) <= edge_errors(ray, f);
+  if (any_lane(unknown)) e = edge_functions_in_double(ray, t, e, unknown);
 #endif
   return e;
 }
 
-// Intersects the ray with triangle (p0, p1, p2) for 0 < t <= t_max. On a hit
-// returns 1 and writes t and the barycentrics of p1 and p2. Every hit with a
-// positive t counts, however close: rays leaving a surface start far enough
-// off it (surface.h) that they need no minimum distance, and so a surface
-// just in front of a ray's origin is never skipped.
-static inline int intersect_triangle(const WatertightRay* ray, float4 p0, float4 p1, float4 p2,
+// Intersects the ray with triangle t for 0 < t <= t_max. On a hit returns 1
+// and writes t and the barycentrics of p1 and p2. Every hit with a positive t
+// counts, however close: rays leaving a surface start far enough off it
+// (surface.h) that they need no minimum distance, and so a surface just in
+// front of a ray's origin is never skipped.
+static inline int intersect_triangle(const WatertightRay* ray, __global const TriangleCoordinates* triangle,
                                      float t_max, float* t_out, float* b1_out, float* b2_out) {
-  const FrameCorner a = corner_in_ray_frame(ray, p0);
-  const FrameCorner b = corner_in_ray_frame(ray, p1);
-  const FrameCorner c = corner_in_ray_frame(ray, p2);
-
-  const float e0 = edge_function(ray, p1, p2, &b, &c);  // weight of p0
-  const float e1 = edge_function(ray, p2, p0, &c, &a);  // weight of p1
-  const float e2 = edge_function(ray, p0, p1, &a, &b);  // weight of p2
-  if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) return 0;
-  const float det = e0 + e1 + e2;
+  const FrameTriangle f = triangle_in_ray_frame(ray, triangle);
+  const float3 e = edge_functions(ray, triangle, &f);
+  // The signs as ors of lanes, not with || and &&, which the compiler makes a
+  // chain of branches on each edge's sign: a ray misses most triangles it is
+  // tested against, on either side at random, and such branches go wrong often.
+  if (any_lane(e < 0.0f) & any_lane(e > 0.0f)) return 0;
+  const float det = e.x + e.y + e.z;
   if (det == 0.0f) return 0;
 
   // Barycentrics before distances: the edge functions grow as the square of
@@ -163,13 +195,13 @@ static inline int intersect_triangle(const WatertightRay* ray, float4 p0, float4
   // which would overflow float beyond distances of about 10^12 and underflow
   // below 10^-13; this way only the edge functions limit the range.
   const float inv_det = 1.0f / det;
-  const float b0 = e0 * inv_det, b1 = e1 * inv_det, b2 = e2 * inv_det;
-  const float t = (b0 * a.z + b1 * b.z + b2 * c.z) * ray->shear_z;
+  const float3 b = e * inv_det;
+  const float t = (b.x * f.z.x + b.y * f.z.y + b.z * f.z.z) * ray->shear_z;
   if (!(t > 0.0f && t <= t_max)) return 0;
 
   *t_out = t;
-  *b1_out = b1;
-  *b2_out = b2;
+  *b1_out = b.y;
+  *b2_out = b.z;
   return 1;
 }
 

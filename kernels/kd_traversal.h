@@ -89,8 +89,7 @@ static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, Kd
   for (uint entry = first_entry; entry < end_entry; ++entry) {
     const uint triangle = scene->leaf_triangles[entry];
     float t, b1, b2;
-    __global const float4* corners = scene->triangle_corners + 3 * triangle;
-    if (!intersect_triangle(ray, corners[0], corners[1], corners[2], best->t, &t, &b1, &b2) ||
+    if (!intersect_triangle(ray, scene->triangles + triangle, best->t, &t, &b1, &b2) ||
         !hit_is_solid(scene, triangle, b1, b2))
       continue;
     if (t < best->t || triangle < best->triangle) {

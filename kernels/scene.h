@@ -15,7 +15,7 @@
 typedef struct SceneView {
   __global const KdNode* nodes;
   __global const uint* leaf_triangles;     // triangle ids, leaf by leaf
-  __global const float4* triangle_corners;  // 3 per triangle, relative to Scene::render_origin
+  __global const TriangleCoordinates* triangles;  // relative to Scene::render_origin
   __global const uint* triangle_vertices;  // 3 vertex ids per triangle (only with normals)
   __global const float4* vertex_normals;   // NULL: geometric normals everywhere
   __global const uint* triangle_masks;     // per triangle: a masked_triangles index or MBAO_NOT_MASKED
@@ -29,18 +29,19 @@ typedef struct SceneView {
 // order; buffers a scene does not need are NULL.
 #define MBAO_SCENE_PARAMS                                                                   \
   __global const KdNode *kd_nodes, __global const uint *leaf_triangles,                      \
-      __global const float4 *triangle_corners, __global const uint *triangle_vertices,      \
+      __global const TriangleCoordinates *triangles, __global const uint *triangle_vertices, \
       __global const float4 *vertex_normals, __global const uint *triangle_masks,           \
       __global const MaskedTriangle *masked_triangles, __global const MaskTexture *mask_textures, \
       __global const uchar *mask_texels, float4 bounds_lo, float4 bounds_hi
 
 #define MBAO_SCENE_VIEW()                                                                      \
-  ((SceneView){kd_nodes, leaf_triangles, triangle_corners, triangle_vertices, vertex_normals,  \
+  ((SceneView){kd_nodes, leaf_triangles, triangles, triangle_vertices, vertex_normals,  \
                triangle_masks, masked_triangles, mask_textures, mask_texels, bounds_lo.xyz,     \
                bounds_hi.xyz})
 
 static inline float3 triangle_corner(const SceneView* scene, uint triangle, int corner) {
-  return scene->triangle_corners[3 * triangle + corner].xyz;
+  __global const float* along = (__global const float*)scene->triangles[triangle].along;
+  return (float3)(along[corner], along[4 + corner], along[8 + corner]);
 }
 
 // Whether a hit at barycentrics (b1, b2) of `triangle` is solid: false where an

@@ -24,15 +24,18 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
                          bool with_normals) {
   const TriangleMesh& mesh = scene.mesh();
   const glm::vec3 origin = scene.render_origin();  // the tree's frame
-  std::vector<cl_float4> corners;
-  corners.reserve(mesh.triangles.size() * 3);
-  for (const glm::uvec3& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) corners.push_back(to_float4(mesh.positions[t[k]] - origin));
+  // Per triangle and axis, its corners' coordinates (TriangleCoordinates in kernels/geometry.h).
+  std::vector<cl_float4> triangles;
+  triangles.reserve(mesh.triangles.size() * 3);
+  for (const glm::uvec3& t : mesh.triangles) {
+    const glm::vec3 p[3] = {mesh.positions[t[0]] - origin, mesh.positions[t[1]] - origin, mesh.positions[t[2]] - origin};
+    for (int axis = 0; axis < 3; ++axis) triangles.push_back({{p[0][axis], p[1][axis], p[2][axis], 0.0f}});
+  }
 
   try {
     nodes_ = upload(context, queue, tree.nodes);
     leaf_triangles_ = upload(context, queue, tree.leaf_triangles);
-    triangle_corners_ = upload(context, queue, corners);
+    triangles_ = upload(context, queue, triangles);
     if (with_normals && mesh.has_normals()) {
       std::vector<cl_uint> vertices;
       vertices.reserve(mesh.triangles.size() * 3);
@@ -60,7 +63,7 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
 cl_uint DeviceScene::set_args(cl::Kernel& kernel) const {
   cl_uint index = 0;
   // A buffer the scene does not need is NULL in the kernel.
-  for (const cl::Buffer* buffer : {&nodes_, &leaf_triangles_, &triangle_corners_, &triangle_vertices_, &vertex_normals_,
+  for (const cl::Buffer* buffer : {&nodes_, &leaf_triangles_, &triangles_, &triangle_vertices_, &vertex_normals_,
                                    &triangle_masks_, &masked_triangles_, &mask_textures_, &mask_texels_})
     set_buffer_or_null(kernel, index++, *buffer);
   kernel.setArg(index++, bounds_lo_);
