@@ -207,27 +207,21 @@ static inline int intersect_triangle(const WatertightRay* ray, __global const Tr
 
 // Clips the ray to an axis-aligned box and to [0, t_max]. The far distance is
 // widened by the slab test's rounding error so a ray never slips past the box.
+// The three slabs are clipped at once: the loop over axes this replaces took
+// every component through a chain of selects. A slab the ray does not move
+// across (1 / dir infinite) bounds no distance; the ray misses the box unless
+// its origin lies in that slab.
 static inline int clip_to_box(float3 origin, float3 dir, float3 inv_dir, float3 lo, float3 hi,
                               float t_max, float* t_enter, float* t_exit) {
-  float t0 = 0.0f, t1 = t_max;
-  for (int axis = 0; axis < 3; ++axis) {
-    const float o = component(origin, axis);
-    if (component(dir, axis) == 0.0f) {
-      if (o < component(lo, axis) || o > component(hi, axis)) return 0;
-      continue;
-    }
-    const float inv = component(inv_dir, axis);
-    float near = (component(lo, axis) - o) * inv;
-    float far = (component(hi, axis) - o) * inv;
-    if (near > far) {
-      const float swap = near;
-      near = far;
-      far = swap;
-    }
-    far *= 1.0f + 2.0f * error_gamma(3);
-    t0 = fmax(t0, near);
-    t1 = fmin(t1, far);
-  }
+  const int3 parallel = dir == 0.0f;
+  if (any_lane(parallel & ((origin < lo) | (origin > hi)))) return 0;
+  const float3 to_lo = (lo - origin) * inv_dir, to_hi = (hi - origin) * inv_dir;
+  const int3 heads_down = to_lo > to_hi;
+  const float3 near = select(select(to_lo, to_hi, heads_down), (float3)(-INFINITY), parallel);
+  const float3 far =
+      select(select(to_hi, to_lo, heads_down) * (1.0f + 2.0f * error_gamma(3)), (float3)(INFINITY), parallel);
+  const float t0 = fmax(fmax(0.0f, near.x), fmax(near.y, near.z));
+  const float t1 = fmin(fmin(t_max, far.x), fmin(far.y, far.z));
   *t_enter = t0;
   *t_exit = t1;
   return t0 <= t1;
