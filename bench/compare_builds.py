@@ -1,0 +1,120 @@
+"""Frame time of two builds of mbao, as interleaved pairs.
+
+A machine's speed drifts by the hour, so two builds are compared frame by frame:
+two worker processes, one importing the mbao package at --old and one the package
+at --new, render the same frame in turn (the order swapping every pair), and the
+ratio new / old is the median of the pairs' ratios, with its quartiles. The two
+images are compared first, by hash, and the traversal counts of each are printed.
+
+Make the old build in a worktree of the commit before, e.g.
+    git worktree add /tmp/before HEAD~1 && cd /tmp/before
+    cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DMBAO_PYTHON_INPLACE=ON \
+      -DMBAO_BUILD_TESTS=OFF -DMBAO_BUILD_BENCH=OFF && make -C build -j2
+then, from this checkout after `make -C build`:
+    .venv/bin/python bench/compare_builds.py --old /tmp/before/python --new python \
+      --scene ../shared/scenes/sponza --bounces 1 --size 512 --pairs 8
+"""
+
+import argparse
+import hashlib
+import os
+import subprocess
+import sys
+
+
+def worker(args):
+    import mbao
+
+    scene = mbao.load(os.path.join(args.scene, "scene.glb"))
+    camera = mbao.Camera.load(os.path.join(args.scene, "camera.json"))
+
+    def render(size, **options):
+        return mbao.render(scene, camera=camera, width=size, height=size, bounces=args.bounces,
+                           traversal=args.traversal, **options)
+
+    image = render(args.size).ao  # also the warm-up frame
+    print(hashlib.sha1(image.tobytes()).hexdigest(), flush=True)
+    for command in sys.stdin:
+        if command.strip() == "counts":
+            counts = render(64, traversal_stats=True).stats["traversal"]
+            print(" ".join(f"{name}={value:.2f}" for name, value in counts.items()), flush=True)
+        else:
+            print(render(args.size).stats["frame_ms"], flush=True)
+
+
+class Worker:
+    def __init__(self, package, args):
+        command = [sys.executable, os.path.abspath(__file__), "--worker", "--scene", args.scene,
+                   "--bounces", str(args.bounces), "--size", str(args.size), "--traversal", args.traversal]
+        environment = dict(os.environ, PYTHONPATH=os.path.abspath(package))
+        self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+                                        env=environment)
+        self.image_hash = self._read()
+
+    def _read(self):
+        line = self.process.stdout.readline()
+        if not line:
+            raise SystemExit(f"a worker failed (exit code {self.process.wait()})")
+        return line.strip()
+
+    def ask(self, command):
+        self.process.stdin.write(command + "\n")
+        self.process.stdin.flush()
+        return self._read()
+
+    def close(self):
+        self.process.stdin.close()
+        self.process.wait()
+
+
+def median_and_quartiles(values):
+    ordered = sorted(values)
+
+    def percentile(q):
+        position = q * (len(ordered) - 1)
+        low = int(position)
+        high = min(low + 1, len(ordered) - 1)
+        return ordered[low] + (ordered[high] - ordered[low]) * (position - low)
+
+    return percentile(0.5), percentile(0.25), percentile(0.75)
+
+
+def compare(args):
+    old, new = Worker(args.old, args), Worker(args.new, args)
+    print("images identical:", old.image_hash == new.image_hash)
+    print("old counts:", old.ask("counts"))
+    print("new counts:", new.ask("counts"))
+    ratios = []
+    for pair in range(args.pairs):
+        times = {}
+        for worker_ in (old, new) if pair % 2 == 0 else (new, old):
+            times[worker_] = float(worker_.ask("frame"))
+        ratios.append(times[new] / times[old])
+        print(f"old {times[old]:.1f} ms, new {times[new]:.1f} ms, new / old {ratios[-1]:.3f}", flush=True)
+    old.close()
+    new.close()
+    median, q1, q3 = median_and_quartiles(ratios)
+    print(f"new / old: {median:.3f} [{q1:.3f}-{q3:.3f}] over {args.pairs} pairs")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--old", help="directory holding the old build's mbao package")
+    parser.add_argument("--new", help="directory holding the new build's mbao package")
+    parser.add_argument("--scene", required=True, help="directory with scene.glb and camera.json")
+    parser.add_argument("--bounces", type=int, default=1)
+    parser.add_argument("--size", type=int, default=512, help="image width and height")
+    parser.add_argument("--pairs", type=int, default=8)
+    parser.add_argument("--traversal", default="auto")
+    parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.worker:
+        worker(args)
+    elif not (args.old and args.new):
+        parser.error("--old and --new are required")
+    else:
+        compare(args)
+
+
+if __name__ == "__main__":
+    main()
