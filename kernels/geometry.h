@@ -174,7 +174,7 @@ static inline float3 edge_functions(const WatertightRay* ray, __global const Tri
   return e;
 }
 
-// Intersects the ray with triangle t for 0 < t <= t_max. On a hit returns 1
+// Intersects the ray with the triangle for 0 < t <= t_max. On a hit returns 1
 // and writes t and the barycentrics of p1 and p2. Every hit with a positive t
 // counts, however close: rays leaving a surface start far enough off it
 // (surface.h) that they need no minimum distance, and so a surface just in
