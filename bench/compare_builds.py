@@ -21,6 +21,8 @@ import os
 import subprocess
 import sys
 
+import numpy as np
+
 
 def worker(args):
     import mbao
@@ -67,18 +69,6 @@ class Worker:
         self.process.wait()
 
 
-def median_and_quartiles(values):
-    ordered = sorted(values)
-
-    def percentile(q):
-        position = q * (len(ordered) - 1)
-        low = int(position)
-        high = min(low + 1, len(ordered) - 1)
-        return ordered[low] + (ordered[high] - ordered[low]) * (position - low)
-
-    return percentile(0.5), percentile(0.25), percentile(0.75)
-
-
 def compare(args):
     old, new = Worker(args.old, args), Worker(args.new, args)
     print("images identical:", old.image_hash == new.image_hash)
@@ -93,7 +83,7 @@ def compare(args):
         print(f"old {times[old]:.1f} ms, new {times[new]:.1f} ms, new / old {ratios[-1]:.3f}", flush=True)
     old.close()
     new.close()
-    median, q1, q3 = median_and_quartiles(ratios)
+    q1, median, q3 = np.percentile(ratios, [25, 50, 75])
     print(f"new / old: {median:.3f} [{q1:.3f}-{q3:.3f}] over {args.pairs} pairs")
 
 

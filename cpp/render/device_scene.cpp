@@ -28,7 +28,8 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
   std::vector<cl_float4> triangles;
   triangles.reserve(mesh.triangles.size() * 3);
   for (const glm::uvec3& t : mesh.triangles) {
-    const glm::vec3 p[3] = {mesh.positions[t[0]] - origin, mesh.positions[t[1]] - origin, mesh.positions[t[2]] - origin};
+    glm::vec3 p[3];
+    for (int k = 0; k < 3; ++k) p[k] = mesh.positions[t[k]] - origin;
     for (int axis = 0; axis < 3; ++axis) triangles.push_back({{p[0][axis], p[1][axis], p[2][axis], 0.0f}});
   }
 
