@@ -45,9 +45,8 @@ struct Surface {
   glm::vec3 geometric_normal{0.0f}, shading_normal{0.0f};
 };
 
-glm::vec3 offset_origin(const Surface& s, const glm::vec3& dir) {
-  glm::vec3 offset = s.offset * s.geometric_normal;
-  if (glm::dot(dir, s.geometric_normal) < 0.0f) offset = -offset;
+glm::vec3 leaving_point(const Surface& s) {
+  const glm::vec3 offset = s.offset * s.geometric_normal;
   glm::vec3 p = s.position + offset;
   for (int k = 0; k < 3; ++k)
     if (offset[k] != 0.0f) p[k] = std::nextafter(p[k], offset[k] > 0.0f ? kInfinity : -kInfinity);
@@ -253,7 +252,7 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
                                                  philox_unit_float(r.v[1]));
           if (glm::dot(dir, level.surface.geometric_normal) <= 0.0f) continue;
           ++rays[thread];
-          RTCRayHit ray = single_ray({offset_origin(level.surface, dir), dir}, t_max);
+          RTCRayHit ray = single_ray({leaving_point(level.surface), dir}, t_max);
           if (!job.bounces_on(bounce)) {
             rtcOccluded1(impl.rtc_scene, &context, &ray.ray);
             if (ray.ray.tfar >= 0.0f) ++escapes[bounce - 1];
@@ -322,7 +321,7 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
             const glm::vec3 dir =
                 cosine_direction(surface.shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
             if (glm::dot(dir, surface.geometric_normal) <= 0.0f) continue;
-            queue.push_back({parent.slot, bounce, node, {offset_origin(surface, dir), dir}});
+            queue.push_back({parent.slot, bounce, node, {leaving_point(surface), dir}});
           }
         }
         rays[thread] += queue.size();

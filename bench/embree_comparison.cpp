@@ -15,21 +15,51 @@ unsigned pocl_threads() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
-json embree_frames(const EmbreeAo& embree, const BenchScene& s, const mbao::RenderSettings& settings, int frames,
-                   EmbreeAo::Mode mode) {
-  embree.render(s.camera, settings, mode);  // warm-up, as for mbao
-  std::vector<double> times;
-  EmbreeFrame frame;
-  for (int f = 0; f < frames; ++f) {
-    frame = embree.render(s.camera, settings, mode);
-    times.push_back(frame.frame_ms);
+// Frame times of one tracer, with the rays of a frame.
+struct Frames {
+  std::vector<double> ms;
+  std::uint64_t rays_primary = 0, rays_secondary = 0;
+
+  void add(double frame_ms, std::uint64_t primary, std::uint64_t secondary) {
+    ms.push_back(frame_ms);
+    rays_primary = primary;
+    rays_secondary = secondary;
   }
-  const double frame_ms = median(times);
-  return {{"frame_ms", frame_ms},
-          {"frame_ms_all", times},
-          {"rays_primary", frame.rays_primary},
-          {"rays_secondary", frame.rays_secondary},
-          {"mrays_per_s", double(frame.rays_primary + frame.rays_secondary) / frame_ms / 1e3}};
+  json to_json() const {
+    const double frame_ms = median(ms);
+    return {{"frame_ms", frame_ms},
+            {"frame_ms_all", ms},
+            {"rays_primary", rays_primary},
+            {"rays_secondary", rays_secondary},
+            {"mrays_per_s", double(rays_primary + rays_secondary) / frame_ms / 1e3}};
+  }
+};
+
+// mbao, Embree's single rays and Embree's packets, a frame of each in turn after
+// a warm-up frame of each: a machine whose speed drifts from one minute to the
+// next slows all three alike, and the ratio of rays/s stays the ratio of the
+// tracers (run as three blocks of frames, this section once saw Sponza's mbao
+// frame at 0.65 of Table 1's a few minutes before).
+struct Interleaved {
+  Frames mbao, single, packets;
+  mbao::RenderStats mbao_stats;  // of the last frame
+};
+
+Interleaved interleaved_frames(mbao::Renderer& renderer, const EmbreeAo& embree, const BenchScene& s,
+                               const mbao::RenderSettings& settings, int frames) {
+  using Mode = EmbreeAo::Mode;
+  Interleaved f;
+  for (int frame = -1; frame < frames; ++frame) {
+    const mbao::RenderStats stats = renderer.render(s.scene, s.camera, settings).stats;
+    const EmbreeFrame single = embree.render(s.camera, settings, Mode::SingleRays);
+    const EmbreeFrame packets = embree.render(s.camera, settings, Mode::Packets16);
+    if (frame < 0) continue;  // the warm-up
+    f.mbao.add(stats.frame_ms, stats.rays_primary, stats.rays_secondary);
+    f.single.add(single.frame_ms, single.rays_primary, single.rays_secondary);
+    f.packets.add(packets.frame_ms, packets.rays_primary, packets.rays_secondary);
+    f.mbao_stats = stats;
+  }
+  return f;
 }
 
 }  // namespace
@@ -44,12 +74,16 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
     for (int bounces : {1, 2}) {
       mbao::RenderSettings settings = options.settings;
       settings.bounces = bounces;
-      const json mbao_frames = measure_frames(renderer, s, settings, options.frames);
+      const Interleaved f = interleaved_frames(renderer, embree, s, settings, options.frames);
       mbao::RenderSettings counting = settings;
       counting.count_traversal = true;
       const mbao::RenderStats counted = renderer.render(s.scene, s.camera, counting).stats;
-      const json single = embree_frames(embree, s, settings, options.frames, EmbreeAo::Mode::SingleRays);
-      const json packets = embree_frames(embree, s, settings, options.frames, EmbreeAo::Mode::Packets16);
+      json mbao_frames = f.mbao.to_json();
+      mbao_frames["bounces"] = bounces;
+      mbao_frames["memory_bytes"] = f.mbao_stats.memory_bytes;
+      mbao_frames["kernel_options"] = f.mbao_stats.kernel_options;
+      mbao_frames["organisation"] = f.mbao_stats.organisation;
+      const json single = f.single.to_json(), packets = f.packets.to_json();
       const json& best = single["frame_ms"].get<double>() <= packets["frame_ms"].get<double>() ? single : packets;
       const double ratio = mbao_frames["mrays_per_s"].get<double>() / best["mrays_per_s"].get<double>();
       const json traversal = per_ray_counts(counted);
@@ -70,7 +104,9 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
     }
   }
   std::cout << "\nmbao: " << mbao::to_string(options.settings.traversal) << " traversal; Embree 3: " << threads
-            << " threads, high-quality BVH, the faster of its two forms in the ratio; max_distance = inf.\n\n";
+            << " threads, high-quality BVH, the faster of its two forms in the ratio; max_distance = inf; a frame of"
+               " each of the three in turn, medians of "
+            << options.frames << ".\n\n";
   return rows;
 }
 

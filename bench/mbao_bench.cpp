@@ -18,7 +18,9 @@
 //
 //   mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]
 //              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]
-//              [--sections A,B,...] [--work-groups N,M,...]
+//              [--sections A,B,...] [--work-groups N,M,...] [--origin-paths on|off]
+//
+// --origin-paths overrides the renderer's choice (RenderSettings::origin_paths).
 #include <algorithm>
 #include <ctime>
 #include <filesystem>
@@ -41,7 +43,7 @@ namespace {
   std::cerr << "mbao_bench: " << problem
             << "\nusage: mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]"
                " [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]"
-               " [--sections A,B,...] [--work-groups N,M,...]\n";
+               " [--sections A,B,...] [--work-groups N,M,...] [--origin-paths on|off]\n";
   std::exit(2);
 }
 
@@ -68,6 +70,11 @@ std::vector<std::size_t> parse_work_groups(const std::string& list) {
   return sizes;
 }
 
+bool parse_on_off(const std::string& flag, const std::string& value) {
+  if (value != "on" && value != "off") usage(flag + " takes on or off, not " + value);
+  return value == "on";
+}
+
 bench::Options parse(int argc, char** argv) {
   bench::Options options;
   options.self = fs::canonical("/proc/self/exe").string();
@@ -89,6 +96,7 @@ bench::Options parse(int argc, char** argv) {
       else if (flag == "--traversal") options.settings.traversal = mbao::parse_traversal(value);
       else if (flag == "--sections") options.sections = parse_sections(value);
       else if (flag == "--work-groups") options.work_groups = parse_work_groups(value);
+      else if (flag == "--origin-paths") options.settings.origin_paths = parse_on_off(flag, value);
       else usage("unknown option " + flag);
     } catch (const std::logic_error&) {
       usage("bad value for " + flag + ": " + value);

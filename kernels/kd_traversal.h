@@ -60,6 +60,9 @@ typedef struct TraversalCounts {
 #ifndef MBAO_LOAD_BOTH_CHILDREN
 #define MBAO_LOAD_BOTH_CHILDREN 0
 #endif
+#ifndef MBAO_ORIGIN_PATHS
+#define MBAO_ORIGIN_PATHS 0
+#endif
 #if MBAO_COUNT_TRAVERSAL
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #define MBAO_COUNT(counts, field, n) ((counts)->field += (n))
@@ -103,7 +106,6 @@ static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, Kd
   return 0;
 }
 
-#if MBAO_STACK_SIZE > 0
 // The far children a descent passed by, each with the end of its interval. Its
 // start need not be kept: the intervals of the leaves a walk visits follow one
 // another, so a popped child's interval starts where the leaf before it ended,
@@ -112,7 +114,7 @@ static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, Kd
 // steps that push nothing (a descent step does not branch on whether it
 // pushes). The array is not a member: beside an array indexed at run time the
 // compiler left the counters in memory, and every step waited on a store and
-// a load of `top` (docs/traversal-on-pocl.md).
+// a load of `top` (docs/traversal-on-pocl.md). Restart and push-down keep none.
 typedef struct FarStack {
   __private uint2* entries;
   uint top;    // next free slot
@@ -124,14 +126,17 @@ static inline void far_stack_push_if(FarStack* stack, uint push, uint node, floa
   // It holds at most one entry per tree level, so top never passes the spare slot.
   const uint slot = stack->top;
   stack->top += push;
-#else
+#elif MBAO_STACK_SIZE > 0
   const uint slot = push ? stack->top : MBAO_STACK_SIZE;
   stack->top = (stack->top + push) & (MBAO_STACK_SIZE - 1);
   stack->count = min(stack->count + push, (uint)MBAO_STACK_SIZE);
 #endif
+#if MBAO_STACK_SIZE > 0
   stack->entries[slot] = (uint2)(node, as_uint(t_hi));
+#endif
 }
 
+#if MBAO_STACK_SIZE > 0
 static inline int far_stack_is_empty(const FarStack* stack) {
 #if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
   return stack->top == 0;
@@ -155,91 +160,185 @@ static inline int far_stack_pop(FarStack* stack, uint* node, float* t_hi) {
 }
 #endif
 
-// Finds the closest hit with 0 < t <= t_max (ties go to the lower triangle id),
-// or with any_hit, any hit in that range. Returns 1 on a hit; *hit is no_hit()
-// on a miss.
+// What a descent carries from step to step.
+typedef struct Descent {
+  float t_hi;       // the end of the interval still to walk in the current node
+  float far_bound;  // a plane at or before this distance sends the walk to the far child alone
+  uint whole_interval_inside;  // so far, the walk's whole remaining interval lies in the current node's cell
+  uint start_node;  // push-down: where the next descent starts
+} Descent;
+
+// One step down from interior node `node` (at `index`): returns the child the
+// walk goes on in and pushes the far child where the interval reaches both.
 //
-// A descent step picks its child and pushes with selects, not with if/else on
-// the ray's data: AO rays take either side of a split at random, and such
-// branches go wrong about every other step. With MBAO_LOAD_BOTH_CHILDREN (the
-// full stack on CPUs) it also loads both children before the choice, so that
-// the next node's fetch overlaps the step's arithmetic instead of following it
-// (docs/traversal-on-pocl.md has the measurements).
-static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, float t_max,
-                            int any_hit, Hit* hit, TraversalCounts* counts) {
+// A step picks its child and pushes with selects, not with if/else on the ray's
+// data: AO rays take either side of a split at random, and such branches go
+// wrong about every other step. The plane lies behind the ray or at the
+// interval's start where t_split <= far_bound: with t_lo >= 0, where t_split <= 0
+// or t_split < t_lo (t_split at most the float below t_lo) on a walk's first
+// descent, and where t_split <= t_lo after it.
+static inline uint descent_step(const float2* axis_ray, KdNode node, uint index, Descent* d, FarStack* stack) {
+  const float2 along_axis = axis_ray[kd_axis(node)];
+  const float t_split = (kd_split(node) - along_axis.x) * along_axis.y;
+  const uint below = index + 1;
+  const uint above = kd_above_child(node);
+  const uint heads_down = (uint)(as_int(along_axis.y) >> 31);  // all bits set or none
+  const uint swap = (below ^ above) & heads_down;
+  const uint near = below ^ swap, far = above ^ swap;
+  // To the near child alone where the plane lies beyond the interval, or
+  // where t_split is NaN: a ray lying in the plane, which +0 sends below.
+  const uint far_only = t_split <= d->far_bound;
+  const uint both = !far_only & (t_split <= d->t_hi);
+  far_stack_push_if(stack, both, far, d->t_hi);
+  d->t_hi = both ? t_split : d->t_hi;
+  d->whole_interval_inside &= !both;
+  const uint next = far_only ? far : near;
+#if MBAO_PUSH_DOWN
+  d->start_node = d->whole_interval_inside ? next : d->start_node;
+#endif
+  return next;
+}
+
+// The interior nodes from the root down to the leaf whose cell holds a point
+// that several rays leave from (the r rays of an AO surface). A walk's first
+// descent from that point passes the same nodes whatever the ray's direction
+// (at each, the child that holds the point), so with MBAO_ORIGIN_PATHS (CPUs)
+// it takes them from here, at hand, instead of fetching one after another from
+// the tree, each fetch waiting on the one before. The walk checks every child
+// it takes against the path and goes back to the tree where they part, so a
+// path changes where nodes come from, never a hit. They part only where the
+// point lies on a plane, where the path stops: there the direction decides.
+// A path holds the first MBAO_ORIGIN_PATH_STEPS steps, as deep as the shared
+// scenes' trees go (at most 31), not MBAO_KD_MAX_DEPTH: a work item keeps a
+// path for every bounce level.
+#define MBAO_ORIGIN_PATH_STEPS 32
+typedef struct OriginPath {
+  KdNode steps[MBAO_ORIGIN_PATH_STEPS];  // the interior nodes passed, root first
+  uint went_below;                       // bit k: the child below steps[k] holds the point
+  uint length;                           // steps held: 0 for a point without a path
+} OriginPath;
+
+// The point several rays leave from, with its path in programs built with MBAO_ORIGIN_PATHS.
+typedef struct RayOrigin {
+  float3 point;
+#if MBAO_ORIGIN_PATHS
+  OriginPath path;
+#endif
+} RayOrigin;
+
+// A ray origin whose rays walk from the root: for a point only one ray leaves.
+static inline void set_ray_origin(float3 point, RayOrigin* origin) {
+  origin->point = point;
+#if MBAO_ORIGIN_PATHS
+  origin->path.length = 0;
+#endif
+}
+
+// A ray origin for several rays: with MBAO_ORIGIN_PATHS its path is found here, once for them all.
+static inline void locate_ray_origin(const SceneView* scene, float3 point, RayOrigin* origin) {
+  set_ray_origin(point, origin);
+#if MBAO_ORIGIN_PATHS
+  const float coordinate[3] = {point.x, point.y, point.z};
+  OriginPath* path = &origin->path;
+  uint index = 0, length = 0, went_below = 0;
+  KdNode node = scene->nodes[0];
+  while (!kd_is_leaf(node) && length < MBAO_ORIGIN_PATH_STEPS) {
+    // The difference descent_step computes: zero where the point is on the plane.
+    const float to_plane = kd_split(node) - coordinate[kd_axis(node)];
+    if (to_plane == 0.0f) break;
+    const uint below = to_plane > 0.0f;
+    path->steps[length] = node;
+    went_below |= below << length;
+    ++length;
+    index = below ? index + 1 : kd_above_child(node);
+    node = scene->nodes[index];
+  }
+  path->went_below = went_below;
+  path->length = length;
+#endif
+}
+
+#if MBAO_ORIGIN_PATHS
+// A walk's first descent from the root along the path, for as long as the
+// children it takes are the path's: returns the node it stands at after.
+static inline uint descend_along(const OriginPath* path, const float2* axis_ray, Descent* d, FarStack* stack,
+                                 TraversalCounts* counts) {
+  uint index = 0;
+  for (uint k = 0; k < path->length; ++k) {
+    const KdNode node = path->steps[k];
+    const uint next = descent_step(axis_ray, node, index, d, stack);
+    const uint on_path = (path->went_below >> k) & 1 ? index + 1 : kd_above_child(node);
+    MBAO_COUNT(counts, nodes, 1);
+    index = next;
+    if (next != on_path) break;
+  }
+  return index;
+}
+#endif
+
+// Finds the closest hit with 0 < t <= t_max (ties go to the lower triangle id),
+// or with any_hit, any hit in that range, for the ray from origin->point along
+// dir. Returns 1 on a hit; *hit is no_hit() on a miss.
+//
+// With MBAO_LOAD_BOTH_CHILDREN (the full stack on CPUs) a step also loads both
+// children before the choice, so that the next node's fetch overlaps the step's
+// arithmetic instead of following it (docs/traversal-on-pocl.md has the
+// measurements). They are written out in the loop: in a function of their own
+// they made Sponza's frames 1.03 and 1.07 of these (two runs of paired frames).
+static inline int trace_ray_from(const SceneView* scene, const RayOrigin* origin, float3 dir, float t_max,
+                                 int any_hit, Hit* hit, TraversalCounts* counts) {
   *hit = no_hit();
+  const float3 point = origin->point;
   // From +0 where a component is -0: the descent reads which way the ray heads
   // from the sign of inv_dir, so a ray that does not move along an axis counts
   // as heading up there, whatever the sign of its zero, and a ray lying in a
   // split plane (t_split NaN) goes below.
   const float3 inv_dir = 1.0f / (dir + 0.0f);
   float t_enter, t_exit;
-  if (!clip_to_box(origin, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, t_max, &t_enter,
-                   &t_exit))
+  if (!clip_to_box(point, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, t_max, &t_enter, &t_exit))
     return 0;
-  const WatertightRay ray = make_watertight_ray(origin, dir, scene->bounds_lo, scene->bounds_hi);
+  const WatertightRay ray = make_watertight_ray(point, dir, scene->bounds_lo, scene->bounds_hi);
   // Per axis, for the descent: the origin and 1 / dir in one vector that a
   // step loads by its axis. Picking a vector component by a run-time axis
   // costs a chain of selects; separate arrays cost a load each, and the
   // compiler kept their addresses in spill slots. The sign of 1 / dir says
   // whether the ray heads down: dir + 0 is never -0.
-  const float2 axis_ray[3] = {(float2)(origin.x, inv_dir.x), (float2)(origin.y, inv_dir.y),
-                              (float2)(origin.z, inv_dir.z)};
+  const float2 axis_ray[3] = {(float2)(point.x, inv_dir.x), (float2)(point.y, inv_dir.y),
+                              (float2)(point.z, inv_dir.z)};
 
   Hit best = no_hit();
   best.t = t_max;
-  uint start_node = 0;
   float t_lo = t_enter;
   uint resumed = 0;  // past the first leaf: zero-length intervals may be skipped
-#if MBAO_STACK_SIZE > 0
+  Descent d;
+  d.start_node = 0;
   uint2 far_entries[MBAO_STACK_SIZE + 1];
   FarStack stack = {far_entries, 0, 0};
-#endif
   for (;;) {
     uint index;
-    float t_hi;
-    uint whole_interval_inside;  // so far, the walk's whole remaining interval lies in `index`'s cell
+    d.whole_interval_inside = 1;
 #if MBAO_STACK_SIZE > 0
-    if (far_stack_pop(&stack, &index, &t_hi)) {
-      whole_interval_inside = 0;
+    if (far_stack_pop(&stack, &index, &d.t_hi)) {
+      d.whole_interval_inside = 0;
     } else
 #endif
     {
-      index = start_node;
-      t_hi = t_exit;
-      whole_interval_inside = 1;
+      index = d.start_node;
+      d.t_hi = t_exit;
       if (resumed) MBAO_COUNT(counts, restarts, 1);
     }
+    d.far_bound = resumed ? t_lo : t_lo > 0.0f ? as_float(as_uint(t_lo) - 1u) : 0.0f;
+#if MBAO_ORIGIN_PATHS
+    if (!resumed) index = descend_along(&origin->path, axis_ray, &d, &stack, counts);
+#endif
 
-    // A step sends the walk to the far child alone where the plane lies behind
-    // the ray or at the interval's start (there only past the first leaf):
-    // with t_lo >= 0, where t_split <= 0 or t_split < t_lo (t_split at most the
-    // float below t_lo) on the first descent, and where t_split <= t_lo after
-    // it. Either way one compare with far_bound.
-    const float far_bound = resumed ? t_lo : t_lo > 0.0f ? as_float(as_uint(t_lo) - 1u) : 0.0f;
     KdNode node = scene->nodes[index];
     MBAO_COUNT(counts, nodes, 1);
     while (!kd_is_leaf(node)) {
-      const float2 along_axis = axis_ray[kd_axis(node)];
-      const float t_split = (kd_split(node) - along_axis.x) * along_axis.y;
-      const uint below = index + 1;
-      const uint above = kd_above_child(node);
-      const uint heads_down = (uint)(as_int(along_axis.y) >> 31);  // all bits set or none
-      const uint swap = (below ^ above) & heads_down;
-      const uint near = below ^ swap, far = above ^ swap;
-      // To the near child alone where the plane lies beyond the interval, or
-      // where t_split is NaN: a ray lying in the plane, which +0 sends below.
-      const uint far_only = t_split <= far_bound;
-      const uint both = !far_only & (t_split <= t_hi);
-#if MBAO_STACK_SIZE > 0
-      far_stack_push_if(&stack, both, far, t_hi);
+#if MBAO_LOAD_BOTH_CHILDREN
+      const uint below = index + 1, above = kd_above_child(node);
 #endif
-      t_hi = both ? t_split : t_hi;
-      whole_interval_inside &= !both;
-      index = far_only ? far : near;
-#if MBAO_PUSH_DOWN
-      start_node = whole_interval_inside ? index : start_node;
-#endif
+      index = descent_step(axis_ray, node, index, &d, &stack);
 #if MBAO_LOAD_BOTH_CHILDREN
       // volatile: otherwise the compiler turns the choice between two loaded
       // nodes back into one load of the chosen node. As words, not as KdNode:
@@ -257,8 +356,8 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
 
     MBAO_COUNT(counts, leaves, 1);
     if (test_leaf(scene, &ray, node, any_hit, &best, counts)) break;
-    if (best.triangle != MBAO_NO_TRIANGLE && best.t <= t_hi) break;
-    t_lo = t_hi;
+    if (best.triangle != MBAO_NO_TRIANGLE && best.t <= d.t_hi) break;
+    t_lo = d.t_hi;
     resumed = 1;
 #if MBAO_STACK_SIZE > 0
     if (far_stack_is_empty(&stack) && t_lo >= t_exit) break;
@@ -270,6 +369,14 @@ static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, f
   if (best.triangle == MBAO_NO_TRIANGLE) return 0;
   *hit = best;
   return 1;
+}
+
+// A ray of its own, from the root.
+static inline int trace_ray(const SceneView* scene, float3 origin, float3 dir, float t_max, int any_hit, Hit* hit,
+                            TraversalCounts* counts) {
+  RayOrigin from;
+  set_ray_origin(origin, &from);
+  return trace_ray_from(scene, &from, dir, t_max, any_hit, hit, counts);
 }
 
 #endif

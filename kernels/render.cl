@@ -71,18 +71,28 @@ static inline AoSettings ao_settings(uint bounces, uint samples, float rho, floa
 #define MBAO_RAY_ESCAPED 1  // nothing within max_distance
 #define MBAO_RAY_HIT 2
 
-// Draws the direction of one AO ray from `from` and traces it. A hit point is
-// only needed where the estimator bounces on; elsewhere any hit will do.
-static inline int cast_ao_ray(const SceneView* scene, const Surface* from, const AoSettings* s,
-                              uint pixel, uint camera_sample, uint bounce, uint node,
-                              int need_hit_point, float3* dir, Hit* hit, uint* rays,
+// Where the `rays` rays leaving `from` start: located in the tree once for
+// them all where more than one leaves.
+static inline void origin_of_rays(const SceneView* scene, const Surface* from, uint rays,
+                                  RayOrigin* origin) {
+  if (rays > 1)
+    locate_ray_origin(scene, leaving_point(from), origin);
+  else
+    set_ray_origin(leaving_point(from), origin);
+}
+
+// Draws the direction of one AO ray from `from` and traces it from `origin`,
+// where its rays start. A hit point is only needed where the estimator bounces
+// on; elsewhere any hit will do.
+static inline int cast_ao_ray(const SceneView* scene, const Surface* from, const RayOrigin* origin,
+                              const AoSettings* s, uint pixel, uint camera_sample, uint bounce,
+                              uint node, int need_hit_point, float3* dir, Hit* hit, uint* rays,
                               TraversalCounts* counts) {
   const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s->seed);
   *dir = cosine_direction(from->shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
   if (dot(*dir, from->geometric_normal) <= 0.0f) return MBAO_RAY_BLOCKED;
   ++*rays;
-  const float3 origin = offset_origin(from, *dir);
-  return trace_ray(scene, origin, *dir, s->max_distance, !need_hit_point, hit, counts)
+  return trace_ray_from(scene, origin, *dir, s->max_distance, !need_hit_point, hit, counts)
              ? MBAO_RAY_HIT
              : MBAO_RAY_ESCAPED;
 }
@@ -113,11 +123,13 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
                                 const AoSettings* s, uint pixel, uint camera_sample, uint* rays,
                                 TraversalCounts* counts) {
   Surface surface[MBAO_MAX_BRANCHING_BOUNCES];
+  RayOrigin origin[MBAO_MAX_BRANCHING_BOUNCES];
   uint next_child[MBAO_MAX_BRANCHING_BOUNCES];
   uint node[MBAO_MAX_BRANCHING_BOUNCES];
   uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
   for (uint k = 0; k < s->bounces; ++k) escapes[k] = 0;
   surface[0] = *primary;
+  origin_of_rays(scene, primary, s->samples, &origin[0]);
   next_child[0] = 0;
   node[0] = 0;
 
@@ -132,13 +144,14 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
     const int bounce_on = bounces_on(s, bounce);
     float3 dir;
     Hit hit;
-    const int outcome = cast_ao_ray(scene, &surface[level], s, pixel, camera_sample, bounce, child,
-                                    bounce_on, &dir, &hit, rays, counts);
+    const int outcome = cast_ao_ray(scene, &surface[level], &origin[level], s, pixel, camera_sample,
+                                    bounce, child, bounce_on, &dir, &hit, rays, counts);
     if (outcome == MBAO_RAY_ESCAPED) {
       ++escapes[level];
     } else if (outcome == MBAO_RAY_HIT && bounce_on) {
       ++level;
       surface[level] = make_surface(scene, hit, dir);
+      origin_of_rays(scene, &surface[level], s->samples, &origin[level]);
       next_child[level] = 0;
       node[level] = child;
     }
@@ -150,19 +163,24 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
 // bounce k adds rho^(k-1), and the sum is divided by r once.
 static float path_estimate(const SceneView* scene, const Surface* primary, const AoSettings* s,
                            uint pixel, uint camera_sample, uint* rays, TraversalCounts* counts) {
+  RayOrigin primary_origin, origin;
+  origin_of_rays(scene, primary, s->samples, &primary_origin);
   float sum = 0.0f;
   for (uint path = 0; path < s->samples; ++path) {
     Surface surface = *primary;
+    const RayOrigin* from = &primary_origin;
     float weight = 1.0f;
     for (uint bounce = 1; bounce <= s->bounces; ++bounce) {
       const int bounce_on = bounces_on(s, bounce);
       float3 dir;
       Hit hit;
-      const int outcome = cast_ao_ray(scene, &surface, s, pixel, camera_sample, bounce, path,
+      const int outcome = cast_ao_ray(scene, &surface, from, s, pixel, camera_sample, bounce, path,
                                       bounce_on, &dir, &hit, rays, counts);
       if (outcome == MBAO_RAY_ESCAPED) sum += weight;
       if (outcome != MBAO_RAY_HIT || !bounce_on) break;
       surface = make_surface(scene, hit, dir);
+      origin_of_rays(scene, &surface, 1, &origin);
+      from = &origin;
       weight *= s->rho;
     }
   }
@@ -291,12 +309,14 @@ static void cast_children(const SceneView* scene, const Surface* from, const AoS
   const uint pixel = first_pixel + sample / spp;
   const uint camera_sample = sample % spp;
   const int bounce_on = bounces_on(s, bounce);
+  RayOrigin origin;
+  origin_of_rays(scene, from, s->samples, &origin);
   for (uint i = 0; i < s->samples; ++i) {
     const uint child = node * s->samples + i;
     float3 dir;
     Hit hit;
-    const int outcome = cast_ao_ray(scene, from, s, pixel, camera_sample, bounce, child, bounce_on,
-                                    &dir, &hit, rays, counts);
+    const int outcome = cast_ao_ray(scene, from, &origin, s, pixel, camera_sample, bounce, child,
+                                    bounce_on, &dir, &hit, rays, counts);
     if (outcome == MBAO_RAY_ESCAPED)
       ++*escapes;
     else if (outcome == MBAO_RAY_HIT && bounce_on)

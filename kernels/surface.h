@@ -91,13 +91,13 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
   return s;
 }
 
-// The origin of a ray leaving the surface along dir: moved off the surface
-// along the geometric normal, to dir's side, then rounded away from the
-// surface so that it moves even where the offset is below a float step.
-static inline float3 offset_origin(const Surface* s, float3 dir) {
-  const float3 n = s->geometric_normal;
-  float3 offset = s->offset * n;
-  if (dot(dir, n) < 0.0f) offset = -offset;
+// Where the rays leaving the surface start: moved off it along the geometric
+// normal, the side they leave on (a direction below it is blocked, SPEC 3.3),
+// then rounded away from the surface so that it moves even where the offset is
+// below a float step. One point for all of them, so that their walks can share
+// its path down the kd-tree (kd_traversal.h).
+static inline float3 leaving_point(const Surface* s) {
+  const float3 offset = s->offset * s->geometric_normal;
   float3 p = s->position + offset;
   p.x = offset.x > 0.0f ? nextafter(p.x, INFINITY) : (offset.x < 0.0f ? nextafter(p.x, -INFINITY) : p.x);
   p.y = offset.y > 0.0f ? nextafter(p.y, INFINITY) : (offset.y < 0.0f ? nextafter(p.y, -INFINITY) : p.y);

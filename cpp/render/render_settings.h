@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "mbao/limits.h"
@@ -66,6 +67,10 @@ struct RenderSettings {
   std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory (the wavefront's always)
   std::size_t work_group_size = 0;  // 0 lets the OpenCL driver choose
   KernelOrganisation organisation = KernelOrganisation::Auto;  // wavefront: branching estimator only
+  // Whether the rays that leave one surface point walk its path down the kd-tree
+  // from private memory (OriginPath in kernels/kd_traversal.h); unset: the
+  // renderer's choice (see origin_paths_for).
+  std::optional<bool> origin_paths;
   Method method = Method::RayTraced;
   HbaoSettings hbao;  // method Hbao only
   // Renders that could trace more rays than this are refused before they start.

@@ -30,7 +30,8 @@ struct ProgramFeatures {
   bool alpha_masks = false;
   bool shading_normals = false;
   bool unlimited_distance = true;
-  bool load_both_children = false;  // see trace_ray in kernels/kd_traversal.h
+  bool load_both_children = false;  // see trace_ray_from in kernels/kd_traversal.h
+  bool origin_paths = false;        // see OriginPath in kernels/kd_traversal.h
 
   std::string options() const {
     return "-DMBAO_TRAVERSAL=" + std::to_string(int(traversal)) +
@@ -38,7 +39,8 @@ struct ProgramFeatures {
            " -DMBAO_ALPHA_MASKS=" + std::to_string(int(alpha_masks)) +
            " -DMBAO_SHADING_NORMALS=" + std::to_string(int(shading_normals)) +
            " -DMBAO_UNLIMITED_DISTANCE=" + std::to_string(int(unlimited_distance)) +
-           " -DMBAO_LOAD_BOTH_CHILDREN=" + std::to_string(int(load_both_children));
+           " -DMBAO_LOAD_BOTH_CHILDREN=" + std::to_string(int(load_both_children)) +
+           " -DMBAO_ORIGIN_PATHS=" + std::to_string(int(origin_paths));
   }
 };
 
@@ -57,6 +59,7 @@ ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, const
                              Traversal traversal) {
   ProgramFeatures features = features_for(scene, device, traversal, settings.count_traversal);
   features.shading_normals = settings.normals == NormalMode::Shading && scene.mesh().has_normals();
+  features.origin_paths = origin_paths_for(settings, device, scene.kd_tree()->stats);
   features.unlimited_distance = std::isinf(settings.max_distance);
   return features;
 }
@@ -110,6 +113,11 @@ void check_device_memory(const DeviceInfo& device, const DeviceScene& scene, std
 Traversal traversal_for(Traversal requested, const DeviceInfo& device) {
   if (requested != Traversal::Auto) return requested;
   return device.type == "CPU" ? Traversal::Stack : Traversal::ShortStack;
+}
+
+bool origin_paths_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree) {
+  if (settings.origin_paths) return *settings.origin_paths;
+  return device.type == "CPU" && tree.max_depth >= kMinOriginPathDepth;
 }
 
 KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device) {

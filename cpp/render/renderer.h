@@ -45,6 +45,16 @@ Traversal traversal_for(Traversal requested, const DeviceInfo& device);
 // README "Megakernel against wavefront").
 KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device);
 
+// Whether the rays leaving one surface point share its path down the tree
+// (settings.origin_paths where set): on CPUs, for trees at least
+// kMinOriginPathDepth deep. There a walk's first descent, over nodes fetched
+// one after another, costs enough that taking them from the path pays (Sponza:
+// 0.96 / 0.93 of the frame at b = 1 / 2 on PoCL); on the Cornell box's tree, 6
+// deep, the path's setup costs more than it saves (1.04). Not measured on GPUs,
+// where a path per bounce level would take much of a work item's registers.
+bool origin_paths_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree);
+constexpr int kMinOriginPathDepth = 16;
+
 // Renders and traces on one OpenCL device, keeping its built programs and the
 // scenes uploaded to it. One per device for the life of the process (for_device);
 // calls are serialized.
