@@ -38,8 +38,8 @@ struct Frames {
 // mbao, Embree's single rays and Embree's packets, a frame of each in turn after
 // a warm-up frame of each: a machine whose speed drifts from one minute to the
 // next slows all three alike, and the ratio of rays/s stays the ratio of the
-// tracers (run as three blocks of frames, this section once saw Sponza's mbao
-// frame at 0.65 of Table 1's a few minutes before).
+// tracers (the development machine once ran Sponza's mbao frame in 0.65 of the
+// time it had taken a few minutes before).
 struct Interleaved {
   Frames mbao, single, packets;
   mbao::RenderStats mbao_stats;  // of the last frame

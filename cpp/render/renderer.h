@@ -51,7 +51,8 @@ KernelOrganisation organisation_for(const RenderSettings& settings, const Device
 // one after another, costs enough that taking them from the path pays (Sponza:
 // 0.96 / 0.93 of the frame at b = 1 / 2 on PoCL); on the Cornell box's tree, 6
 // deep, the path's setup costs more than it saves (1.04). Not measured on GPUs,
-// where a path per bounce level would take much of a work item's registers.
+// where a path per bounce level, 264 bytes, would sit in each work item's
+// private memory.
 bool origin_paths_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree);
 constexpr int kMinOriginPathDepth = 16;
 

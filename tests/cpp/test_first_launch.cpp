@@ -74,7 +74,7 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
       compute.programs()
           .get("render.cl",
                "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 -DMBAO_ALPHA_MASKS=0 -DMBAO_SHADING_NORMALS=0 "
-               "-DMBAO_UNLIMITED_DISTANCE=1 -DMBAO_LOAD_BOTH_CHILDREN=1")
+               "-DMBAO_UNLIMITED_DISTANCE=1 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0")
           .program;
   if (files_under(caches / "pocl").empty())
     GTEST_SKIP() << "PoCL started before this test set its cache directory: run the test in a process of its "
