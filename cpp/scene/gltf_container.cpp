@@ -1,7 +1,6 @@
 #include "scene/gltf_container.h"
 
 #include <cstdint>
-#include <algorithm>
 #include <cstring>
 #include <string_view>
 
@@ -64,10 +63,15 @@ std::string_view glb_json_chunk(const unsigned char* bytes, std::size_t size, co
   if (length > size)
     throw LoadError(name + ": GLB header declares " + std::to_string(length) + " bytes, but the file has only " +
                     std::to_string(size) + " (truncated?)");
+  // Every offset below is measured within `length`, so it must cover the headers.
+  if (length < kGlbHeader + kChunkHeader)
+    throw LoadError(name + ": GLB header declares " + std::to_string(length) +
+                    " bytes, too few for its header and JSON chunk header (" +
+                    std::to_string(kGlbHeader + kChunkHeader) + " bytes)");
   const std::uint32_t json_length = little_endian_u32(bytes + kGlbHeader);
   if (little_endian_u32(bytes + kGlbHeader + 4) != kJsonChunk)
     throw LoadError(name + ": the first GLB chunk is not a JSON chunk");
-  if (json_length > length - std::min<std::size_t>(length, kGlbHeader + kChunkHeader))
+  if (json_length > length - (kGlbHeader + kChunkHeader))
     throw LoadError(name + ": GLB JSON chunk declares " + std::to_string(json_length) + " bytes, past the end of the " +
                     std::to_string(length) + "-byte GLB");
   const std::size_t bin_at = kGlbHeader + kChunkHeader + json_length;

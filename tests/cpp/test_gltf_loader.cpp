@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -16,13 +18,19 @@ std::vector<unsigned char> file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-std::string load_error(const std::string& text, const std::string& name, const std::string& base_dir) {
+// The bytes lie in a buffer of exactly their size, so that AddressSanitizer
+// sees any read past their end.
+std::string load_error(const std::vector<unsigned char>& bytes, const std::string& name, const std::string& base_dir) {
   try {
-    load_gltf_from_memory(reinterpret_cast<const unsigned char*>(text.data()), text.size(), name, base_dir);
+    load_gltf_from_memory(bytes.data(), bytes.size(), name, base_dir);
   } catch (const LoadError& e) {
     return e.what();
   }
   return "no error";
+}
+
+std::string load_error(const std::string& text, const std::string& name, const std::string& base_dir) {
+  return load_error(std::vector<unsigned char>(text.begin(), text.end()), name, base_dir);
 }
 
 // One triangle whose 36 bytes of positions are in `bin`, beside the JSON.
@@ -63,6 +71,28 @@ TEST(GltfLoader, FromMemoryMessagesNameTheGivenName) {
   EXPECT_EQ(load_error("glTF\x01\0\0\0", "bytes from somewhere", "").rfind("bytes from somewhere: ", 0), 0u);
   EXPECT_EQ(load_error("", "nothing", "").rfind("nothing: ", 0), 0u);
   EXPECT_EQ(load_error("{", "half", "").rfind("half: ", 0), 0u);
+}
+
+// A GLB of `size` bytes (at least 20) whose header declares `declared_length`:
+// the 12-byte header, then a JSON chunk header of an empty chunk, then zeros.
+std::vector<unsigned char> glb_declaring(std::uint32_t declared_length, std::size_t size) {
+  std::vector<unsigned char> bytes(size, 0);
+  const unsigned char header[20] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 'J', 'S', 'O', 'N'};
+  std::copy(std::begin(header), std::end(header), bytes.begin());
+  for (int i = 0; i < 4; ++i) bytes[8 + i] = static_cast<unsigned char>(declared_length >> (8 * i));
+  return bytes;
+}
+
+// Found by the fuzzer: a declared length shorter than the headers once made
+// the BIN chunk's offset wrap around and the check read past the buffer.
+TEST(GltfLoader, GlbDeclaringFewerBytesThanItsHeadersIsRefused) {
+  for (const std::uint32_t declared : {0u, 12u, 16u, 19u}) {
+    for (const std::size_t size : {std::size_t(20), std::size_t(23), std::size_t(64)}) {
+      const std::string message = load_error(glb_declaring(declared, size), "short.glb", "");
+      EXPECT_NE(message.find("GLB header declares " + std::to_string(declared) + " bytes, too few"), std::string::npos)
+          << "declared " << declared << " in " << size << " bytes: " << message;
+    }
+  }
 }
 
 }  // namespace
