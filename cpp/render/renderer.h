@@ -39,8 +39,9 @@ struct TraceResult {
 Traversal traversal_for(Traversal requested, const DeviceInfo& device);
 
 // The organisation `settings` run with on `device`: Auto is the wavefront on GPUs
-// wherever it can run the settings (on an H100, 0.73-0.94 of the megakernel's frame at
-// b = 2 and a tie at b = 1; bench/results/nvidia-h100.json) and the megakernel
+// wherever it can run the settings (on an H100 at b = 2, 0.75-0.91 of the megakernel's
+// frame where many rays escape and a tie on closed scenes; a tie at b = 1;
+// bench/results/nvidia-h100.json) and the megakernel
 // otherwise (on PoCL they tie and the wavefront needs memory for its queues;
 // README "Megakernel against wavefront").
 KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device);
@@ -50,9 +51,9 @@ KernelOrganisation organisation_for(const RenderSettings& settings, const Device
 // kMinOriginPathDepth deep. There a walk's first descent, over nodes fetched
 // one after another, costs enough that taking them from the path pays (Sponza:
 // 0.96 / 0.93 of the frame at b = 1 / 2 on PoCL); on the Cornell box's tree, 6
-// deep, the path's setup costs more than it saves (1.04). Not measured on GPUs,
-// where a path per bounce level, 264 bytes, would sit in each work item's
-// private memory.
+// deep, the path's setup costs more than it saves (1.04). On an H100 they cost
+// up to 6% of the frame at b = 2 (bench/results/nvidia-h100-origin-paths-alternating/):
+// there a path per bounce level, 264 bytes, sits in each work item's private memory.
 bool origin_paths_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree);
 constexpr int kMinOriginPathDepth = 16;
 
