@@ -12,17 +12,19 @@
 #include "sampling.h"
 #include "camera.h"
 #include "mbao/wavefront.h"
+#include "mbao/pixel_order.h"
 
-// Camera rays (SPEC 3.1). One work item per camera sample of the tile; the
-// closest hit is stored as (t, triangle, b1, b2) bits.
+// Camera rays (SPEC 3.1). One work item per camera sample of the tile, the
+// positions [first_position, first_position + pixel_count) of the pixel order
+// (mbao/pixel_order.h); the closest hit is stored as (t, triangle, b1, b2) bits.
 __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
                                 float4 up, float2 film_scale, uint width, uint height, uint spp,
-                                uint2 seed, uint first_pixel, uint pixel_count,
+                                uint2 seed, uint first_position, uint pixel_count,
                                 __global uint4* camera_hits, __global ulong* traversal_totals) {
   const uint sample_index = get_global_id(0);
   if (sample_index >= pixel_count * spp) return;
   const SceneView scene = MBAO_SCENE_VIEW();
-  const uint pixel = first_pixel + sample_index / spp;
+  const uint pixel = pixel_at_position(first_position + sample_index / spp, width, height);
   const uint camera_sample = sample_index % spp;
 
   float2 in_pixel = (float2)(0.5f, 0.5f);
@@ -43,6 +45,7 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
 }
 
 typedef struct AoSettings {
+  uint2 image_size;  // (width, height)
   uint bounces;
   uint samples;  // r: directions per hit
   float rho;
@@ -52,9 +55,10 @@ typedef struct AoSettings {
 
 // The settings of a frame. Programs built for max_distance = inf have it as a
 // constant (MBAO_UNLIMITED_DISTANCE) and ignore the argument.
-static inline AoSettings ao_settings(uint bounces, uint samples, float rho, float max_distance,
-                                     uint2 seed) {
+static inline AoSettings ao_settings(uint2 image_size, uint bounces, uint samples, float rho,
+                                     float max_distance, uint2 seed) {
   AoSettings s;
+  s.image_size = image_size;
   s.bounces = bounces;
   s.samples = samples;
   s.rho = rho;
@@ -65,6 +69,11 @@ static inline AoSettings ao_settings(uint bounces, uint samples, float rho, floa
 #endif
   s.seed = seed;
   return s;
+}
+
+// The pixel at `index` of the tile that starts at `first_position` of the pixel order.
+static inline uint tile_pixel(const AoSettings* s, uint first_position, uint index) {
+  return pixel_at_position(first_position + index, s->image_size.x, s->image_size.y);
 }
 
 #define MBAO_RAY_BLOCKED 0  // below the geometric surface: occluded, no bounce
@@ -220,11 +229,11 @@ static inline void store_pixel(uint pixel, float sum, uint spp, uint covered, ui
 // One pixel: the mean over its camera samples of L_b, 1 where the camera ray
 // missed; the coverage flag says whether any camera sample hit.
 static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye, uint spp,
-                               const AoSettings* s, uint first_pixel, uint pixel_index,
+                               const AoSettings* s, uint first_position, uint pixel_index,
                                __global const uint4* camera_hits, __global float* ao,
                                __global uchar* coverage, __global uint* secondary_rays,
                                __global ulong* traversal_totals) {
-  const uint pixel = first_pixel + pixel_index;
+  const uint pixel = tile_pixel(s, first_position, pixel_index);
   float sum = 0.0f;
   uint covered = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
@@ -247,21 +256,22 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
 }
 
 // The settings every AO kernel takes (after the scene, where it takes one), in this order.
-#define MBAO_AO_PARAMS                                                                         \
-  float4 eye, uint spp, uint bounces, uint samples, float rho, float max_distance, uint2 seed
+#define MBAO_AO_PARAMS                                                                             \
+  float4 eye, uint2 image_size, uint spp, uint bounces, uint samples, float rho, float max_distance, \
+      uint2 seed
 
 // The megakernel: one work item per pixel runs the whole estimator.
-#define MBAO_AO_KERNEL(name, estimator)                                                          \
-  __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pixel, uint pixel_count,      \
-                     __global const uint4 *camera_hits, __global float *ao,                     \
-                     __global uchar *coverage, __global uint *secondary_rays,                   \
-                     __global ulong *traversal_totals) {                                        \
-    const uint pixel_index = get_global_id(0);                                                   \
-    if (pixel_index >= pixel_count) return;                                                      \
-    const SceneView scene = MBAO_SCENE_VIEW();                                                   \
-    const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);                 \
-    shade_pixel(&scene, estimator, eye, spp, &s, first_pixel, pixel_index, camera_hits, ao,      \
-                coverage, secondary_rays, traversal_totals);                                     \
+#define MBAO_AO_KERNEL(name, estimator)                                                            \
+  __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position, uint pixel_count,     \
+                     __global const uint4 *camera_hits, __global float *ao,                        \
+                     __global uchar *coverage, __global uint *secondary_rays,                      \
+                     __global ulong *traversal_totals) {                                           \
+    const uint pixel_index = get_global_id(0);                                                     \
+    if (pixel_index >= pixel_count) return;                                                        \
+    const SceneView scene = MBAO_SCENE_VIEW();                                                     \
+    const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);       \
+    shade_pixel(&scene, estimator, eye, spp, &s, first_position, pixel_index, camera_hits, ao,     \
+                coverage, secondary_rays, traversal_totals);                                       \
   }
 
 MBAO_AO_KERNEL(ao_branching, MBAO_ESTIMATOR_BRANCHING)
@@ -303,10 +313,10 @@ static inline Surface dequeued_surface(const SceneView* scene, QueuedSurface q) 
 // bounce on are appended to queue `bounce` (in no particular order: nothing
 // depends on it).
 static void cast_children(const SceneView* scene, const Surface* from, const AoSettings* s,
-                          uint spp, uint first_pixel, uint sample, uint bounce, uint node,
+                          uint spp, uint first_position, uint sample, uint bounce, uint node,
                           __global QueuedSurface* next, __global uint* queue_lengths,
                           uint* escapes, uint* rays, TraversalCounts* counts) {
-  const uint pixel = first_pixel + sample / spp;
+  const uint pixel = tile_pixel(s, first_position, sample / spp);
   const uint camera_sample = sample % spp;
   const int bounce_on = bounces_on(s, bounce);
   RayOrigin origin;
@@ -326,7 +336,7 @@ static void cast_children(const SceneView* scene, const Surface* from, const AoS
 
 // Bounce 1, one work item per camera sample of the tile. It starts the
 // sample's counts, so they need no clearing and here no atomics.
-__kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pixel,
+__kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position,
                                      uint sample_count, __global const uint4* camera_hits,
                                      __global uint* escape_counts, __global uint* sample_rays,
                                      __global QueuedSurface* next, __global uint* queue_lengths,
@@ -334,13 +344,13 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint fir
   const uint sample = get_global_id(0);
   if (sample >= sample_count) return;
   const SceneView scene = MBAO_SCENE_VIEW();
-  const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);
+  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
   uint escapes = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
   const Hit hit = camera_hit(camera_hits, sample);
   if (hit.triangle != MBAO_NO_TRIANGLE) {
     const Surface primary = primary_surface(&scene, hit, eye);
-    cast_children(&scene, &primary, &s, spp, first_pixel, sample, 1, 0, next, queue_lengths,
+    cast_children(&scene, &primary, &s, spp, first_position, sample, 1, 0, next, queue_lengths,
                   &escapes, &rays, &counts);
   }
   escape_counts[sample * bounces] = escapes;
@@ -353,19 +363,19 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint fir
 
 // Bounce 2 and on, one work item per surface in queue bounce - 1 (the launch
 // has at least that many).
-__kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pixel, uint bounce,
+__kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position, uint bounce,
                                __global const QueuedSurface* queue, __global uint* escape_counts,
                                __global uint* sample_rays, __global QueuedSurface* next,
                                __global uint* queue_lengths, __global ulong* traversal_totals) {
   const uint index = get_global_id(0);
   if (index >= queue_lengths[bounce - 1]) return;
   const SceneView scene = MBAO_SCENE_VIEW();
-  const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);
+  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
   const QueuedSurface entry = queue[index];
   const Surface from = dequeued_surface(&scene, entry);
   uint escapes = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
-  cast_children(&scene, &from, &s, spp, first_pixel, entry.sample, bounce, entry.node, next,
+  cast_children(&scene, &from, &s, spp, first_position, entry.sample, bounce, entry.node, next,
                 queue_lengths, &escapes, &rays, &counts);
   if (escapes) atomic_add(&escape_counts[entry.sample * bounces + bounce - 1], escapes);
   if (rays) atomic_add(&sample_rays[entry.sample], rays);
@@ -376,14 +386,14 @@ __kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pix
 
 // One work item per pixel of the tile: its camera samples' values, summed in
 // the megakernel's order.
-__kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_pixel, uint pixel_count,
+__kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_position, uint pixel_count,
                                __global const uint4* camera_hits,
                                __global const uint* escape_counts,
                                __global const uint* sample_rays, __global float* ao,
                                __global uchar* coverage, __global uint* secondary_rays) {
   const uint pixel_index = get_global_id(0);
   if (pixel_index >= pixel_count) return;
-  const AoSettings s = ao_settings(bounces, samples, rho, max_distance, seed);
+  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
   float sum = 0.0f;
   uint covered = 0, rays = 0;
   for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
@@ -398,5 +408,6 @@ __kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_pixel, uint pixel_coun
     for (uint k = 0; k < bounces; ++k) escapes[k] = escape_counts[sample * bounces + k];
     sum += branching_value(escapes, &s);
   }
-  store_pixel(first_pixel + pixel_index, sum, spp, covered, rays, ao, coverage, secondary_rays);
+  store_pixel(tile_pixel(&s, first_position, pixel_index), sum, spp, covered, rays, ao, coverage,
+              secondary_rays);
 }

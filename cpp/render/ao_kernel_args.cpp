@@ -21,6 +21,7 @@ cl_uint set_camera_args(cl::Kernel& kernel, cl_uint arg, const Camera& camera, c
 
 cl_uint set_ao_args(cl::Kernel& kernel, cl_uint arg, const Camera& camera, const RenderSettings& s) {
   kernel.setArg(arg++, to_float4(camera.eye));
+  kernel.setArg(arg++, cl_uint2{{cl_uint(s.width), cl_uint(s.height)}});
   kernel.setArg(arg++, cl_uint(s.spp));
   kernel.setArg(arg++, cl_uint(s.bounces));
   kernel.setArg(arg++, cl_uint(s.samples));

@@ -18,13 +18,14 @@ namespace mbao {
 
 // The device side of one render: its buffers and kernels (render.cl's camera
 // rays, then the AO megakernel or the wavefront), set up for everything but
-// the tile. Pixels are numbered row by row from the top left; a tile is a range of them.
+// the tile. A tile is a range of positions in the order the kernels take the
+// pixels in (kernels/mbao/pixel_order.h: blocks of 16 x 16 in Z order).
 class Frame {
  public:
   Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
         const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels);
 
-  // Camera rays and AO for pixels [first, first + count), count <= the tile size.
+  // Camera rays and AO for the pixels at positions [first, first + count) of that order, count <= the tile size.
   void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
   // Launches every kernel of a tile over no pixels, on the smallest grid and on
   // a whole tile's (launch_empty): what a driver builds at a kernel's first
