@@ -7,6 +7,7 @@
 #include "surface.h"
 #include "sampling.h"
 #include "camera.h"
+#include "mbao/pixel_order.h"
 
 // View space: x right, y up, z the depth along the view direction.
 static inline float3 to_view(float3 v, float3 forward, float3 right, float3 up) {
@@ -18,8 +19,9 @@ static inline float3 to_view(float3 v, float3 forward, float3 right, float3 up) 
 __kernel void hbao_gbuffer(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right, float4 up,
                            float2 film_scale, uint width, uint height, __global float4* positions,
                            __global float4* normals) {
-  const uint pixel = get_global_id(0);
-  if (pixel >= width * height) return;
+  const uint position = get_global_id(0);
+  if (position >= width * height) return;
+  const uint pixel = pixel_at_position(position, width, height);
   const SceneView scene = MBAO_SCENE_VIEW();
   const float3 dir = camera_ray_direction(forward.xyz, right.xyz, up.xyz, film_scale, width, height, pixel,
                                           (float2)(0.5f, 0.5f));
@@ -76,8 +78,9 @@ static inline float march_direction(__global const float4* positions, uint width
 __kernel void hbao(__global const float4* positions, __global const float4* normals, uint width, uint height,
                    float film_scale_y, float radius, float sin_bias, float falloff, uint directions, uint steps,
                    uint2 seed, __global float* ao, __global uchar* coverage) {
-  const uint pixel = get_global_id(0);
-  if (pixel >= width * height) return;
+  const uint position = get_global_id(0);
+  if (position >= width * height) return;
+  const uint pixel = pixel_at_position(position, width, height);
   const float4 here = positions[pixel];
   coverage[pixel] = here.w != 0.0f;
   if (here.w == 0.0f) {

@@ -1,5 +1,5 @@
-// The order in which work items take the pixels of an image; a tile is a range
-// of positions in it. Blocks of 16 x 16 pixels, row by row, each walked in Z
+// The order in which work items take the pixels of an image (a render's tile
+// is a range of positions in it; HBAO's kernels take the whole image). Blocks of 16 x 16 pixels, row by row, each walked in Z
 // order (Morton): the rays of neighbouring work items then leave from
 // neighbouring points of the scene and walk much the same nodes, which the core
 // still holds in its caches, and any aligned run of 4^k positions in a block is
