@@ -1,12 +1,13 @@
 // The order in which work items take the pixels of an image (a render's tile
-// is a range of positions in it; HBAO's kernels take the whole image). Blocks of 16 x 16 pixels, row by row, each walked in Z
-// order (Morton): the rays of neighbouring work items then leave from
-// neighbouring points of the scene and walk much the same nodes, which the core
-// still holds in its caches, and any aligned run of 4^k positions in a block is
-// a square. Taken row by row, the 64 pixels of a work group span a strip of a
-// row whose rays share less: on PoCL the frames took 0.92-0.93 of the time on
-// Sponza, and no more on any scene (docs/traversal-on-pocl.md). Blocks that the
-// image's right or bottom edge cuts are walked row by row.
+// is a range of positions in it; HBAO's kernels take the whole image). Blocks
+// of 16 x 16 pixels, row by row, each walked in Z order (Morton): the rays of
+// neighbouring work items then leave from neighbouring points of the scene and
+// walk much the same nodes, which the core still holds in its caches, and any
+// aligned run of 4^k positions in a block is a square. Taken row by row, the 64
+// pixels of a work group span a strip of a row whose rays share less: on PoCL
+// the frames took 0.92-0.93 of the time on Sponza, and no more on any scene
+// (docs/traversal-on-pocl.md). Blocks that the image's right or bottom edge
+// cuts are walked row by row.
 #ifndef MBAO_PIXEL_ORDER_H
 #define MBAO_PIXEL_ORDER_H
 
