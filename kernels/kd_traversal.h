@@ -5,7 +5,9 @@
 //               deepest node whose cell held the whole remaining interval;
 //   short stack (Horn et al. 2007): push-down plus a small circular stack of
 //               far children; a descent restarts only when the stack runs dry;
-//   stack       a stack as deep as the tree: every node is visited once.
+//   stack       a stack as deep as the tree: every node is visited once;
+//   lanes       the full stack, sixteen rays per work item (kd_lanes.h): kernels
+//               that trace streams of rays walk them so, the rest as "stack".
 // All walk the leaves along the ray front to back and return the same hit.
 //
 // A descent narrows the interval [t_lo, t_hi] to one leaf; when the leaf holds
@@ -23,6 +25,7 @@
 #define MBAO_TRAVERSAL_PUSHDOWN 1
 #define MBAO_TRAVERSAL_SHORT_STACK 2
 #define MBAO_TRAVERSAL_STACK 3
+#define MBAO_TRAVERSAL_LANES 4
 #ifndef MBAO_TRAVERSAL
 #define MBAO_TRAVERSAL MBAO_TRAVERSAL_PUSHDOWN
 #endif

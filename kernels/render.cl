@@ -3,7 +3,7 @@
 // samples (the megakernel) or, for the branching estimator, one launch per
 // bounce over the surfaces still bouncing (the wavefront, at the end).
 #include "mbao/limits.h"
-#include "kd_traversal.h"
+#include "kd_lanes.h"
 
 #ifndef MBAO_UNLIMITED_DISTANCE
 #define MBAO_UNLIMITED_DISTANCE 0
@@ -90,6 +90,15 @@ static inline void origin_of_rays(const SceneView* scene, const Surface* from, u
     set_ray_origin(leaving_point(from), origin);
 }
 
+// Draws the direction of the AO ray at `node` of the estimator's tree from
+// `from`: returns 0 where it points below the geometric surface (blocked).
+static inline int ao_ray_direction(const Surface* from, const AoSettings* s, uint pixel, uint camera_sample,
+                                   uint bounce, uint node, float3* dir) {
+  const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s->seed);
+  *dir = cosine_direction(from->shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
+  return dot(*dir, from->geometric_normal) > 0.0f;
+}
+
 // Draws the direction of one AO ray from `from` and traces it from `origin`,
 // where its rays start. A hit point is only needed where the estimator bounces
 // on; elsewhere any hit will do.
@@ -97,9 +106,7 @@ static inline int cast_ao_ray(const SceneView* scene, const Surface* from, const
                               const AoSettings* s, uint pixel, uint camera_sample, uint bounce,
                               uint node, int need_hit_point, float3* dir, Hit* hit, uint* rays,
                               TraversalCounts* counts) {
-  const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s->seed);
-  *dir = cosine_direction(from->shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
-  if (dot(*dir, from->geometric_normal) <= 0.0f) return MBAO_RAY_BLOCKED;
+  if (!ao_ray_direction(from, s, pixel, camera_sample, bounce, node, dir)) return MBAO_RAY_BLOCKED;
   ++*rays;
   return trace_ray_from(scene, origin, *dir, s->max_distance, !need_hit_point, hit, counts)
              ? MBAO_RAY_HIT
@@ -196,8 +203,9 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
   return fmin(sum / (float)s->samples, 1.0f);
 }
 
-static inline Hit camera_hit(__global const uint4* camera_hits, uint index) {
-  const uint4 bits = camera_hits[index];
+// A hit as the kernels store it: (t, triangle, b1, b2) bits.
+static inline Hit stored_hit(__global const uint4* hits, uint index) {
+  const uint4 bits = hits[index];
   Hit hit;
   hit.t = as_float(bits.x);
   hit.triangle = bits.y;
@@ -238,7 +246,7 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
   uint covered = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
   for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
-    const Hit hit = camera_hit(camera_hits, pixel_index * spp + camera_sample);
+    const Hit hit = stored_hit(camera_hits, pixel_index * spp + camera_sample);
     if (hit.triangle == MBAO_NO_TRIANGLE) {
       sum += 1.0f;
       continue;
@@ -347,7 +355,7 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint fir
   const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
   uint escapes = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
-  const Hit hit = camera_hit(camera_hits, sample);
+  const Hit hit = stored_hit(camera_hits, sample);
   if (hit.triangle != MBAO_NO_TRIANGLE) {
     const Surface primary = primary_surface(&scene, hit, eye);
     cast_children(&scene, &primary, &s, spp, first_position, sample, 1, 0, next, queue_lengths,
@@ -410,4 +418,114 @@ __kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_position, uint pixel_c
   }
   store_pixel(tile_pixel(&s, first_position, pixel_index), sum, spp, covered, rays, ao, coverage,
               secondary_rays);
+}
+
+// The wavefront with traversal "lanes": a bounce in three launches over a
+// stream of rays, so that the walk takes them sixteen at a time (kd_lanes.h).
+// The bounce's sources are the surfaces it leaves from, the tile's camera
+// samples for bounce 1 and queue bounce - 1 after; a launch takes the sources
+// [first_source, first_source + source_count), and source j's r rays fill
+// stream slots (j - first_source) * r + i. The sources' rays, random numbers,
+// escape counts and queue entries are the wavefront's above, so is the image.
+
+// Source `index` of bounce `bounce`: its camera sample within the tile and its
+// node in the estimator's tree.
+static inline void stream_source(uint bounce, uint index, __global const QueuedSurface* queue, uint* sample,
+                                 uint* node) {
+  if (bounce == 1) {
+    *sample = index;
+    *node = 0;
+  } else {
+    *sample = queue[index].sample;
+    *node = queue[index].node;
+  }
+}
+
+// The r rays of each source; a blocked ray, or any ray of a camera sample
+// that hit nothing, gets t_max -1 (no ray).
+__kernel void stream_bounce_rays(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position, uint bounce,
+                                 uint first_source, uint source_count, __global const uint4* camera_hits,
+                                 __global const QueuedSurface* queue, __global float4* ray_origins,
+                                 __global float4* ray_directions) {
+  const uint slot = get_global_id(0);
+  if (slot >= source_count) return;
+  const SceneView scene = MBAO_SCENE_VIEW();
+  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
+  const uint index = first_source + slot;
+  uint sample, node;
+  stream_source(bounce, index, queue, &sample, &node);
+  __global float4* origins = ray_origins + slot * s.samples;
+  __global float4* directions = ray_directions + slot * s.samples;
+  Surface from;
+  if (bounce == 1) {
+    const Hit hit = stored_hit(camera_hits, index);
+    if (hit.triangle == MBAO_NO_TRIANGLE) {
+      for (uint i = 0; i < s.samples; ++i) directions[i] = (float4)(0.0f, 0.0f, 1.0f, -1.0f);
+      return;
+    }
+    from = primary_surface(&scene, hit, eye);
+  } else {
+    from = dequeued_surface(&scene, queue[index]);
+  }
+  const float4 point = (float4)(leaving_point(&from), 0.0f);
+  const uint pixel = tile_pixel(&s, first_position, sample / spp);
+  for (uint i = 0; i < s.samples; ++i) {
+    float3 dir;
+    const int cast = ao_ray_direction(&from, &s, pixel, sample % spp, bounce, node * s.samples + i, &dir);
+    origins[i] = point;
+    directions[i] = (float4)(dir, cast ? s.max_distance : -1.0f);
+  }
+}
+
+// The stream's rays [first, first + count) in lanes: work item j takes
+// rays_per_item of them from first + j * rays_per_item.
+__kernel void trace_ray_stream(MBAO_SCENE_PARAMS, __global const float4* ray_origins,
+                               __global const float4* ray_directions, uint count, int any_hit,
+                               uint rays_per_item, __global uint4* ray_hits, __global ulong* traversal_totals) {
+  const uint first = get_global_id(0) * rays_per_item;
+  if (first >= count) return;
+  const SceneView scene = MBAO_SCENE_VIEW();
+  const RayStream stream = {ray_origins, ray_directions, ray_hits, 0};
+  TraversalCounts counts = no_traversal_counts();
+  trace_in_lanes(&scene, &stream, first, min(first + rays_per_item, count), any_hit, &counts);
+#if MBAO_COUNT_TRAVERSAL
+  add_traversal_counts(traversal_totals, &counts);
+#endif
+}
+
+// Each source's rays' outcomes: escapes and rays counted to its camera
+// sample, hits that bounce on appended to queue `bounce`. Bounce 1 has one
+// source per camera sample and starts the sample's counts, as
+// wavefront_first_bounce does; later bounces add to them.
+__kernel void stream_bounce_hits(MBAO_AO_PARAMS, uint bounce, uint first_source, uint source_count,
+                                 __global const QueuedSurface* queue, __global const float4* ray_directions,
+                                 __global const uint4* ray_hits, __global uint* escape_counts,
+                                 __global uint* sample_rays, __global QueuedSurface* next,
+                                 __global uint* queue_lengths) {
+  const uint slot = get_global_id(0);
+  if (slot >= source_count) return;
+  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
+  uint sample, node;
+  stream_source(bounce, first_source + slot, queue, &sample, &node);
+  const int bounce_on = bounces_on(&s, bounce);
+  uint escapes = 0, rays = 0;
+  for (uint i = 0; i < s.samples; ++i) {
+    const uint ray = slot * s.samples + i;
+    const float4 direction = ray_directions[ray];
+    if (direction.w < 0.0f) continue;
+    ++rays;
+    const Hit hit = stored_hit(ray_hits, ray);
+    if (hit.triangle == MBAO_NO_TRIANGLE)
+      ++escapes;
+    else if (bounce_on)
+      next[atomic_inc(&queue_lengths[bounce])] = queued_surface(hit, direction.xyz, sample, node * s.samples + i);
+  }
+  if (bounce == 1) {
+    escape_counts[sample * bounces] = escapes;
+    for (uint k = 1; k < bounces; ++k) escape_counts[sample * bounces + k] = 0;
+    sample_rays[sample] = rays;
+    return;
+  }
+  if (escapes) atomic_add(&escape_counts[sample * bounces + bounce - 1], escapes);
+  if (rays) atomic_add(&sample_rays[sample], rays);
 }

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import mbao
+from meshes import random_soup
 
 ESTIMATORS = ("branching", "path")
 
@@ -102,7 +103,7 @@ def test_the_seed_alone_decides_the_noise(cornell):
     assert not np.array_equal(a, mbao.render(cornell, width=16, height=16, seed=1 + 2**40).ao)
 
 
-@pytest.mark.parametrize("traversal", ["pushdown", "restart", "short-stack", "stack"])
+@pytest.mark.parametrize("traversal", ["pushdown", "restart", "short-stack", "stack", "lanes"])
 def test_traversals_render_the_same_image(cornell, traversal):
     settings = dict(width=20, height=20, bounces=2, samples=4, seed=5)
     np.testing.assert_array_equal(
@@ -122,9 +123,23 @@ def test_the_wavefront_renders_the_megakernels_image(cornell):
 def test_auto_traversal_is_the_full_stack_on_cpus_and_the_short_stack_elsewhere(cornell):
     device = mbao.devices()[0]
     settings = dict(width=8, height=8, device=device)
-    expected = "stack" if device.type == "CPU" else "short-stack"
+    expected = "stack" if device.type == "CPU" else "short-stack"  # the Cornell box's tree is 6 deep
     assert mbao.render(cornell, **settings).stats["traversal_mode"] == expected
     assert mbao.render(cornell, traversal="restart", **settings).stats["traversal_mode"] == "restart"
+
+
+def test_auto_traversal_is_lanes_on_cpus_for_deep_trees_where_the_wavefront_runs(rng):
+    device = mbao.devices()[0]
+    deep = mbao.Mesh(*random_soup(rng, 3000))
+    settings = dict(width=8, height=8, bounces=2, device=device)
+    result = mbao.render(deep, **settings)
+    assert result.stats["tree"]["max_depth"] >= 16
+    on_cpu = device.type == "CPU"
+    assert result.stats["traversal_mode"] == ("lanes" if on_cpu else "short-stack")
+    assert result.stats["organisation"] == "wavefront"
+    # The path estimator and the megakernel walk one ray per work item.
+    for other in (dict(estimator="path"), dict(organisation="megakernel")):
+        assert mbao.render(deep, **other, **settings).stats["traversal_mode"] == ("stack" if on_cpu else "short-stack")
 
 
 def test_auto_organisation_is_the_wavefront_on_gpus_and_the_megakernel_elsewhere(cornell):

@@ -1,4 +1,4 @@
-"""The four kd-tree traversals against brute force: same closest hits, same
+"""The kd-tree traversals against brute force: same closest hits, same
 any-hit answers, on random and structured meshes, for random rays, rays that
 start on split planes and rays parallel to the axes; and the same hits as
 each other, bit for bit."""
@@ -10,7 +10,7 @@ import mbao
 from meshes import box, box_grid, merge, plane, random_soup, sphere
 from oracle import BruteForce
 
-TRAVERSALS = ("pushdown", "restart", "short-stack", "stack")
+TRAVERSALS = ("pushdown", "restart", "short-stack", "stack", "lanes")
 
 
 def split_planes(scene):
@@ -183,8 +183,9 @@ def test_no_ray_leaves_a_closed_box(rng, traversal):
 
 def test_what_the_traversals_count(rng):
     """Counting builds report, per ray, the nodes and leaves visited, the
-    triangles tested and the restarts: the same leaves and tests for all four
-    traversals, fewer nodes with a stack, and no restarts with a full one."""
+    triangles tested and the restarts: the same leaves and tests for every
+    traversal, fewer nodes with a stack, no restarts with a full one, and lanes
+    walk the full stack's nodes."""
     scene = mbao.Mesh(*box_grid(4))
     n = 3000
     origins, directions = points_in(rng, scene, n), random_directions(rng, n)
@@ -197,3 +198,22 @@ def test_what_the_traversals_count(rng):
     assert not counts["stack"][:, 3].any()
     assert counts["stack"][:, 0].sum() < counts["pushdown"][:, 0].sum() <= counts["restart"][:, 0].sum()
     assert counts["short-stack"][:, 3].sum() < counts["pushdown"][:, 3].sum()
+    np.testing.assert_array_equal(counts["lanes"], counts["stack"])
+
+
+@pytest.mark.parametrize("count", [1, 17, 300_000])
+def test_lanes_return_the_full_stacks_hits_whatever_the_batch(rng, count):
+    """A work item walks up to 512 rays sixteen at a time, a lane taking the
+    next ray when its own ends: one ray, a batch that leaves lanes empty, and
+    one where every lane walks dozens of rays in turn all give the full
+    stack's hits bit for bit."""
+    scene = mbao.Mesh(*random_soup(rng, 3000))
+    origins, directions = points_in(rng, scene, count), random_directions(rng, count)
+    t_max = rng.random(count) * 2 * np.linalg.norm(np.subtract(*scene.bounds))
+    for any_hit in (False, True):
+        stack = mbao.trace(scene, origins, directions, t_max=t_max, any_hit=any_hit, traversal="stack")
+        lanes = mbao.trace(scene, origins, directions, t_max=t_max, any_hit=any_hit, traversal="lanes")
+        for a, b in zip(stack, lanes):
+            np.testing.assert_array_equal(a, b, err_msg=f"any_hit={any_hit}")
+    if count > 1:  # not vacuous: some rays hit and some miss
+        assert (stack[1] >= 0).any() and (stack[1] < 0).any()

@@ -27,6 +27,13 @@ void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items
   queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * work_group), cl::NDRange(work_group));
 }
 
+std::size_t rays_per_lane_item(std::size_t rays, const cl::Device& device, std::size_t work_group) {
+  constexpr std::size_t kMost = 512, kLeast = 16, kGroupsPerUnit = 4;
+  const std::size_t units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+  const std::size_t items = units * kGroupsPerUnit * work_group;
+  return std::clamp((rays + items - 1) / items, kLeast, kMost);
+}
+
 void launch_empty(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t largest_items,
                   std::size_t work_group) {
   launch(queue, kernel, 0, work_group);

@@ -19,6 +19,14 @@ void set_buffer_or_null(cl::Kernel& kernel, cl_uint index, const cl::Buffer& buf
 // so an empty launch still runs: the kernels return for indices past their count).
 void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items, std::size_t work_group);
 
+// How many rays each work item of a kernel that walks rays in lanes
+// (kernels/kd_lanes.h) takes, of `rays` in all: 512 where there are enough,
+// fewer where that would leave the device's compute units under four groups
+// each, never under 16 (one lane's worth). A lane whose ray ends takes the
+// next of its work item's rays, so the more each item has, the longer its
+// lanes stay full (on PoCL 512 rays per item gained over 128: docs/traversal-on-pocl.md).
+std::size_t rays_per_lane_item(std::size_t rays, const cl::Device& device, std::size_t work_group);
+
 // Launches `kernel`, whose arguments make every work item return at once, on
 // one group and on `largest_items` items. Some drivers build a kernel at its
 // first launch, for its work-group size and also for the size of its grid

@@ -36,8 +36,10 @@ Traversal parse_traversal(const std::string& name) {
   if (name == "restart") return Traversal::Restart;
   if (name == "short-stack") return Traversal::ShortStack;
   if (name == "stack") return Traversal::Stack;
+  if (name == "lanes") return Traversal::Lanes;
   if (name == "auto") return Traversal::Auto;
-  bad("traversal must be \"auto\", \"pushdown\", \"restart\", \"short-stack\" or \"stack\", got \"" + name + "\"");
+  bad("traversal must be \"auto\", \"pushdown\", \"restart\", \"short-stack\", \"stack\" or \"lanes\", got \"" +
+      name + "\"");
 }
 
 KernelOrganisation parse_organisation(const std::string& name) {
@@ -63,6 +65,7 @@ std::string to_string(Traversal traversal) {
     case Traversal::PushDown: return "pushdown";
     case Traversal::ShortStack: return "short-stack";
     case Traversal::Stack: return "stack";
+    case Traversal::Lanes: return "lanes";
     default: return "auto";
   }
 }
@@ -131,6 +134,7 @@ void RenderSettings::validate() const {
   }
   validate_work();
   if (organisation == KernelOrganisation::Wavefront) validate_wavefront();
+  if (traversal == Traversal::Lanes) validate_lanes();
 }
 
 void RenderSettings::validate_hbao() const {
@@ -162,6 +166,18 @@ void RenderSettings::validate_work() const {
                "the path estimator samples * bounces = " + std::to_string(std::uint64_t(samples) * std::uint64_t(bounces)) +
                " (estimator=\"path\")";
   bad(message + "; raise max_rays to run it anyway");
+}
+
+void RenderSettings::validate_lanes() const {
+  if (organisation == KernelOrganisation::Megakernel)
+    bad("traversal \"lanes\" walks a bounce's rays together, so it runs in organisation \"wavefront\" (or \"auto\"), "
+        "not \"megakernel\"");
+  if (origin_paths.value_or(false))
+    bad("origin_paths applies to the walks of one ray per work item; traversal \"lanes\" starts every ray at the root");
+  if (estimator != Estimator::Branching)
+    bad("traversal \"lanes\" runs in the wavefront organisation, which runs the branching estimator only; the path "
+        "estimator needs another traversal");
+  validate_wavefront();
 }
 
 void RenderSettings::validate_wavefront() const {

@@ -12,8 +12,11 @@ namespace mbao {
 
 enum class Estimator { Branching, Path };
 enum class NormalMode { Shading, Geometric };
+// Lanes: the full stack, sixteen rays per work item (kernels/kd_lanes.h); a
+// render walks its AO rays so in the wavefront organisation only.
 // Auto: the fastest measured for the device's type (see traversal_for).
-enum class Traversal { Restart, PushDown, ShortStack, Stack, Auto };
+// The values are the kernels' MBAO_TRAVERSAL (kernels/kd_traversal.h).
+enum class Traversal { Restart, PushDown, ShortStack, Stack, Lanes, Auto };
 // How the AO work is cut into kernels: one work item per pixel runs the whole
 // estimator, or one launch per bounce over a queue of the surfaces that bounce on.
 // Auto: the faster measured for the device's type where the wavefront can run
@@ -92,6 +95,7 @@ struct RenderSettings {
 
  private:
   void validate_wavefront() const;
+  void validate_lanes() const;
   void validate_work() const;
   void validate_hbao() const;
 };

@@ -51,7 +51,9 @@ ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, Trave
   features.alpha_masks = !scene.masks().empty();
   // Faster only for the full stack on a CPU; with a short stack or none it was slower there, and on an
   // H100 it made every traversal 1.7-6.4 times slower (docs/traversal-on-pocl.md; README, "On an NVIDIA H100").
-  features.load_both_children = device.type == "CPU" && traversal == Traversal::Stack;
+  // Lanes: the camera rays and the ray queries of one ray per work item walk the full stack.
+  features.load_both_children =
+      device.type == "CPU" && (traversal == Traversal::Stack || traversal == Traversal::Lanes);
   return features;
 }
 
@@ -59,7 +61,7 @@ ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, const
                              Traversal traversal) {
   ProgramFeatures features = features_for(scene, device, traversal, settings.count_traversal);
   features.shading_normals = settings.normals == NormalMode::Shading && scene.mesh().has_normals();
-  features.origin_paths = origin_paths_for(settings, device, scene.kd_tree()->stats);
+  features.origin_paths = traversal != Traversal::Lanes && origin_paths_for(settings, device, scene.kd_tree()->stats);
   features.unlimited_distance = std::isinf(settings.max_distance);
   return features;
 }
@@ -93,6 +95,12 @@ std::vector<cl_float4> relative_to(const std::vector<cl_float4>& points, const g
   return moved;
 }
 
+RenderSettings with_traversal(const RenderSettings& settings, Traversal traversal) {
+  RenderSettings resolved = settings;
+  resolved.traversal = traversal;
+  return resolved;
+}
+
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
 // Refuses, before allocating, a frame that cannot fit beside the scene: an
@@ -110,9 +118,19 @@ void check_device_memory(const DeviceInfo& device, const DeviceScene& scene, std
 
 }  // namespace
 
-Traversal traversal_for(Traversal requested, const DeviceInfo& device) {
+Traversal traversal_for(Traversal requested, const DeviceInfo& device, const KdTreeStats& tree) {
   if (requested != Traversal::Auto) return requested;
-  return device.type == "CPU" ? Traversal::Stack : Traversal::ShortStack;
+  if (device.type != "CPU") return Traversal::ShortStack;
+  return tree.max_depth >= kMinLanesDepth ? Traversal::Lanes : Traversal::Stack;
+}
+
+Traversal traversal_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree) {
+  const Traversal traversal = traversal_for(settings.traversal, device, tree);
+  const bool lanes_can_run = settings.organisation != KernelOrganisation::Megakernel &&
+                             settings.wavefront_can_run() && !settings.origin_paths.value_or(false);
+  if (settings.traversal == Traversal::Auto && traversal == Traversal::Lanes && !lanes_can_run)
+    return Traversal::Stack;
+  return traversal;
 }
 
 bool origin_paths_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree) {
@@ -122,6 +140,7 @@ bool origin_paths_for(const RenderSettings& settings, const DeviceInfo& device, 
 
 KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device) {
   if (settings.organisation != KernelOrganisation::Auto) return settings.organisation;
+  if (settings.traversal == Traversal::Lanes) return KernelOrganisation::Wavefront;
   return device.type == "GPU" && settings.wavefront_can_run() ? KernelOrganisation::Wavefront
                                                              : KernelOrganisation::Megakernel;
 }
@@ -151,7 +170,7 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   stats.tree = scene->kd_tree()->stats;
   stats.build_ms = stats.tree.build_ms;
 
-  const Traversal traversal = traversal_for(settings.traversal, device());
+  const Traversal traversal = traversal_for(settings, device(), scene->kd_tree()->stats);
   stats.traversal_mode = to_string(traversal);
   const ProgramFeatures features = features_for(*scene, device(), settings, traversal);
   Stopwatch upload_clock;
@@ -174,7 +193,8 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
     if (hbao)
       run_hbao(*device_scene, built.program, local_camera, settings, result);
     else
-      run_traced(*device_scene, built.program, local_camera, settings, between_tiles, result);
+      run_traced(*device_scene, built.program, local_camera, with_traversal(settings, traversal), between_tiles,
+                 result);
   } catch (const cl::Error& e) {
     throw_device_error("rendering " + scene->name() + " on " + device().description(), e);
   }
@@ -258,9 +278,9 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
   if (origins.empty()) return result;
   std::lock_guard<std::mutex> lock(mutex_);
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
+  const Traversal walk = traversal_for(traversal, device(), scene->kd_tree()->stats);
   const BuiltProgram built =
-      compute_.programs().get("trace.cl",
-                              features_for(*scene, device(), traversal_for(traversal, device()), count_traversal).options());
+      compute_.programs().get("trace.cl", features_for(*scene, device(), walk, count_traversal).options());
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {
     const cl::Context& context = compute_.context();
@@ -274,15 +294,19 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
     cl::Buffer hit_buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
     cl::Buffer count_buffer;
     if (count_traversal) count_buffer = cl::Buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
-    cl::Kernel kernel(built.program, "trace_rays");
+    const bool lanes = walk == Traversal::Lanes;
+    cl::Kernel kernel(built.program, lanes ? "trace_rays_in_lanes" : "trace_rays");
     cl_uint arg = device_scene->set_args(kernel);
     kernel.setArg(arg++, origin_buffer);
     kernel.setArg(arg++, direction_buffer);
     kernel.setArg(arg++, cl_uint(n));
     kernel.setArg(arg++, cl_int(any_hit));
+    const std::size_t group = work_group_size_for(kernel, device().device, 0);
+    const std::size_t rays_per_item = lanes ? rays_per_lane_item(n, device().device, group) : 1;
+    if (lanes) kernel.setArg(arg++, cl_uint(rays_per_item));
     kernel.setArg(arg++, hit_buffer);
     set_buffer_or_null(kernel, arg++, count_buffer);
-    launch(queue, kernel, n, work_group_size_for(kernel, device().device, 0));
+    launch(queue, kernel, (n + rays_per_item - 1) / rays_per_item, group);
     queue.enqueueReadBuffer(hit_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), result.hits.data());
     if (count_traversal)
       queue.enqueueReadBuffer(count_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), result.counts.data());

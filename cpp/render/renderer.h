@@ -31,19 +31,28 @@ struct TraceResult {
   std::vector<cl_uint4> counts;  // per ray: nodes, leaves, triangle tests, restarts (when counted)
 };
 
-// What `requested` means on `device`: Auto is the full stack on CPUs (the
-// fewest nodes per ray; on PoCL the fastest frames or within the noise of the
-// short stack: mbao_bench's "traversals" section) and the short stack on other devices, Horn et al.'s
-// choice for GPUs. On an H100 the two tie and restart and push-down are slower
-// (bench/results/nvidia-h100.json); the short stack keeps a work item's state small.
-Traversal traversal_for(Traversal requested, const DeviceInfo& device);
+// What `requested` means on `device`, for rays in a scene whose tree is
+// `tree`: Auto is, on CPUs, lanes for trees at least kMinLanesDepth deep
+// (Sponza 0.81-0.88 and Sibenik 0.81-0.89 of the full stack's frame on PoCL,
+// the Stanford bunny, whose rays mostly escape, 1.02-1.08) and the full stack
+// otherwise (the Cornell box, 6 deep: lanes 1.08-1.18; the full stack has the
+// fewest nodes per ray and on PoCL the fastest frames of the walks of one ray,
+// mbao_bench's "traversals" section); on other devices the short stack, Horn et
+// al.'s choice for GPUs (on an H100 the two stacks tie and restart and
+// push-down are slower: bench/results/nvidia-h100.json; the short stack keeps
+// a work item's state small, where lanes keep sixteen stacks).
+Traversal traversal_for(Traversal requested, const DeviceInfo& device, const KdTreeStats& tree);
+constexpr int kMinLanesDepth = 16;
+// The same for a render, where lanes run in the wavefront only: Auto takes them
+// only where the wavefront can run the settings and the megakernel was not asked for.
+Traversal traversal_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree);
 
 // The organisation `settings` run with on `device`: Auto is the wavefront on GPUs
 // wherever it can run the settings (on an H100 at b = 2, 0.75-0.91 of the megakernel's
 // frame where many rays escape and a tie on closed scenes; a tie at b = 1;
 // bench/results/nvidia-h100.json) and the megakernel
 // otherwise (on PoCL they tie and the wavefront needs memory for its queues;
-// README "Megakernel against wavefront").
+// README "Megakernel against wavefront"), except that traversal lanes runs in the wavefront.
 KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device);
 
 // Whether the rays leaving one surface point share its path down the tree

@@ -1,12 +1,14 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <string>
 
 #include "opencl/opencl.h"
 #include "render/ao_kernel_args.h"
 #include "render/device_scene.h"
 #include "render/render_settings.h"
+#include "render/streamed_bounces.h"
 #include "scene/camera.h"
 
 namespace mbao {
@@ -15,7 +17,9 @@ namespace mbao {
 // bounce 1 over the tile's camera samples, each further bounce over the queue
 // of surfaces the bounce before filled, then one work item per pixel weighs
 // the escapes. Two queues take turns, so a tile holds at most
-// tile_pixels * spp * max_queue_entries_per_camera_sample() entries.
+// tile_pixels * spp * max_queue_entries_per_camera_sample() entries. With
+// traversal "lanes" each bounce runs as StreamedBounces instead, with the same
+// counts and queues.
 class Wavefront {
  public:
   Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program,
@@ -38,9 +42,18 @@ class Wavefront {
  private:
   struct BufferSizes {
     std::size_t escape_counts, sample_rays, queue_lengths, queues[2];
-    std::size_t total() const { return escape_counts + sample_rays + queue_lengths + queues[0] + queues[1]; }
+    std::size_t longest_queue;  // entries
+    std::size_t max_sources;    // of a bounce: the tile's camera samples or a queue's entries
+    std::size_t streams;        // StreamedBounces', with traversal "lanes"
+    std::size_t total() const {
+      return escape_counts + sample_rays + queue_lengths + queues[0] + queues[1] + streams;
+    }
   };
   static BufferSizes buffer_sizes(const RenderSettings& settings, std::size_t tile_pixels);
+  void set_up_bounce_kernels(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
+                             const Camera& camera, const RenderSettings& s, const FrameBuffers& frame);
+  void enqueue_bounces(cl::CommandQueue& queue, std::size_t tile_samples);
+  void enqueue_streamed_bounces(cl::CommandQueue& queue, std::size_t tile_samples);
 
   // The queue that bounce `bounce` fills; null where no bounce fills it.
   const cl::Buffer& queue_of(std::size_t bounce) const { return queues_[bounce % 2]; }
@@ -57,6 +70,7 @@ class Wavefront {
   cl::Kernel first_bounce_, bounce_, finish_;
   cl_uint first_bounce_tile_arg_ = 0, bounce_tile_arg_ = 0, finish_tile_arg_ = 0;
   std::size_t first_bounce_group_ = 0, bounce_group_ = 0, finish_group_ = 0;
+  std::unique_ptr<StreamedBounces> streams_;  // traversal "lanes": these bounce kernels, not the two above
   std::size_t bytes_ = 0;
 };
 

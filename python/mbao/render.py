@@ -10,7 +10,7 @@ from .devices import resolve
 
 ESTIMATORS = ("branching", "path")
 NORMAL_MODES = ("shading", "geometric")
-TRAVERSALS = ("auto", "pushdown", "restart", "short-stack", "stack")
+TRAVERSALS = ("auto", "pushdown", "restart", "short-stack", "stack", "lanes")
 ORGANISATIONS = ("auto", "megakernel", "wavefront")
 METHODS = ("raytraced", "hbao")
 
@@ -80,16 +80,19 @@ def render(
     seed: any integer in [0, 2^64); the image is a pure function of the seed and
         the settings, whatever the device, tiling or work-group size.
     traversal: how rays walk the kd-tree: "pushdown" or "short-stack" (Horn et al. 2007),
-        "restart" (Foley and Sugerman 2005), "stack" (a full stack), or "auto": "stack"
-        on CPUs, "short-stack" on GPUs (stats["traversal_mode"] says which ran; on an H100 the
-        two stacks tie). Same image either way.
+        "restart" (Foley and Sugerman 2005), "stack" (a full stack), "lanes" (the full stack,
+        sixteen rays per work item in vector lanes, for CPUs: the branching estimator in the
+        wavefront organisation only), or "auto": on CPUs "lanes" where it can run and the tree
+        is at least 16 deep, else "stack"; "short-stack" on GPUs (stats["traversal_mode"]
+        says which ran; on an H100 the two stacks tie). Same image either way.
     device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
     traversal_stats: count nodes, leaves, triangle tests and restarts per ray into
         stats["traversal"] (kernels built to count, somewhat slower).
     organisation: "megakernel" (one work item runs a pixel's whole estimator),
         "wavefront" (branching only: one launch per bounce over a compacted queue of
         the surfaces that bounce on), or "auto": the wavefront on GPUs where it can run
-        the settings (faster there at b >= 2), else the megakernel (on CPUs they tie).
+        the settings (faster there at b >= 2) and wherever traversal is "lanes", else the
+        megakernel (on CPUs they tie where both walk one ray per work item).
         Same image bit for bit; stats["organisation"] says which ran.
     tile_pixels, work_group_size: how the work is cut up (None: automatic); they do not change the image.
     max_rays: a render that could trace more rays than this (camera rays included) is refused
@@ -165,6 +168,7 @@ def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversa
     origins, directions: (N, 3) arrays (directions need not be unit length; t is
     in units of their length). t_max: a number or an (N,) array; hits must have
     0 < t <= t_max. any_hit: stop at the first hit found instead of the closest.
+    traversal: as for render; "auto" is "lanes" on CPUs for trees at least 16 deep.
 
     Returns (t, triangle, barycentrics): t (N,) float32, inf for a miss; triangle
     (N,) int64 index into scene.indices, -1 for a miss; barycentrics (N, 2)

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <set>
 #include <string>
+#include <utility>
 #include <unistd.h>
 
 #include "opencl/compute_context.h"
@@ -51,12 +52,13 @@ fs::path fresh_caches() {
 
 // Tiles of 100000 pixels and a last one of 62144: grids on either side of
 // PoCL's 65535 items, the width up to which it builds a kernel of its own.
-RenderSettings three_tiles(KernelOrganisation organisation) {
+RenderSettings three_tiles(KernelOrganisation organisation, Traversal traversal) {
   RenderSettings s;
   s.width = s.height = 512;
   s.bounces = 2;
   s.samples = 1;
   s.organisation = organisation;
+  s.traversal = traversal;
   return s;
 }
 constexpr std::size_t kTilePixels = 100000;
@@ -80,9 +82,13 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
     GTEST_SKIP() << "PoCL started before this test set its cache directory: run the test in a process of its "
                     "own, as ctest does";
 
-  for (const KernelOrganisation organisation : {KernelOrganisation::Megakernel, KernelOrganisation::Wavefront}) {
-    SCOPED_TRACE(to_string(organisation));
-    const RenderSettings settings = three_tiles(organisation);
+  // The wavefront with lanes launches other bounce kernels, the walk's on grids that follow the rays' count.
+  const std::pair<KernelOrganisation, Traversal> kinds[] = {{KernelOrganisation::Megakernel, Traversal::Stack},
+                                                            {KernelOrganisation::Wavefront, Traversal::Stack},
+                                                            {KernelOrganisation::Wavefront, Traversal::Lanes}};
+  for (const auto& [organisation, traversal] : kinds) {
+    SCOPED_TRACE(to_string(organisation) + " " + to_string(traversal));
+    const RenderSettings settings = three_tiles(organisation, traversal);
     const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
     cl::CommandQueue& queue = compute.queue();
     const Camera camera = scene->camera()->relative_to(scene->render_origin());

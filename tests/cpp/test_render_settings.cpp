@@ -134,10 +134,31 @@ TEST(RenderSettings, RaysInTotalAreBoundedByMaxRays) {
   EXPECT_EQ(complaint(s), "");
 }
 
+// Lanes walk a bounce's rays together: only the wavefront has them together.
+TEST(RenderSettings, LanesAreRefusedWhereTheWavefrontCannotRunTheSettings) {
+  RenderSettings s;
+  s.traversal = Traversal::Lanes;
+  EXPECT_EQ(complaint(s), "");
+  s.organisation = KernelOrganisation::Megakernel;
+  EXPECT_NE(complaint(s).find("traversal \"lanes\" walks a bounce's rays together"), std::string::npos) << complaint(s);
+  s.organisation = KernelOrganisation::Auto;
+  s.estimator = Estimator::Path;
+  EXPECT_NE(complaint(s).find("the path estimator needs another traversal"), std::string::npos) << complaint(s);
+  s.estimator = Estimator::Branching;
+  s.origin_paths = true;
+  EXPECT_NE(complaint(s).find("starts every ray at the root"), std::string::npos) << complaint(s);
+  s.origin_paths = false;
+  EXPECT_EQ(complaint(s), "");
+  s.samples = 64;
+  s.bounces = 5;
+  s.max_rays = std::numeric_limits<std::uint64_t>::max();
+  EXPECT_NE(complaint(s).find("more than its limit"), std::string::npos) << complaint(s);
+}
+
 TEST(RenderSettings, NamesParseAndPrintBothWays) {
   for (const char* name : {"branching", "path"}) EXPECT_EQ(to_string(parse_estimator(name)), name);
   for (const char* name : {"shading", "geometric"}) EXPECT_EQ(to_string(parse_normal_mode(name)), name);
-  for (const char* name : {"pushdown", "restart", "short-stack", "stack"})
+  for (const char* name : {"pushdown", "restart", "short-stack", "stack", "lanes"})
     EXPECT_EQ(to_string(parse_traversal(name)), name);
   for (const char* name : {"auto", "megakernel", "wavefront"}) EXPECT_EQ(to_string(parse_organisation(name)), name);
   EXPECT_THROW(parse_estimator("Branching"), std::invalid_argument);

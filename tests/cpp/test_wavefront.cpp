@@ -1,6 +1,7 @@
 // The wavefront organisation against the megakernel: the same image bit for
 // bit, the same rays and the same traversal work, on the device the renderer
-// picks by default.
+// picks by default, whether its bounces walk one ray per work item (the full
+// stack) or sixteen (lanes, kernels/kd_lanes.h).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -22,10 +23,13 @@ std::filesystem::path shared_scenes() {
 }
 
 RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera, RenderSettings settings,
-                    KernelOrganisation organisation) {
+                    KernelOrganisation organisation, Traversal traversal = Traversal::Stack) {
   settings.organisation = organisation;
+  settings.traversal = traversal;
   return Renderer::for_device(default_device()).render(scene, camera, settings);
 }
+
+constexpr Traversal kWavefrontWalks[] = {Traversal::Stack, Traversal::Lanes};
 
 // Counts pixels whose float bits differ: the wavefront promises the
 // megakernel's float operations, not just close values.
@@ -37,18 +41,21 @@ std::size_t differing_pixels(const std::vector<float>& a, const std::vector<floa
 
 void expect_same_render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                         const RenderSettings& settings) {
-  SCOPED_TRACE(scene->name() + ", b=" + std::to_string(settings.bounces));
   const RenderResult mega = render(scene, camera, settings, KernelOrganisation::Megakernel);
-  const RenderResult wave = render(scene, camera, settings, KernelOrganisation::Wavefront);
-  ASSERT_EQ(mega.ao.size(), wave.ao.size());
-  EXPECT_EQ(differing_pixels(mega.ao, wave.ao), 0u);
-  EXPECT_EQ(mega.mask, wave.mask);
-  EXPECT_EQ(mega.stats.rays_secondary, wave.stats.rays_secondary);
-  // Not a vacuous agreement: rays were traced and some light was blocked.
-  EXPECT_GT(wave.stats.rays_secondary, 0u);
-  double sum = 0.0;
-  for (float v : wave.ao) sum += v;
-  EXPECT_LT(sum, double(wave.ao.size()));
+  for (const Traversal walk : kWavefrontWalks) {
+    SCOPED_TRACE(scene->name() + ", b=" + std::to_string(settings.bounces) + ", " + to_string(walk));
+    const RenderResult wave = render(scene, camera, settings, KernelOrganisation::Wavefront, walk);
+    EXPECT_EQ(wave.stats.traversal_mode, to_string(walk));
+    ASSERT_EQ(mega.ao.size(), wave.ao.size());
+    EXPECT_EQ(differing_pixels(mega.ao, wave.ao), 0u);
+    EXPECT_EQ(mega.mask, wave.mask);
+    EXPECT_EQ(mega.stats.rays_secondary, wave.stats.rays_secondary);
+    // Not a vacuous agreement: rays were traced and some light was blocked.
+    EXPECT_GT(wave.stats.rays_secondary, 0u);
+    double sum = 0.0;
+    for (float v : wave.ao) sum += v;
+    EXPECT_LT(sum, double(wave.ao.size()));
+  }
 }
 
 RenderSettings small(std::int64_t bounces) {
@@ -142,13 +149,54 @@ TEST(Wavefront, TracesTheMegakernelsRaysNodeForNode) {
   RenderSettings s = small(2);
   s.count_traversal = true;
   const RenderStats mega = render(cornell, *cornell->camera(), s, KernelOrganisation::Megakernel).stats;
-  const RenderStats wave = render(cornell, *cornell->camera(), s, KernelOrganisation::Wavefront).stats;
-  ASSERT_TRUE(mega.traversal && wave.traversal);
-  EXPECT_GT(wave.traversal->nodes, 0u);
-  EXPECT_EQ(mega.traversal->nodes, wave.traversal->nodes);
-  EXPECT_EQ(mega.traversal->leaves, wave.traversal->leaves);
-  EXPECT_EQ(mega.traversal->triangles, wave.traversal->triangles);
-  EXPECT_EQ(mega.traversal->restarts, wave.traversal->restarts);
+  for (const Traversal walk : kWavefrontWalks) {
+    SCOPED_TRACE(to_string(walk));
+    const RenderStats wave = render(cornell, *cornell->camera(), s, KernelOrganisation::Wavefront, walk).stats;
+    ASSERT_TRUE(mega.traversal && wave.traversal);
+    EXPECT_GT(wave.traversal->nodes, 0u);
+    EXPECT_EQ(mega.traversal->nodes, wave.traversal->nodes);
+    EXPECT_EQ(mega.traversal->leaves, wave.traversal->leaves);
+    EXPECT_EQ(mega.traversal->triangles, wave.traversal->triangles);
+    EXPECT_EQ(mega.traversal->restarts, wave.traversal->restarts);
+  }
+}
+
+// A bounce with more rays than a stream holds is cut into launches: r = 2^12
+// at 24 x 24 gives bounce 1 2.4 million rays, more than the 2^21 a stream holds.
+TEST(Wavefront, LanesCutALargeBounceIntoLaunches) {
+  const auto cornell = cornell_box();
+  RenderSettings s = small(1);
+  s.width = s.height = 24;
+  s.samples = 1 << 12;
+  expect_same_render(cornell, *cornell->camera(), s);
+}
+
+TEST(Wavefront, AutoTakesLanesOnCpusForDeepTreesWhereTheWavefrontCanRun) {
+  DeviceInfo gpu, cpu;
+  gpu.type = "GPU";
+  cpu.type = "CPU";
+  KdTreeStats deep, shallow;
+  deep.max_depth = kMinLanesDepth;
+  shallow.max_depth = kMinLanesDepth - 1;
+  RenderSettings s = small(2);
+  EXPECT_EQ(traversal_for(s, cpu, deep), Traversal::Lanes);
+  EXPECT_EQ(traversal_for(s, cpu, shallow), Traversal::Stack);
+  EXPECT_EQ(traversal_for(s, gpu, deep), Traversal::ShortStack);
+  EXPECT_EQ(traversal_for(Traversal::Auto, cpu, deep), Traversal::Lanes);  // ray queries
+  // Where lanes cannot run the settings, the full stack does.
+  s.organisation = KernelOrganisation::Megakernel;
+  EXPECT_EQ(traversal_for(s, cpu, deep), Traversal::Stack);
+  s = small(2);
+  s.estimator = Estimator::Path;
+  EXPECT_EQ(traversal_for(s, cpu, deep), Traversal::Stack);
+  s = small(2);
+  s.origin_paths = true;
+  EXPECT_EQ(traversal_for(s, cpu, deep), Traversal::Stack);
+  // Lanes run in the wavefront, which auto then picks on any device.
+  s = small(2);
+  s.traversal = Traversal::Lanes;
+  EXPECT_EQ(organisation_for(s, cpu), KernelOrganisation::Wavefront);
+  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Wavefront);
 }
 
 }  // namespace

@@ -1,0 +1,219 @@
+// The full-stack walk of kd_traversal.h, sixteen rays at a time in the lanes of
+// one work item: traversal "lanes", for CPUs.
+//
+// PoCL runs a work group's items one after another and does not vectorise a
+// walk whose steps branch, so a core walking one ray waits on each node fetch
+// before the next. Here a step fetches the sixteen lanes' nodes as independent
+// loads, in flight together, and does its arithmetic once for all sixteen in
+// vector registers; pushes and leaves go lane by lane. A lane whose ray ends
+// takes the next ray of the work item's range, so the lanes stay full to the
+// end of it. The hits are trace_ray_from's with the full stack, bit for bit:
+// every lane takes the same steps in the same order (tests/test_traversal.py).
+// docs/traversal-on-pocl.md has the measurements behind each choice.
+#ifndef MBAO_KD_LANES_H
+#define MBAO_KD_LANES_H
+
+#include "kd_traversal.h"
+
+#define MBAO_LANES 16
+
+// Rays in, hits out, one slot per ray.
+typedef struct RayStream {
+  __global const float4* origins;
+  __global const float4* directions;  // .w: t_max; a negative one clips every ray away: a slot with no ray
+  __global uint4* hits;               // (t, triangle, b1, b2) bits, as trace_rays stores them
+  __global uint4* ray_counts;         // per ray: nodes, leaves, triangle tests, restarts; NULL: not kept
+} RayStream;
+
+// What each lane walks, as arrays over the lanes that a step loads as vectors.
+typedef struct Lanes {
+  float origin_x[MBAO_LANES], origin_y[MBAO_LANES], origin_z[MBAO_LANES];
+  float inv_dir_x[MBAO_LANES], inv_dir_y[MBAO_LANES], inv_dir_z[MBAO_LANES];
+  float t_lo[MBAO_LANES], t_hi[MBAO_LANES];  // the interval walked in the current node
+  float t_exit[MBAO_LANES];                  // where the ray leaves the scene's box
+  uint node[MBAO_LANES];                     // index of the node the lane stands at
+  uint resumed[MBAO_LANES];                  // all bits set past the first leaf, else 0
+  uint top[MBAO_LANES];                      // entries on the lane's stack
+  uint ray[MBAO_LANES];                      // the lane's slot in the stream
+  Hit best[MBAO_LANES];
+  WatertightRay watertight[MBAO_LANES];
+#if MBAO_COUNT_TRAVERSAL
+  TraversalCounts counts[MBAO_LANES];
+#endif
+} Lanes;
+
+#if MBAO_COUNT_TRAVERSAL
+#define MBAO_LANE_COUNTS(lanes, k) (&(lanes)->counts[k])
+#else
+#define MBAO_LANE_COUNTS(lanes, k) ((TraversalCounts*)0)  // never dereferenced: MBAO_COUNT does nothing
+#endif
+
+// Bit k set where lane k of `mask` is true. Vector operations, not a loop over
+// the lanes: PoCL turned that loop into sixteen extracts and branches.
+static inline uint lane_bits(int16 mask) {
+  const uint16 bit = (uint16)(1u << 0, 1u << 1, 1u << 2, 1u << 3, 1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 8,
+                              1u << 9, 1u << 10, 1u << 11, 1u << 12, 1u << 13, 1u << 14, 1u << 15);
+  const uint16 set = as_uint16(mask) & bit;
+  const uint8 in_8 = set.lo | set.hi;
+  const uint4 in_4 = in_8.lo | in_8.hi;
+  const uint2 in_2 = in_4.lo | in_4.hi;
+  return in_2.x | in_2.y;
+}
+
+// The hit of lane k's ray (a miss where the ray found none) into its slot.
+static inline void lanes_store_hit(const RayStream* stream, const Lanes* lanes, uint k, TraversalCounts* totals) {
+  const Hit best = lanes->best[k].triangle == MBAO_NO_TRIANGLE ? no_hit() : lanes->best[k];
+  stream->hits[lanes->ray[k]] = (uint4)(as_uint(best.t), best.triangle, as_uint(best.b1), as_uint(best.b2));
+#if MBAO_COUNT_TRAVERSAL
+  const TraversalCounts c = lanes->counts[k];
+  if (stream->ray_counts) stream->ray_counts[lanes->ray[k]] = (uint4)(c.nodes, c.leaves, c.triangles, c.restarts);
+  totals->nodes += c.nodes;
+  totals->leaves += c.leaves;
+  totals->triangles += c.triangles;
+  totals->restarts += c.restarts;
+#endif
+}
+
+// Puts the ray in slot i into lane k; returns 0, with a miss stored, where
+// there is no ray or it misses the scene's box.
+static inline int lanes_take_ray(const SceneView* scene, const RayStream* stream, uint i, uint k, Lanes* lanes,
+                                 TraversalCounts* totals) {
+  const float3 point = stream->origins[i].xyz;
+  const float4 direction = stream->directions[i];
+  const float3 dir = direction.xyz;
+  const float3 inv_dir = 1.0f / (dir + 0.0f);  // as in trace_ray_from: never -0
+  lanes->ray[k] = i;
+  lanes->best[k] = no_hit();
+  lanes->best[k].t = direction.w;
+#if MBAO_COUNT_TRAVERSAL
+  lanes->counts[k] = no_traversal_counts();
+#endif
+  float t_enter, t_exit;
+  if (!clip_to_box(point, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, direction.w, &t_enter, &t_exit)) {
+    lanes_store_hit(stream, lanes, k, totals);
+    return 0;
+  }
+  lanes->origin_x[k] = point.x;
+  lanes->origin_y[k] = point.y;
+  lanes->origin_z[k] = point.z;
+  lanes->inv_dir_x[k] = inv_dir.x;
+  lanes->inv_dir_y[k] = inv_dir.y;
+  lanes->inv_dir_z[k] = inv_dir.z;
+  lanes->t_lo[k] = t_enter;
+  lanes->t_hi[k] = t_exit;
+  lanes->t_exit[k] = t_exit;
+  lanes->node[k] = 0;
+  lanes->resumed[k] = 0;
+  lanes->top[k] = 0;
+  lanes->watertight[k] = make_watertight_ray(point, dir, scene->bounds_lo, scene->bounds_hi);
+  return 1;
+}
+
+// Fills lane k with the next ray of [*next, end) that enters the scene's box;
+// returns 0 when none is left.
+static inline int lanes_take_next(const SceneView* scene, const RayStream* stream, uint* next, uint end, uint k,
+                                  Lanes* lanes, TraversalCounts* totals) {
+  while (*next < end)
+    if (lanes_take_ray(scene, stream, (*next)++, k, lanes, totals)) return 1;
+  return 0;
+}
+
+// One descent step of every lane that stands at an interior node (descent_step
+// on vectors), with the nodes the lanes stand at in header/payload. Far children
+// are pushed for the `live` lanes only; the others' steps are discarded.
+static inline void lanes_descend(Lanes* lanes, const uint* header, const uint* payload, uint live,
+                                 __private uint2* stack) {
+  const uint16 index = vload16(0, lanes->node), node_header = vload16(0, header);
+  const float16 t_lo = vload16(0, lanes->t_lo), t_hi = vload16(0, lanes->t_hi);
+  const uint16 axis = node_header & 3u;
+  const int16 on_y = axis == 1u, on_z = axis == 2u;
+  const float16 origin =
+      select(select(vload16(0, lanes->origin_x), vload16(0, lanes->origin_y), on_y), vload16(0, lanes->origin_z), on_z);
+  const float16 inv_dir = select(select(vload16(0, lanes->inv_dir_x), vload16(0, lanes->inv_dir_y), on_y),
+                                 vload16(0, lanes->inv_dir_z), on_z);
+  const float16 t_split = (as_float16(vload16(0, payload)) - origin) * inv_dir;
+  const uint16 below = index + 1u, above = node_header >> 2;
+  const uint16 swap = (below ^ above) & as_uint16(as_int16(inv_dir) >> 31);
+  const uint16 near = below ^ swap, far = above ^ swap;
+  const int16 resumed = as_int16(vload16(0, lanes->resumed));
+  const float16 first_far_bound = select((float16)(0.0f), as_float16(as_uint16(t_lo) - 1u), t_lo > 0.0f);
+  const float16 far_bound = select(first_far_bound, t_lo, resumed);
+  const int16 far_only = t_split <= far_bound;
+  const int16 steps = axis != MBAO_KD_LEAF;
+  const int16 both = steps & ~far_only & (t_split <= t_hi);
+  vstore16(select(index, select(near, far, far_only), steps), 0, lanes->node);
+  vstore16(select(t_hi, t_split, both), 0, lanes->t_hi);
+
+  uint far_child[MBAO_LANES];
+  float far_t_hi[MBAO_LANES];
+  vstore16(far, 0, far_child);
+  vstore16(t_hi, 0, far_t_hi);
+  for (uint pushes = live & lane_bits(both); pushes; pushes &= pushes - 1) {
+    const uint k = ctz(pushes);
+    stack[lanes->top[k]++ * MBAO_LANES + k] = (uint2)(far_child[k], as_uint(far_t_hi[k]));
+  }
+}
+
+// Lane k's leaf, as trace_ray_from's walk takes it: returns 1 where the ray is
+// done, else moves the lane to where its walk goes on.
+static inline int lanes_visit_leaf(const SceneView* scene, Lanes* lanes, uint k, KdNode leaf, int any_hit,
+                                   __private const uint2* stack) {
+  TraversalCounts* counts = MBAO_LANE_COUNTS(lanes, k);
+  MBAO_COUNT(counts, leaves, 1);
+  if (test_leaf(scene, &lanes->watertight[k], leaf, any_hit, &lanes->best[k], counts)) return 1;
+  const float leaf_end = lanes->t_hi[k];
+  if (lanes->best[k].triangle != MBAO_NO_TRIANGLE && lanes->best[k].t <= leaf_end) return 1;
+  if (lanes->top[k] == 0 && leaf_end >= lanes->t_exit[k]) return 1;
+  lanes->t_lo[k] = leaf_end;
+  lanes->resumed[k] = 0xFFFFFFFFu;
+  if (lanes->top[k] > 0) {
+    const uint2 entry = stack[--lanes->top[k] * MBAO_LANES + k];
+    lanes->node[k] = entry.x;
+    lanes->t_hi[k] = as_float(entry.y);
+  } else {
+    lanes->node[k] = 0;
+    lanes->t_hi[k] = lanes->t_exit[k];
+    MBAO_COUNT(counts, restarts, 1);
+  }
+  return 0;
+}
+
+// Traces the stream's rays [first, end) in sixteen lanes, adding their counts
+// to *totals in programs built with MBAO_COUNT_TRAVERSAL.
+static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint first, uint end, int any_hit,
+                           TraversalCounts* totals) {
+  Lanes lanes;
+  uint2 stack[MBAO_KD_MAX_DEPTH * MBAO_LANES];  // lane k's entry j at j * MBAO_LANES + k
+  uint next = first, live = 0;
+  for (uint k = 0; k < MBAO_LANES; ++k) {
+    lanes.node[k] = 0;  // lanes left empty still fetch a node, the root
+    if (lanes_take_next(scene, stream, &next, end, k, &lanes, totals)) live |= 1u << k;
+  }
+  __global const uint2* node_words = (__global const uint2*)scene->nodes;
+  while (live) {
+    uint header[MBAO_LANES], payload[MBAO_LANES];
+    // Written out so that the sixteen fetches are independent loads.
+#pragma unroll
+    for (uint k = 0; k < MBAO_LANES; ++k) {
+      const uint2 words = node_words[lanes.node[k]];
+      header[k] = words.x;
+      payload[k] = words.y;
+    }
+#if MBAO_COUNT_TRAVERSAL
+    for (uint lanes_left = live; lanes_left; lanes_left &= lanes_left - 1) ++lanes.counts[ctz(lanes_left)].nodes;
+#endif
+    const int16 at_leaf = (vload16(0, header) & 3u) == MBAO_KD_LEAF;
+    lanes_descend(&lanes, header, payload, live, stack);
+    for (uint leaves = live & lane_bits(at_leaf); leaves; leaves &= leaves - 1) {
+      const uint k = ctz(leaves);
+      KdNode leaf;
+      leaf.header = header[k];
+      leaf.payload = payload[k];
+      if (!lanes_visit_leaf(scene, &lanes, k, leaf, any_hit, stack)) continue;
+      lanes_store_hit(stream, &lanes, k, totals);
+      if (!lanes_take_next(scene, stream, &next, end, k, &lanes, totals)) live &= ~(1u << k);
+    }
+  }
+}
+
+#endif
