@@ -37,7 +37,8 @@ struct BenchScene {
 
 // The seed paper's Table 1: every scene, b = 1 and 2, max_distance inf and the scene's own.
 json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
-// Restart, push-down, short-stack and full-stack traversal on every scene: frame time and per-ray counts.
+// Restart, push-down, short-stack and full-stack traversal, and lanes on CPUs, on every scene: frame time and
+// per-ray counts.
 json traversals(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 // The Cornell box with its kernels built without and with the alpha-mask path.
 json mask_overhead(mbao::Renderer& renderer, const Options& options);

@@ -14,6 +14,9 @@ then, from this checkout after `make -C build`:
     .venv/bin/python bench/compare_builds.py --old /tmp/before/python --new python \
       --scene ../shared/scenes/sponza --bounces 1 --size 512 --pairs 8
 (--method hbao compares HBAO frames, with the radius `python -m mbao compare` picks.)
+One build with two traversals compares as two builds do, e.g. lanes against the full stack:
+    .venv/bin/python bench/compare_builds.py --old python --new python --old-traversal stack \
+      --new-traversal lanes --scene ../shared/scenes/sponza --bounces 1 --size 512 --pairs 8
 """
 
 import argparse
@@ -50,9 +53,9 @@ def worker(args):
 
 
 class Worker:
-    def __init__(self, package, args):
+    def __init__(self, package, traversal, args):
         command = [sys.executable, os.path.abspath(__file__), "--worker", "--scene", args.scene,
-                   "--bounces", str(args.bounces), "--size", str(args.size), "--traversal", args.traversal,
+                   "--bounces", str(args.bounces), "--size", str(args.size), "--traversal", traversal,
                    "--method", args.method]
         environment = dict(os.environ, PYTHONPATH=os.path.abspath(package))
         self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
@@ -76,7 +79,8 @@ class Worker:
 
 
 def compare(args):
-    old, new = Worker(args.old, args), Worker(args.new, args)
+    old = Worker(args.old, args.old_traversal or args.traversal, args)
+    new = Worker(args.new, args.new_traversal or args.traversal, args)
     print("images identical:", old.image_hash == new.image_hash)
     if args.method != "hbao":  # HBAO's G-buffer does not count its walks
         print("old counts:", old.ask("counts"))
@@ -103,6 +107,8 @@ def main():
     parser.add_argument("--size", type=int, default=512, help="image width and height")
     parser.add_argument("--pairs", type=int, default=8)
     parser.add_argument("--traversal", default="auto")
+    parser.add_argument("--old-traversal", help="the old worker's traversal (default: --traversal)")
+    parser.add_argument("--new-traversal", help="the new worker's traversal (default: --traversal)")
     parser.add_argument("--method", default="raytraced", choices=["raytraced", "hbao"])
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()

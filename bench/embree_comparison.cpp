@@ -83,6 +83,7 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
       mbao_frames["memory_bytes"] = f.mbao_stats.memory_bytes;
       mbao_frames["kernel_options"] = f.mbao_stats.kernel_options;
       mbao_frames["organisation"] = f.mbao_stats.organisation;
+      mbao_frames["traversal"] = f.mbao_stats.traversal_mode;
       const json single = f.single.to_json(), packets = f.packets.to_json();
       const json& best = single["frame_ms"].get<double>() <= packets["frame_ms"].get<double>() ? single : packets;
       const double ratio = mbao_frames["mrays_per_s"].get<double>() / best["mrays_per_s"].get<double>();
@@ -103,7 +104,8 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
                       {"rays_per_s_ratio", ratio}});
     }
   }
-  std::cout << "\nmbao: " << mbao::to_string(options.settings.traversal) << " traversal; Embree 3: " << threads
+  std::cout << "\nmbao: traversal " << mbao::to_string(options.settings.traversal)
+            << " (the JSON's mbao.traversal and mbao.organisation say what ran); Embree 3: " << threads
             << " threads, high-quality BVH, the faster of its two forms in the ratio; max_distance = inf; a frame of"
                " each of the three in turn, medians of "
             << options.frames << ".\n\n";

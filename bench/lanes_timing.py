@@ -1,10 +1,10 @@
-"""Traced time of the lanes walk (wide-lanes.patch) against the scalar full stack, on one build.
+"""Traced time of mbao.trace with traversal "lanes" against the full stack, on one build.
 
-After `git apply docs/experiments/wide-lanes.patch && make -C build`, from the repository root:
-    .venv/bin/python docs/experiments/wide_lanes_timing.py [--closest] [--camera]
+From the repository root, after `make -C build`:
+    .venv/bin/python bench/lanes_timing.py [--closest] [--camera]
 The rays: Sponza's camera rays at 512 x 512 and, from each hit, 4 cosine-distributed AO rays leaving just
-off the surface (1,022,120 rays). Each round traces them with MBAO_EXP_WIDE set and unset, in turn, and
-takes off the time of as many rays that miss the scene's box (the call's own cost).
+off the surface (1,022,120 rays). Each round traces them with either traversal, in turn, and takes off the
+time of as many rays that miss the scene's box (the call's own cost).
 """
 
 import argparse
@@ -15,7 +15,7 @@ import numpy as np
 
 import mbao
 
-SCENE = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "scenes", "sponza")
+SCENE = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "scenes", "sponza")
 
 
 def camera_rays(camera, size):
@@ -55,13 +55,9 @@ def ao_rays(scene, origins, dirs, per_hit=4, seed=1):
     return points.astype(np.float32), dirs.astype(np.float32)
 
 
-def traced(scene, origins, dirs, wide, any_hit):
-    if wide:
-        os.environ["MBAO_EXP_WIDE"] = "1"
-    else:
-        os.environ.pop("MBAO_EXP_WIDE", None)
+def traced(scene, origins, dirs, lanes, any_hit):
     start = time.perf_counter()
-    result = mbao.trace(scene, origins, dirs, any_hit=any_hit, traversal="stack")
+    result = mbao.trace(scene, origins, dirs, any_hit=any_hit, traversal="lanes" if lanes else "stack")
     return time.perf_counter() - start, result
 
 
@@ -77,8 +73,8 @@ def main():
     if not args.camera:
         origins, dirs = ao_rays(scene, origins, dirs)
     any_hit = not args.closest
-    scalar, wide = (traced(scene, origins, dirs, w, any_hit)[1] for w in (False, True))
-    print(f"{len(origins)} rays; hits identical:", all(np.array_equal(a, b) for a, b in zip(scalar, wide)))
+    stack, lanes = (traced(scene, origins, dirs, w, any_hit)[1] for w in (False, True))
+    print(f"{len(origins)} rays; hits identical:", all(np.array_equal(a, b) for a, b in zip(stack, lanes)))
 
     outside = np.full_like(origins, 1e6)
     away = np.tile(np.array([[1, 0, 0]], np.float32), (len(origins), 1))
@@ -88,9 +84,9 @@ def main():
         for w in (False, True) if round_ % 2 == 0 else (True, False):
             times[w] = traced(scene, origins, dirs, w, any_hit)[0] - traced(scene, outside, away, w, any_hit)[0]
         ratios.append(times[True] / times[False])
-        print(f"scalar {times[False] * 1e3:.0f} ms, wide {times[True] * 1e3:.0f} ms, wide / scalar {ratios[-1]:.3f}")
+        print(f"stack {times[False] * 1e3:.0f} ms, lanes {times[True] * 1e3:.0f} ms, lanes / stack {ratios[-1]:.3f}")
     q1, median, q3 = np.percentile(ratios, [25, 50, 75])
-    print(f"wide / scalar traced time: {median:.3f} [{q1:.3f}-{q3:.3f}] over {args.rounds} rounds")
+    print(f"lanes / stack traced time: {median:.3f} [{q1:.3f}-{q3:.3f}] over {args.rounds} rounds")
 
 
 if __name__ == "__main__":

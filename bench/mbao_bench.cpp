@@ -3,7 +3,7 @@
 //   scene under --scenes (512x512, r = 4, branching, b = 1 and 2, rho = 1,
 //   spp = 1), with max_distance = inf and again with the radius a scene's
 //   camera.json suggests;
-// * the four kd traversals' frame times and per-ray counts, at b = 2;
+// * the kd traversals' frame times and per-ray counts, at b = 2;
 // * mbao beside Embree 3 on the same workload (builds with Embree);
 // * the Cornell box with kernels built without and with the alpha-mask path;
 // * kernel build time in a fresh process, cold and warm;
@@ -17,7 +17,7 @@
 // kd-build (default: all).
 //
 //   mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]
-//              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]
+//              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack|lanes]
 //              [--sections A,B,...] [--work-groups N,M,...] [--origin-paths on|off]
 //
 // --origin-paths overrides the renderer's choice (RenderSettings::origin_paths).
@@ -42,7 +42,7 @@ namespace {
 [[noreturn]] void usage(const std::string& problem) {
   std::cerr << "mbao_bench: " << problem
             << "\nusage: mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]"
-               " [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack]"
+               " [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack|lanes]"
                " [--sections A,B,...] [--work-groups N,M,...] [--origin-paths on|off]\n";
   std::exit(2);
 }
@@ -145,7 +145,6 @@ bool wanted(const bench::Options& options, const std::string& section) {
 
 int run(bench::Options options) {
   const mbao::DeviceInfo device = pick_device(options.device);
-  options.settings.traversal = mbao::traversal_for(options.settings.traversal, device);
   mbao::Renderer& renderer = mbao::Renderer::for_device(device);
   const std::vector<bench::BenchScene> scenes = load_scenes(options.scenes_dir);
   std::cout << "Device: " << device.description() << " (" << device.version << ")\n\n";
