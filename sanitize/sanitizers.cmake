@@ -15,16 +15,6 @@ target_include_directories(tinygltf_instrumented PRIVATE "${STB_IMAGE_DIR}")
 target_link_libraries(tinygltf_instrumented PRIVATE nlohmann_json::nlohmann_json "${STB_LIBRARY}")
 add_library(TinyGLTF::TinyGLTF ALIAS tinygltf_instrumented)
 
-# What every test of this build runs with (CTest's ENVIRONMENT): the
-# LeakSanitizer suppressions for the uninstrumented OpenCL stack (lsan.supp
-# says why), stack traces for UBSan's reports, and no tracking of dynamic TLS.
-# Debian 12's sanitizer runtime (LLVM 14) takes a dynamic TLS block for glibc
-# 2.19's layout whenever its address happens to sit at that header's offset in
-# a page, and LeakSanitizer then scans a bogus range and dies at exit ("Tracer
-# caught signal 11") after the test has passed (google/sanitizers#1322; runtimes
-# up to LLVM 16 have it). PoCL dlopens a library per kernel build, so which test hits it
-# shifts with the kernels (FirstLaunch, which builds every kernel afresh, did).
-set(MBAO_SANITIZER_ENVIRONMENT
-    "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp:print_suppressions=0"
-    "ASAN_OPTIONS=intercept_tls_get_addr=0"
-    "UBSAN_OPTIONS=print_stacktrace=1")
+# The runtimes' options, compiled into each test and fuzzer binary (default_options.cpp says which and why).
+add_library(mbao_sanitizer_options OBJECT "${CMAKE_CURRENT_LIST_DIR}/default_options.cpp")
+target_compile_definitions(mbao_sanitizer_options PRIVATE MBAO_LSAN_SUPPRESSIONS="${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
