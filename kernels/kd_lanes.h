@@ -20,7 +20,7 @@
 // Rays in, hits out, one slot per ray.
 typedef struct RayStream {
   __global const float4* origins;
-  __global const float4* directions;  // .w: t_max; a negative one clips every ray away: a slot with no ray
+  __global const float4* directions;  // .w: t_max; negative for a slot with no ray (no interval survives the clip)
   __global uint4* hits;               // (t, triangle, b1, b2) bits, as trace_rays stores them
   __global uint4* ray_counts;         // per ray: nodes, leaves, triangle tests, restarts; NULL: not kept
 } RayStream;
