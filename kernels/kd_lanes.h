@@ -216,4 +216,24 @@ static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint
   }
 }
 
+// Both programs' kernel for streams of rays (mbao.trace with traversal "lanes",
+// and the wavefront's bounces): work item j traces rays
+// [j * rays_per_item, (j + 1) * rays_per_item) of the `count`. Programs built
+// with MBAO_COUNT_TRAVERSAL keep each ray's counts in ray_counts and add them
+// to traversal_totals, either of which may be NULL.
+__kernel void trace_rays_in_lanes(MBAO_SCENE_PARAMS, __global const float4* origins,
+                                  __global const float4* directions, uint count, int any_hit,
+                                  uint rays_per_item, __global uint4* hits, __global uint4* ray_counts,
+                                  __global ulong* traversal_totals) {
+  const uint first = get_global_id(0) * rays_per_item;
+  if (first >= count) return;
+  const SceneView scene = MBAO_SCENE_VIEW();
+  const RayStream stream = {origins, directions, hits, ray_counts};
+  TraversalCounts totals = no_traversal_counts();
+  trace_in_lanes(&scene, &stream, first, min(first + rays_per_item, count), any_hit, &totals);
+#if MBAO_COUNT_TRAVERSAL
+  if (traversal_totals) add_traversal_counts(traversal_totals, &totals);
+#endif
+}
+
 #endif

@@ -317,9 +317,33 @@ static inline Surface dequeued_surface(const SceneView* scene, QueuedSurface q) 
   return make_surface(scene, hit, (float3)(q.incoming_x, q.incoming_y, q.incoming_z));
 }
 
-// The r rays from one surface of a tile's camera sample `sample`; hits that
-// bounce on are appended to queue `bounce` (in no particular order: nothing
-// depends on it).
+// What one AO ray of bounce `bounce` adds: an escape, or, where the estimator
+// bounces on, the surface it hit for the next bounce to leave from, appended
+// to queue `bounce` (in no particular order: nothing depends on it).
+static inline void tally_ray(int outcome, int bounce_on, Hit hit, float3 dir, uint sample, uint node, uint bounce,
+                             __global QueuedSurface* next, __global uint* queue_lengths, uint* escapes) {
+  if (outcome == MBAO_RAY_ESCAPED)
+    ++*escapes;
+  else if (outcome == MBAO_RAY_HIT && bounce_on)
+    next[atomic_inc(&queue_lengths[bounce])] = queued_surface(hit, dir, sample, node);
+}
+
+// A source's escapes and rays into its camera sample's counts. Bounce 1 has
+// one source per camera sample and starts them, so they need no clearing and
+// there no atomics; later bounces add to them.
+static inline void count_source(uint bounce, uint bounces, uint sample, uint escapes, uint rays,
+                                __global uint* escape_counts, __global uint* sample_rays) {
+  if (bounce == 1) {
+    escape_counts[sample * bounces] = escapes;
+    for (uint k = 1; k < bounces; ++k) escape_counts[sample * bounces + k] = 0;
+    sample_rays[sample] = rays;
+    return;
+  }
+  if (escapes) atomic_add(&escape_counts[sample * bounces + bounce - 1], escapes);
+  if (rays) atomic_add(&sample_rays[sample], rays);
+}
+
+// The r rays from one surface of a tile's camera sample `sample`.
 static void cast_children(const SceneView* scene, const Surface* from, const AoSettings* s,
                           uint spp, uint first_position, uint sample, uint bounce, uint node,
                           __global QueuedSurface* next, __global uint* queue_lengths,
@@ -335,15 +359,11 @@ static void cast_children(const SceneView* scene, const Surface* from, const AoS
     Hit hit;
     const int outcome = cast_ao_ray(scene, from, &origin, s, pixel, camera_sample, bounce, child,
                                     bounce_on, &dir, &hit, rays, counts);
-    if (outcome == MBAO_RAY_ESCAPED)
-      ++*escapes;
-    else if (outcome == MBAO_RAY_HIT && bounce_on)
-      next[atomic_inc(&queue_lengths[bounce])] = queued_surface(hit, dir, sample, child);
+    tally_ray(outcome, bounce_on, hit, dir, sample, child, bounce, next, queue_lengths, escapes);
   }
 }
 
-// Bounce 1, one work item per camera sample of the tile. It starts the
-// sample's counts, so they need no clearing and here no atomics.
+// Bounce 1, one work item per camera sample of the tile.
 __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position,
                                      uint sample_count, __global const uint4* camera_hits,
                                      __global uint* escape_counts, __global uint* sample_rays,
@@ -361,9 +381,7 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint fir
     cast_children(&scene, &primary, &s, spp, first_position, sample, 1, 0, next, queue_lengths,
                   &escapes, &rays, &counts);
   }
-  escape_counts[sample * bounces] = escapes;
-  for (uint k = 1; k < bounces; ++k) escape_counts[sample * bounces + k] = 0;
-  sample_rays[sample] = rays;
+  count_source(1, bounces, sample, escapes, rays, escape_counts, sample_rays);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
@@ -385,8 +403,7 @@ __kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pos
   TraversalCounts counts = no_traversal_counts();
   cast_children(&scene, &from, &s, spp, first_position, entry.sample, bounce, entry.node, next,
                 queue_lengths, &escapes, &rays, &counts);
-  if (escapes) atomic_add(&escape_counts[entry.sample * bounces + bounce - 1], escapes);
-  if (rays) atomic_add(&sample_rays[entry.sample], rays);
+  count_source(bounce, bounces, entry.sample, escapes, rays, escape_counts, sample_rays);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
@@ -477,26 +494,7 @@ __kernel void stream_bounce_rays(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_p
   }
 }
 
-// The stream's rays [first, first + count) in lanes: work item j takes
-// rays_per_item of them from first + j * rays_per_item.
-__kernel void trace_ray_stream(MBAO_SCENE_PARAMS, __global const float4* ray_origins,
-                               __global const float4* ray_directions, uint count, int any_hit,
-                               uint rays_per_item, __global uint4* ray_hits, __global ulong* traversal_totals) {
-  const uint first = get_global_id(0) * rays_per_item;
-  if (first >= count) return;
-  const SceneView scene = MBAO_SCENE_VIEW();
-  const RayStream stream = {ray_origins, ray_directions, ray_hits, 0};
-  TraversalCounts counts = no_traversal_counts();
-  trace_in_lanes(&scene, &stream, first, min(first + rays_per_item, count), any_hit, &counts);
-#if MBAO_COUNT_TRAVERSAL
-  add_traversal_counts(traversal_totals, &counts);
-#endif
-}
-
-// Each source's rays' outcomes: escapes and rays counted to its camera
-// sample, hits that bounce on appended to queue `bounce`. Bounce 1 has one
-// source per camera sample and starts the sample's counts, as
-// wavefront_first_bounce does; later bounces add to them.
+// Each source's rays' outcomes (tally_ray), counted to its camera sample (count_source).
 __kernel void stream_bounce_hits(MBAO_AO_PARAMS, uint bounce, uint first_source, uint source_count,
                                  __global const QueuedSurface* queue, __global const float4* ray_directions,
                                  __global const uint4* ray_hits, __global uint* escape_counts,
@@ -512,20 +510,12 @@ __kernel void stream_bounce_hits(MBAO_AO_PARAMS, uint bounce, uint first_source,
   for (uint i = 0; i < s.samples; ++i) {
     const uint ray = slot * s.samples + i;
     const float4 direction = ray_directions[ray];
-    if (direction.w < 0.0f) continue;
+    if (direction.w < 0.0f) continue;  // blocked
     ++rays;
     const Hit hit = stored_hit(ray_hits, ray);
-    if (hit.triangle == MBAO_NO_TRIANGLE)
-      ++escapes;
-    else if (bounce_on)
-      next[atomic_inc(&queue_lengths[bounce])] = queued_surface(hit, direction.xyz, sample, node * s.samples + i);
+    const int outcome = hit.triangle == MBAO_NO_TRIANGLE ? MBAO_RAY_ESCAPED : MBAO_RAY_HIT;
+    tally_ray(outcome, bounce_on, hit, direction.xyz, sample, node * s.samples + i, bounce, next, queue_lengths,
+              &escapes);
   }
-  if (bounce == 1) {
-    escape_counts[sample * bounces] = escapes;
-    for (uint k = 1; k < bounces; ++k) escape_counts[sample * bounces + k] = 0;
-    sample_rays[sample] = rays;
-    return;
-  }
-  if (escapes) atomic_add(&escape_counts[sample * bounces + bounce - 1], escapes);
-  if (rays) atomic_add(&sample_rays[sample], rays);
+  count_source(bounce, bounces, sample, escapes, rays, escape_counts, sample_rays);
 }

@@ -1,5 +1,6 @@
 // Rays given by the caller, traced as they are: the ray-query API and the
-// kernel the traversal tests compare against brute force.
+// kernel the traversal tests compare against brute force. With traversal
+// "lanes" the API launches kd_lanes.h's trace_rays_in_lanes instead.
 #include "kd_lanes.h"
 
 // directions[i].w is the ray's t_max. Each hit is stored as (t, triangle, b1, b2)
@@ -19,15 +20,3 @@ __kernel void trace_rays(MBAO_SCENE_PARAMS, __global const float4* origins,
 #endif
 }
 
-// The same, with traversal "lanes": work item j traces rays
-// [j * rays_per_item, (j + 1) * rays_per_item) sixteen at a time.
-__kernel void trace_rays_in_lanes(MBAO_SCENE_PARAMS, __global const float4* origins,
-                                  __global const float4* directions, uint count, int any_hit,
-                                  uint rays_per_item, __global uint4* hits, __global uint4* ray_counts) {
-  const uint first = get_global_id(0) * rays_per_item;
-  if (first >= count) return;
-  const SceneView scene = MBAO_SCENE_VIEW();
-  const RayStream stream = {origins, directions, hits, ray_counts};
-  TraversalCounts totals = no_traversal_counts();
-  trace_in_lanes(&scene, &stream, first, min(first + rays_per_item, count), any_hit, &totals);
-}

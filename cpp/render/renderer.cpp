@@ -306,6 +306,7 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
     if (lanes) kernel.setArg(arg++, cl_uint(rays_per_item));
     kernel.setArg(arg++, hit_buffer);
     set_buffer_or_null(kernel, arg++, count_buffer);
+    if (lanes) set_buffer_or_null(kernel, arg++, cl::Buffer());  // no frame totals here
     launch(queue, kernel, (n + rays_per_item - 1) / rays_per_item, group);
     queue.enqueueReadBuffer(hit_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), result.hits.data());
     if (count_traversal)

@@ -44,13 +44,14 @@ StreamedBounces::StreamedBounces(const cl::Context& context, const cl::Device& d
   rays_.setArg(rays_bounce_arg_ + 5, ray_origins_);
   rays_.setArg(rays_bounce_arg_ + 6, ray_directions_);
 
-  trace_ = cl::Kernel(program, "trace_ray_stream");
+  trace_ = cl::Kernel(program, "trace_rays_in_lanes");
   const cl_uint arg = scene.set_args(trace_);
   trace_.setArg(arg, ray_origins_);
   trace_.setArg(arg + 1, ray_directions_);
   trace_count_arg_ = arg + 2;  // then any_hit and rays_per_item
   trace_.setArg(arg + 5, ray_hits_);
-  set_buffer_or_null(trace_, arg + 6, counts.traversal_totals);
+  set_buffer_or_null(trace_, arg + 6, cl::Buffer());  // no counts per ray, only the frame's totals
+  set_buffer_or_null(trace_, arg + 7, counts.traversal_totals);
 
   hits_ = cl::Kernel(program, "stream_bounce_hits");
   hits_bounce_arg_ = set_ao_args(hits_, 0, camera, s);

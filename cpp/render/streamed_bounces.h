@@ -16,8 +16,8 @@ struct WavefrontCounts {
 };
 
 // A wavefront bounce as three launches over a stream of rays, for traversal
-// "lanes" (render.cl's stream_bounce_rays, trace_ray_stream and
-// stream_bounce_hits): the sources' rays are written out, walked sixteen per
+// "lanes" (render.cl's stream_bounce_rays and stream_bounce_hits, and
+// kd_lanes.h's trace_rays_in_lanes): the sources' rays are written out, walked sixteen per
 // work item (kernels/kd_lanes.h), and their hits read back into the counts and
 // the next queue. A bounce with more sources than the stream holds is cut into
 // launches of at most sources_per_launch().
