@@ -30,8 +30,7 @@ static inline void orthonormal_basis(float3 n, float3* t, float3* b) {
 // Malley's method: uniform on the unit disk, projected up to the hemisphere.
 static inline float3 cosine_direction(float3 n, float u1, float u2) {
   const float r = sqrt(u1);
-  float cos_phi;
-  const float sin_phi = sincos(2.0f * M_PI_F * u2, &cos_phi);
+  const float cos_phi = cospi(2.0f * u2), sin_phi = sinpi(2.0f * u2);
   float3 t, b;
   orthonormal_basis(n, &t, &b);
   return normalize(r * cos_phi * t + r * sin_phi * b + sqrt(fmax(0.0f, 1.0f - u1)) * n);
