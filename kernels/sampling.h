@@ -30,6 +30,7 @@ static inline void orthonormal_basis(float3 n, float3* t, float3* b) {
 // Malley's method: uniform on the unit disk, projected up to the hemisphere.
 static inline float3 cosine_direction(float3 n, float u1, float u2) {
   const float r = sqrt(u1);
+  // Not sincos(2 pi u2): PoCL takes that through its general argument reduction.
   const float cos_phi = cospi(2.0f * u2), sin_phi = sinpi(2.0f * u2);
   float3 t, b;
   orthonormal_basis(n, &t, &b);
