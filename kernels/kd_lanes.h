@@ -15,8 +15,6 @@
 
 #include "kd_traversal.h"
 
-#define MBAO_LANES 16
-
 // Rays in, hits out, one slot per ray.
 typedef struct RayStream {
   __global const float4* origins;

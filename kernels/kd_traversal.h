@@ -7,7 +7,8 @@
 //               far children; a descent restarts only when the stack runs dry;
 //   stack       a stack as deep as the tree: every node is visited once;
 //   lanes       the full stack, sixteen rays per work item (kd_lanes.h): kernels
-//               that trace streams of rays walk them so, the rest as "stack".
+//               that trace streams of rays walk them so, the camera rays walk
+//               sixteen to a packet (kd_packet.h), the rest as "stack".
 // All walk the leaves along the ray front to back and return the same hit.
 //
 // A descent narrows the interval [t_lo, t_hi] to one leaf; when the leaf holds

@@ -3,7 +3,7 @@
 // samples (the megakernel) or, for the branching estimator, one launch per
 // bounce over the surfaces still bouncing (the wavefront, at the end).
 #include "mbao/limits.h"
-#include "kd_lanes.h"
+#include "kd_packet.h"
 
 #ifndef MBAO_UNLIMITED_DISTANCE
 #define MBAO_UNLIMITED_DISTANCE 0
@@ -14,9 +14,24 @@
 #include "mbao/wavefront.h"
 #include "mbao/pixel_order.h"
 
+// The direction of camera sample `sample_index` of the positions from
+// first_position of the pixel order (mbao/pixel_order.h): spp samples per pixel.
+static inline float3 camera_sample_direction(float4 forward, float4 right, float4 up, float2 film_scale, uint width,
+                                             uint height, uint spp, uint2 seed, uint first_position,
+                                             uint sample_index) {
+  const uint pixel = pixel_at_position(first_position + sample_index / spp, width, height);
+  const uint camera_sample = sample_index % spp;
+  float2 in_pixel = (float2)(0.5f, 0.5f);
+  if (spp > 1) {
+    const Philox4x32 r = random_block(pixel, camera_sample, 0, 0, seed);
+    in_pixel = (float2)(philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
+  }
+  return camera_ray_direction(forward.xyz, right.xyz, up.xyz, film_scale, width, height, pixel, in_pixel);
+}
+
 // Camera rays (SPEC 3.1). One work item per camera sample of the tile, the
-// positions [first_position, first_position + pixel_count) of the pixel order
-// (mbao/pixel_order.h); the closest hit is stored as (t, triangle, b1, b2) bits.
+// positions [first_position, first_position + pixel_count); the closest hit is
+// stored as (t, triangle, b1, b2) bits.
 __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
                                 float4 up, float2 film_scale, uint width, uint height, uint spp,
                                 uint2 seed, uint first_position, uint pixel_count,
@@ -24,17 +39,8 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
   const uint sample_index = get_global_id(0);
   if (sample_index >= pixel_count * spp) return;
   const SceneView scene = MBAO_SCENE_VIEW();
-  const uint pixel = pixel_at_position(first_position + sample_index / spp, width, height);
-  const uint camera_sample = sample_index % spp;
-
-  float2 in_pixel = (float2)(0.5f, 0.5f);
-  if (spp > 1) {
-    const Philox4x32 r = random_block(pixel, camera_sample, 0, 0, seed);
-    in_pixel = (float2)(philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
-  }
-  const float3 dir =
-      camera_ray_direction(forward.xyz, right.xyz, up.xyz, film_scale, width, height, pixel, in_pixel);
-
+  const float3 dir = camera_sample_direction(forward, right, up, film_scale, width, height, spp, seed,
+                                             first_position, sample_index);
   Hit hit;
   TraversalCounts counts = no_traversal_counts();
   trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit, &counts);
@@ -43,6 +49,38 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
   add_traversal_counts(traversal_totals, &counts);
 #endif
 }
+
+#if MBAO_TRAVERSAL == MBAO_TRAVERSAL_LANES
+// trace_camera_rays in packets (kd_packet.h): work item j takes camera samples
+// [16 j, 16 j + 16), where spp is 1 a 4 x 4 square of pixels (but in the blocks
+// that the image's edges cut), and stores the same hits and counts.
+__kernel void trace_camera_packets(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
+                                   float4 up, float2 film_scale, uint width, uint height, uint spp,
+                                   uint2 seed, uint first_position, uint pixel_count,
+                                   __global uint4* camera_hits, __global ulong* traversal_totals) {
+  const uint first_sample = get_global_id(0) * MBAO_LANES, samples = pixel_count * spp;
+  if (first_sample >= samples) return;
+  const SceneView scene = MBAO_SCENE_VIEW();
+  float dir_x[MBAO_LANES], dir_y[MBAO_LANES], dir_z[MBAO_LANES];
+  const uint lanes = min(samples - first_sample, (uint)MBAO_LANES);
+  for (uint k = 0; k < lanes; ++k) {
+    const float3 dir = camera_sample_direction(forward, right, up, film_scale, width, height, spp, seed,
+                                               first_position, first_sample + k);
+    dir_x[k] = dir.x;
+    dir_y[k] = dir.y;
+    dir_z[k] = dir.z;
+  }
+  uint4 hits[MBAO_LANES];
+  PacketCounts counts = {(uint16)(0u), (uint16)(0u), (uint16)(0u)};
+  trace_packet(&scene, eye.xyz, dir_x, dir_y, dir_z, (1u << lanes) - 1u, hits, &counts);
+  for (uint k = 0; k < lanes; ++k) camera_hits[first_sample + k] = hits[k];
+#if MBAO_COUNT_TRAVERSAL
+  const TraversalCounts sums = {sum_of_lanes(counts.nodes), sum_of_lanes(counts.leaves),
+                                sum_of_lanes(counts.triangles), 0u};
+  add_traversal_counts(traversal_totals, &sums);
+#endif
+}
+#endif
 
 typedef struct AoSettings {
   uint2 image_size;  // (width, height)

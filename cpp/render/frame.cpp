@@ -1,5 +1,6 @@
 #include "render/frame.h"
 
+#include "mbao/limits.h"
 #include "opencl/launch.h"
 
 namespace mbao {
@@ -8,6 +9,12 @@ namespace {
 
 std::size_t camera_hit_bytes(const RenderSettings& s, std::size_t tile_pixels) {
   return tile_pixels * std::size_t(s.spp) * sizeof(cl_uint4);
+}
+
+// Programs built for traversal "lanes" walk the camera rays in packets
+// (kernels/kd_packet.h), one packet per work item.
+std::size_t camera_rays_per_item(const RenderSettings& s) {
+  return s.traversal == Traversal::Lanes ? MBAO_LANES : 1;
 }
 
 }  // namespace
@@ -23,7 +30,10 @@ std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
              const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels)
-    : pixels_(std::size_t(s.width) * std::size_t(s.height)), tile_pixels_(tile_pixels), spp_(std::size_t(s.spp)) {
+    : pixels_(std::size_t(s.width) * std::size_t(s.height)),
+      tile_pixels_(tile_pixels),
+      spp_(std::size_t(s.spp)),
+      camera_rays_per_item_(camera_rays_per_item(s)) {
   buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
   buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
@@ -35,7 +45,7 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
         cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zeros, const_cast<cl_ulong*>(zeros));
   }
 
-  camera_rays_ = cl::Kernel(program, "trace_camera_rays");
+  camera_rays_ = cl::Kernel(program, camera_rays_per_item_ > 1 ? "trace_camera_packets" : "trace_camera_rays");
   cl_uint arg = set_camera_args(camera_rays_, scene.set_args(camera_rays_), camera, s);
   camera_rays_.setArg(arg++, cl_uint(spp_));
   camera_rays_.setArg(arg++, seed_words(s.seed));
@@ -74,16 +84,20 @@ void Frame::set_tile(std::size_t first, std::size_t count) {
 
 void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   set_tile(first, count);
-  launch(queue, camera_rays_, count * spp_, camera_group_);
+  launch(queue, camera_rays_, camera_items(count), camera_group_);
   if (wavefront_)
     wavefront_->enqueue_tile(queue, first, count);
   else
     launch(queue, ao_kernel_, count, ao_group_);
 }
 
+std::size_t Frame::camera_items(std::size_t pixels) const {
+  return (pixels * spp_ + camera_rays_per_item_ - 1) / camera_rays_per_item_;
+}
+
 void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
   set_tile(0, 0);
-  launch_empty(queue, camera_rays_, tile_pixels_ * spp_, camera_group_);
+  launch_empty(queue, camera_rays_, camera_items(tile_pixels_), camera_group_);
   if (wavefront_)
     wavefront_->enqueue_empty_tiles(queue, tile_pixels_);
   else

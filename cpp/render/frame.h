@@ -48,8 +48,11 @@ class Frame {
   void set_up_megakernel(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
                          const Camera& camera, const RenderSettings& s);
   void set_tile(std::size_t first, std::size_t count);
+  // The camera kernel's work items for `pixels` pixels.
+  std::size_t camera_items(std::size_t pixels) const;
 
   std::size_t pixels_, tile_pixels_, spp_;
+  std::size_t camera_rays_per_item_;
   FrameBuffers buffers_;
   cl::Kernel camera_rays_;
   cl_uint camera_tile_arg_ = 0;

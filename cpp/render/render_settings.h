@@ -13,7 +13,8 @@ namespace mbao {
 enum class Estimator { Branching, Path };
 enum class NormalMode { Shading, Geometric };
 // Lanes: the full stack, sixteen rays per work item (kernels/kd_lanes.h); a
-// render walks its AO rays so in the wavefront organisation only.
+// render walks its AO rays so in the wavefront organisation only, and its
+// camera rays sixteen to a packet (kernels/kd_packet.h).
 // Auto: the fastest measured for the device's type (see traversal_for).
 // The values are the kernels' MBAO_TRAVERSAL (kernels/kd_traversal.h).
 enum class Traversal { Restart, PushDown, ShortStack, Stack, Lanes, Auto };

@@ -10,4 +10,9 @@
 // holds this many entries (a power of two).
 #define MBAO_KD_MAX_DEPTH 64
 
+// Rays per work item walked together in the lanes of one vector (traversal
+// "lanes": kd_lanes.h's rays each with a stack of its own, kd_packet.h's
+// camera rays as one packet).
+#define MBAO_LANES 16
+
 #endif

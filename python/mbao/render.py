@@ -82,9 +82,10 @@ def render(
     traversal: how rays walk the kd-tree: "pushdown" or "short-stack" (Horn et al. 2007),
         "restart" (Foley and Sugerman 2005), "stack" (a full stack), "lanes" (the full stack,
         sixteen rays per work item in vector lanes, for CPUs: the branching estimator in the
-        wavefront organisation only), or "auto": on CPUs "lanes" where it can run and the tree
-        is at least 16 deep, else "stack"; "short-stack" on GPUs (stats["traversal_mode"]
-        says which ran; on an H100 the two stacks tie). Same image either way.
+        wavefront organisation only; camera rays sixteen to a packet), or "auto": on CPUs
+        "lanes" where it can run and the tree is at least 16 deep, else "stack"; "short-stack"
+        on GPUs (stats["traversal_mode"] says which ran; on an H100 the two stacks tie). Same
+        image either way.
     device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
     traversal_stats: count nodes, leaves, triangle tests and restarts per ray into
         stats["traversal"] (kernels built to count, somewhat slower).

@@ -71,13 +71,16 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
   const std::shared_ptr<const Scene> scene = cornell_box();
   DeviceSceneCache scenes;
   const std::shared_ptr<const DeviceScene> device_scene = scenes.get(compute, scene, false);
-  // Any build of render.cl shows it; these are the options of the Cornell box's on a CPU today.
-  const cl::Program program =
-      compute.programs()
-          .get("render.cl",
-               "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 -DMBAO_ALPHA_MASKS=0 -DMBAO_SHADING_NORMALS=0 "
-               "-DMBAO_UNLIMITED_DISTANCE=1 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0")
-          .program;
+  // Any build of render.cl shows it; these are the options of the Cornell box's on a CPU today, with the
+  // traversal the frame's settings name (lanes programs have kernels of their own, camera packets included).
+  const auto program_for = [&](Traversal traversal) {
+    return compute.programs()
+        .get("render.cl", "-DMBAO_TRAVERSAL=" + std::to_string(int(traversal)) +
+                              " -DMBAO_COUNT_TRAVERSAL=0 -DMBAO_ALPHA_MASKS=0 -DMBAO_SHADING_NORMALS=0 "
+                              "-DMBAO_UNLIMITED_DISTANCE=1 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0")
+        .program;
+  };
+  const cl::Program programs[] = {program_for(Traversal::Stack), program_for(Traversal::Lanes)};
   if (files_under(caches / "pocl").empty())
     GTEST_SKIP() << "PoCL started before this test set its cache directory: run the test in a process of its "
                     "own, as ctest does";
@@ -92,6 +95,7 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
     const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
     cl::CommandQueue& queue = compute.queue();
     const Camera camera = scene->camera()->relative_to(scene->render_origin());
+    const cl::Program& program = programs[traversal == Traversal::Lanes];
     Frame frame(compute.context(), compute.device().device, program, *device_scene, camera, settings, kTilePixels);
     const std::set<std::string> before = files_under(caches / "pocl");
     frame.enqueue_empty_tiles(queue);
