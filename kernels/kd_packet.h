@@ -11,13 +11,13 @@
 //
 // Each ray walks as trace_ray_from's full stack would walk it alone: the same
 // nodes with the same intervals, so the same hit and counts, bit for bit
-// (tests/test_traversal.py). The packet visits a node for the lanes whose walk
-// goes there; the others wait. What keeps one stack enough is the common
-// origin: a ray that goes on to both children of a node takes first the one
-// on the origin's side of the plane (the plane lies ahead of it), the same
-// child for every ray. A ray that takes one child only takes it now or after
-// the packet has walked the other, which changes nothing for that ray: it
-// still meets its own nodes in its own order.
+// (tests/test_camera_packets.py). The packet visits a node for the lanes whose
+// walk goes there; the others wait. What keeps one stack enough is the common
+// origin: a ray that goes on to both children of a node takes first the one on
+// the origin's side of the plane (the plane lies ahead of it), the same child
+// for every ray. A ray that takes one child only takes it now or after the
+// packet has walked the other, which changes nothing for that ray: it still
+// meets its own nodes in its own order.
 #ifndef MBAO_KD_PACKET_H
 #define MBAO_KD_PACKET_H
 
@@ -38,12 +38,13 @@ typedef struct PacketFrames {
   float16 edge_error;
 } PacketFrames;
 
-// The closest hit of each lane so far (a Hit per lane).
+// A Hit per lane: the closest so far, or a triangle's.
 typedef struct PacketHits {
   float16 t, b1, b2;
   uint16 triangle;
 } PacketHits;
 
+// Lane k's ray, for the scalar test.
 static inline WatertightRay packet_lane_frame(const PacketFrames* f, uint k) {
   uint kx[MBAO_LANES], ky[MBAO_LANES], kz[MBAO_LANES];
   float v[7][MBAO_LANES];
