@@ -46,12 +46,16 @@ typedef struct Lanes {
 #define MBAO_LANE_COUNTS(lanes, k) ((TraversalCounts*)0)  // never dereferenced: MBAO_COUNT does nothing
 #endif
 
+// Lane k holds bit k.
+static inline uint16 lane_bit_values(void) {
+  return (uint16)(1u << 0, 1u << 1, 1u << 2, 1u << 3, 1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 8, 1u << 9,
+                  1u << 10, 1u << 11, 1u << 12, 1u << 13, 1u << 14, 1u << 15);
+}
+
 // Bit k set where lane k of `mask` is true. Vector operations, not a loop over
 // the lanes: PoCL turned that loop into sixteen extracts and branches.
 static inline uint lane_bits(int16 mask) {
-  const uint16 bit = (uint16)(1u << 0, 1u << 1, 1u << 2, 1u << 3, 1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 8,
-                              1u << 9, 1u << 10, 1u << 11, 1u << 12, 1u << 13, 1u << 14, 1u << 15);
-  const uint16 set = as_uint16(mask) & bit;
+  const uint16 set = as_uint16(mask) & lane_bit_values();
   const uint8 in_8 = set.lo | set.hi;
   const uint4 in_4 = in_8.lo | in_8.hi;
   const uint2 in_2 = in_4.lo | in_4.hi;
@@ -116,6 +120,12 @@ static inline int lanes_take_next(const SceneView* scene, const RayStream* strea
   return 0;
 }
 
+// A walk's first descent sends a lane to the far child alone where the plane
+// lies at or before this: the far_bound of trace_ray_from, on vectors.
+static inline float16 first_descent_far_bound(float16 t_lo) {
+  return select((float16)(0.0f), as_float16(as_uint16(t_lo) - 1u), t_lo > 0.0f);
+}
+
 // One descent step of every lane that stands at an interior node (descent_step
 // on vectors), with the nodes the lanes stand at in header/payload. Far children
 // are pushed for the `live` lanes only; the others' steps are discarded.
@@ -134,8 +144,7 @@ static inline void lanes_descend(Lanes* lanes, const uint* header, const uint* p
   const uint16 swap = (below ^ above) & as_uint16(as_int16(inv_dir) >> 31);
   const uint16 near = below ^ swap, far = above ^ swap;
   const int16 resumed = as_int16(vload16(0, lanes->resumed));
-  const float16 first_far_bound = select((float16)(0.0f), as_float16(as_uint16(t_lo) - 1u), t_lo > 0.0f);
-  const float16 far_bound = select(first_far_bound, t_lo, resumed);
+  const float16 far_bound = select(first_descent_far_bound(t_lo), t_lo, resumed);
   const int16 far_only = t_split <= far_bound;
   const int16 steps = axis != MBAO_KD_LEAF;
   const int16 both = steps & ~far_only & (t_split <= t_hi);

@@ -24,18 +24,16 @@
 #include "kd_lanes.h"
 
 // Lane k of the mask wherever bit k of `bits` is set (lane_bits undone).
-static inline int16 lane_mask(uint bits) {
-  const uint16 bit = (uint16)(1u << 0, 1u << 1, 1u << 2, 1u << 3, 1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 8,
-                              1u << 9, 1u << 10, 1u << 11, 1u << 12, 1u << 13, 1u << 14, 1u << 15);
-  return ((uint16)(bits) & bit) != 0u;
-}
+static inline int16 lane_mask(uint bits) { return ((uint16)(bits) & lane_bit_values()) != 0u; }
 
-// Each lane's ray for the watertight test (a WatertightRay per lane).
+// Each lane's ray for the watertight test: as vectors over the lanes, and as
+// the scalar test takes it, for its double fallback.
 typedef struct PacketFrames {
   uint16 kx, ky, kz;
   float16 origin_x, origin_y, origin_z;
   float16 shear_x, shear_y, shear_z;
   float16 edge_error;
+  WatertightRay lane[MBAO_LANES];
 } PacketFrames;
 
 // A Hit per lane: the closest so far, or a triangle's.
@@ -43,24 +41,6 @@ typedef struct PacketHits {
   float16 t, b1, b2;
   uint16 triangle;
 } PacketHits;
-
-// Lane k's ray, for the scalar test.
-static inline WatertightRay packet_lane_frame(const PacketFrames* f, uint k) {
-  uint kx[MBAO_LANES], ky[MBAO_LANES], kz[MBAO_LANES];
-  float v[7][MBAO_LANES];
-  vstore16(f->kx, 0, kx);
-  vstore16(f->ky, 0, ky);
-  vstore16(f->kz, 0, kz);
-  vstore16(f->origin_x, 0, v[0]);
-  vstore16(f->origin_y, 0, v[1]);
-  vstore16(f->origin_z, 0, v[2]);
-  vstore16(f->shear_x, 0, v[3]);
-  vstore16(f->shear_y, 0, v[4]);
-  vstore16(f->shear_z, 0, v[5]);
-  vstore16(f->edge_error, 0, v[6]);
-  const WatertightRay ray = {kx[k], ky[k], kz[k], v[0][k], v[1][k], v[2][k], v[3][k], v[4][k], v[5][k], v[6][k]};
-  return ray;
-}
 
 // Corner `corner`'s coordinate along each lane's `axis` (0, 1 or 2).
 static inline float16 corner_along(__global const TriangleCoordinates* t, uint16 axis, int corner) {
@@ -109,8 +89,7 @@ static inline uint packet_intersect(const SceneView* scene, const PacketFrames* 
     vstore16(t_max, 0, lane_t_max);
     for (; redo; redo &= redo - 1) {
       const uint k = ctz(redo);
-      const WatertightRay ray = packet_lane_frame(f, k);
-      const int hit_k = intersect_triangle(&ray, t, lane_t_max[k], &lane_t[k], &lane_b1[k], &lane_b2[k]);
+      const int hit_k = intersect_triangle(&f->lane[k], t, lane_t_max[k], &lane_t[k], &lane_b1[k], &lane_b2[k]);
       hits = hit_k ? hits | (1u << k) : hits & ~(1u << k);
     }
     out->t = vload16(0, lane_t);
@@ -253,6 +232,7 @@ static void trace_packet(const SceneView* scene, float3 origin, const float* dir
   float inv_x[MBAO_LANES], inv_y[MBAO_LANES], inv_z[MBAO_LANES], t_enter[MBAO_LANES], t_exit[MBAO_LANES];
   uint kx[MBAO_LANES], ky[MBAO_LANES], kz[MBAO_LANES];
   float frame[7][MBAO_LANES];
+  PacketFrames f;
   uint active = 0;
   for (uint k = 0; k < MBAO_LANES; ++k) {
     const float3 dir = (rays >> k) & 1 ? (float3)(dir_x[k], dir_y[k], dir_z[k]) : (float3)(0.0f, 0.0f, 1.0f);
@@ -263,6 +243,7 @@ static void trace_packet(const SceneView* scene, float3 origin, const float* dir
     if (clip_to_box(origin, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, INFINITY, &t_enter[k], &t_exit[k]))
       active |= rays & (1u << k);
     const WatertightRay ray = make_watertight_ray(origin, dir, scene->bounds_lo, scene->bounds_hi);
+    f.lane[k] = ray;
     kx[k] = ray.kx;
     ky[k] = ray.ky;
     kz[k] = ray.kz;
@@ -274,17 +255,23 @@ static void trace_packet(const SceneView* scene, float3 origin, const float* dir
     frame[5][k] = ray.shear_z;
     frame[6][k] = ray.edge_error;
   }
-  const PacketFrames f = {vload16(0, kx),       vload16(0, ky),       vload16(0, kz),       vload16(0, frame[0]),
-                          vload16(0, frame[1]), vload16(0, frame[2]), vload16(0, frame[3]), vload16(0, frame[4]),
-                          vload16(0, frame[5]), vload16(0, frame[6])};
+  f.kx = vload16(0, kx);
+  f.ky = vload16(0, ky);
+  f.kz = vload16(0, kz);
+  f.origin_x = vload16(0, frame[0]);
+  f.origin_y = vload16(0, frame[1]);
+  f.origin_z = vload16(0, frame[2]);
+  f.shear_x = vload16(0, frame[3]);
+  f.shear_y = vload16(0, frame[4]);
+  f.shear_z = vload16(0, frame[5]);
+  f.edge_error = vload16(0, frame[6]);
   PacketWalk w;
   w.inv_dir_x = vload16(0, inv_x);
   w.inv_dir_y = vload16(0, inv_y);
   w.inv_dir_z = vload16(0, inv_z);
   w.t_exit = vload16(0, t_exit);
   w.t_hi = w.t_exit;
-  const float16 t_lo = vload16(0, t_enter);
-  w.far_bound = select((float16)(0.0f), as_float16(as_uint16(t_lo) - 1u), t_lo > 0.0f);  // the first descent's
+  w.far_bound = first_descent_far_bound(vload16(0, t_enter));
   PacketHits best = {(float16)(INFINITY), (float16)(0.0f), (float16)(0.0f), (uint16)(MBAO_NO_TRIANGLE)};
 
   PacketStack stack;
