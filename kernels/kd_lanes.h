@@ -23,6 +23,9 @@ typedef struct RayStream {
   __global uint4* ray_counts;         // per ray: nodes, leaves, triangle tests, restarts; NULL: not kept
 } RayStream;
 
+// An array over the lanes, aligned for lane_floats and lane_uints.
+#define MBAO_LANE_ARRAY(type, name) type name[MBAO_LANES] __attribute__((aligned(64)))
+
 // What each lane walks, as arrays over the lanes that a step loads as vectors.
 typedef struct Lanes {
   float origin_x[MBAO_LANES], origin_y[MBAO_LANES], origin_z[MBAO_LANES];
@@ -38,7 +41,7 @@ typedef struct Lanes {
 #if MBAO_COUNT_TRAVERSAL
   TraversalCounts counts[MBAO_LANES];
 #endif
-} Lanes;
+} __attribute__((aligned(64))) Lanes;  // so that its lane arrays are aligned
 
 #if MBAO_COUNT_TRAVERSAL
 #define MBAO_LANE_COUNTS(lanes, k) (&(lanes)->counts[k])
@@ -61,6 +64,20 @@ static inline uint lane_bits(int16 mask) {
   const uint2 in_2 = in_4.lo | in_4.hi;
   return in_2.x | in_2.y;
 }
+
+// Lane k true where `bits` has bit k set: lane_bits the other way.
+static inline int16 lanes_set(uint bits) { return (lane_bit_values() & bits) != 0u; }
+
+static inline uint16 lane_indices(void) {
+  return (uint16)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 10u, 11u, 12u, 13u, 14u, 15u);
+}
+
+// A lane array (64-byte aligned) as one vector: PoCL compiled vload16 from an
+// array to eight 8-byte loads.
+static inline float16 lane_floats(const float* lanes) { return *(const float16*)lanes; }
+static inline uint16 lane_uints(const uint* lanes) { return *(const uint16*)lanes; }
+static inline void set_lane_floats(float* lanes, float16 v) { *(float16*)lanes = v; }
+static inline void set_lane_uints(uint* lanes, uint16 v) { *(uint16*)lanes = v; }
 
 // The hit of lane k's ray (a miss where the ray found none) into its slot.
 static inline void lanes_store_hit(const RayStream* stream, const Lanes* lanes, uint k, TraversalCounts* totals) {
@@ -130,41 +147,44 @@ static inline float16 first_descent_far_bound(float16 t_lo) {
 // on vectors), with the nodes the lanes stand at in header/payload. Far children
 // are pushed for the `live` lanes only; the others' steps are discarded.
 static inline void lanes_descend(Lanes* lanes, const uint* header, const uint* payload, uint live,
-                                 __private uint2* stack) {
-  const uint16 index = vload16(0, lanes->node), node_header = vload16(0, header);
-  const float16 t_lo = vload16(0, lanes->t_lo), t_hi = vload16(0, lanes->t_hi);
+                                 __private ulong* stack) {
+  const uint16 index = lane_uints(lanes->node), node_header = lane_uints(header);
+  const float16 t_lo = lane_floats(lanes->t_lo), t_hi = lane_floats(lanes->t_hi);
   const uint16 axis = node_header & 3u;
   const int16 on_y = axis == 1u, on_z = axis == 2u;
   const float16 origin =
-      select(select(vload16(0, lanes->origin_x), vload16(0, lanes->origin_y), on_y), vload16(0, lanes->origin_z), on_z);
-  const float16 inv_dir = select(select(vload16(0, lanes->inv_dir_x), vload16(0, lanes->inv_dir_y), on_y),
-                                 vload16(0, lanes->inv_dir_z), on_z);
-  const float16 t_split = (as_float16(vload16(0, payload)) - origin) * inv_dir;
+      select(select(lane_floats(lanes->origin_x), lane_floats(lanes->origin_y), on_y), lane_floats(lanes->origin_z), on_z);
+  const float16 inv_dir = select(select(lane_floats(lanes->inv_dir_x), lane_floats(lanes->inv_dir_y), on_y),
+                                 lane_floats(lanes->inv_dir_z), on_z);
+  const float16 t_split = (as_float16(lane_uints(payload)) - origin) * inv_dir;
   const uint16 below = index + 1u, above = node_header >> 2;
   const uint16 swap = (below ^ above) & as_uint16(as_int16(inv_dir) >> 31);
   const uint16 near = below ^ swap, far = above ^ swap;
-  const int16 resumed = as_int16(vload16(0, lanes->resumed));
+  const int16 resumed = as_int16(lane_uints(lanes->resumed));
   const float16 far_bound = select(first_descent_far_bound(t_lo), t_lo, resumed);
   const int16 far_only = t_split <= far_bound;
   const int16 steps = axis != MBAO_KD_LEAF;
   const int16 both = steps & ~far_only & (t_split <= t_hi);
-  vstore16(select(index, select(near, far, far_only), steps), 0, lanes->node);
-  vstore16(select(t_hi, t_split, both), 0, lanes->t_hi);
+  set_lane_uints(lanes->node, select(index, select(near, far, far_only), steps));
+  set_lane_floats(lanes->t_hi, select(t_hi, t_split, both));
 
-  uint far_child[MBAO_LANES];
-  float far_t_hi[MBAO_LANES];
-  vstore16(far, 0, far_child);
-  vstore16(t_hi, 0, far_t_hi);
-  for (uint pushes = live & lane_bits(both); pushes; pushes &= pushes - 1) {
-    const uint k = ctz(pushes);
-    stack[lanes->top[k]++ * MBAO_LANES + k] = (uint2)(far_child[k], as_uint(far_t_hi[k]));
-  }
+  // Every lane writes its far child into the free slot above its stack, and
+  // the lanes that push raise their tops: sixteen stores without a branch,
+  // where a loop over the pushing lanes mispredicted its exit every step. The
+  // entries go as 64-bit words from a vector in registers: read back from an
+  // array of their halves, each waited for the array's stores to complete.
+  const ulong16 entries = upsample(as_uint16(t_hi), far);
+  const uint16 top = lane_uints(lanes->top);
+  const uint16 slots = top * MBAO_LANES + lane_indices();
+#pragma unroll
+  for (uint k = 0; k < MBAO_LANES; ++k) stack[slots[k]] = entries[k];
+  set_lane_uints(lanes->top, top - as_uint16(both & lanes_set(live)));
 }
 
 // Lane k's leaf, as trace_ray_from's walk takes it: returns 1 where the ray is
 // done, else moves the lane to where its walk goes on.
 static inline int lanes_visit_leaf(const SceneView* scene, Lanes* lanes, uint k, KdNode leaf, int any_hit,
-                                   __private const uint2* stack) {
+                                   __private const ulong* stack) {
   TraversalCounts* counts = MBAO_LANE_COUNTS(lanes, k);
   MBAO_COUNT(counts, leaves, 1);
   if (test_leaf(scene, &lanes->watertight[k], leaf, any_hit, &lanes->best[k], counts)) return 1;
@@ -174,9 +194,9 @@ static inline int lanes_visit_leaf(const SceneView* scene, Lanes* lanes, uint k,
   lanes->t_lo[k] = leaf_end;
   lanes->resumed[k] = 0xFFFFFFFFu;
   if (lanes->top[k] > 0) {
-    const uint2 entry = stack[--lanes->top[k] * MBAO_LANES + k];
-    lanes->node[k] = entry.x;
-    lanes->t_hi[k] = as_float(entry.y);
+    const ulong entry = stack[--lanes->top[k] * MBAO_LANES + k];
+    lanes->node[k] = (uint)entry;
+    lanes->t_hi[k] = as_float((uint)(entry >> 32));
   } else {
     lanes->node[k] = 0;
     lanes->t_hi[k] = lanes->t_exit[k];
@@ -190,15 +210,19 @@ static inline int lanes_visit_leaf(const SceneView* scene, Lanes* lanes, uint k,
 static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint first, uint end, int any_hit,
                            TraversalCounts* totals) {
   Lanes lanes;
-  uint2 stack[MBAO_KD_MAX_DEPTH * MBAO_LANES];  // lane k's entry j at j * MBAO_LANES + k
+  // Lane k's entry j at j * MBAO_LANES + k, (node, t_hi bits) in the low and
+  // high word, with a slot above the deepest stack for lanes_descend's writes.
+  ulong stack[(MBAO_KD_MAX_DEPTH + 1) * MBAO_LANES];
   uint next = first, live = 0;
   for (uint k = 0; k < MBAO_LANES; ++k) {
-    lanes.node[k] = 0;  // lanes left empty still fetch a node, the root
+    lanes.node[k] = 0;  // lanes left empty still fetch a node, the root,
+    lanes.top[k] = 0;   // and write into their stacks
     if (lanes_take_next(scene, stream, &next, end, k, &lanes, totals)) live |= 1u << k;
   }
   __global const uint2* node_words = (__global const uint2*)scene->nodes;
   while (live) {
-    uint header[MBAO_LANES], payload[MBAO_LANES];
+    MBAO_LANE_ARRAY(uint, header);
+    MBAO_LANE_ARRAY(uint, payload);
     // Written out so that the sixteen fetches are independent loads.
 #pragma unroll
     for (uint k = 0; k < MBAO_LANES; ++k) {
@@ -209,7 +233,7 @@ static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint
 #if MBAO_COUNT_TRAVERSAL
     for (uint lanes_left = live; lanes_left; lanes_left &= lanes_left - 1) ++lanes.counts[ctz(lanes_left)].nodes;
 #endif
-    const int16 at_leaf = (vload16(0, header) & 3u) == MBAO_KD_LEAF;
+    const int16 at_leaf = (lane_uints(header) & 3u) == MBAO_KD_LEAF;
     lanes_descend(&lanes, header, payload, live, stack);
     for (uint leaves = live & lane_bits(at_leaf); leaves; leaves &= leaves - 1) {
       const uint k = ctz(leaves);

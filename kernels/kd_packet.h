@@ -170,7 +170,7 @@ typedef struct PacketWalk {
 typedef struct PacketStack {
   uint node[MBAO_KD_MAX_DEPTH];
   uint lanes[MBAO_KD_MAX_DEPTH];
-  float t_hi[MBAO_KD_MAX_DEPTH * MBAO_LANES];
+  float16 t_hi[MBAO_KD_MAX_DEPTH];
   uint top;
   uint16 entries;  // per lane, the entries on the stack that hold it
 } PacketStack;
@@ -178,7 +178,7 @@ typedef struct PacketStack {
 static inline void packet_push(PacketStack* stack, uint node, uint lanes, float16 t_hi) {
   stack->node[stack->top] = node;
   stack->lanes[stack->top] = lanes;
-  vstore16(t_hi, stack->top, stack->t_hi);
+  stack->t_hi[stack->top] = t_hi;
   ++stack->top;
   stack->entries += select((uint16)(0u), (uint16)(1u), lane_mask(lanes));
 }
@@ -192,7 +192,7 @@ static inline uint packet_pop(PacketStack* stack, uint done, uint* node, PacketW
     stack->entries -= select((uint16)(0u), (uint16)(1u), lane_mask(lanes));
     if (!(lanes & ~done)) continue;
     *node = stack->node[top];
-    w->t_hi = select(w->t_hi, vload16(top, stack->t_hi), lane_mask(lanes & ~done));
+    w->t_hi = select(w->t_hi, stack->t_hi[top], lane_mask(lanes & ~done));
     return lanes & ~done;
   }
   return 0;
