@@ -17,6 +17,7 @@ then, from this checkout after `make -C build`:
 One build with two traversals compares as two builds do, e.g. lanes against the full stack:
     .venv/bin/python bench/compare_builds.py --old python --new python --old-traversal stack \
       --new-traversal lanes --scene ../shared/scenes/sponza --bounces 1 --size 512 --pairs 8
+--old-env and --new-env set an environment variable for one worker, e.g. POCL_AFFINITY=1.
 """
 
 import argparse
@@ -53,11 +54,12 @@ def worker(args):
 
 
 class Worker:
-    def __init__(self, package, traversal, args):
+    def __init__(self, package, traversal, variables, args):
         command = [sys.executable, os.path.abspath(__file__), "--worker", "--scene", args.scene,
                    "--bounces", str(args.bounces), "--size", str(args.size), "--traversal", traversal,
                    "--method", args.method]
         environment = dict(os.environ, PYTHONPATH=os.path.abspath(package))
+        environment.update(variable.split("=", 1) for variable in variables)
         self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
                                         env=environment)
         self.image_hash = self._read()
@@ -79,8 +81,8 @@ class Worker:
 
 
 def compare(args):
-    old = Worker(args.old, args.old_traversal or args.traversal, args)
-    new = Worker(args.new, args.new_traversal or args.traversal, args)
+    old = Worker(args.old, args.old_traversal or args.traversal, args.old_env, args)
+    new = Worker(args.new, args.new_traversal or args.traversal, args.new_env, args)
     print("images identical:", old.image_hash == new.image_hash)
     if args.method != "hbao":  # HBAO's G-buffer does not count its walks
         print("old counts:", old.ask("counts"))
@@ -107,6 +109,10 @@ def main():
     parser.add_argument("--size", type=int, default=512, help="image width and height")
     parser.add_argument("--pairs", type=int, default=8)
     parser.add_argument("--traversal", default="auto")
+    parser.add_argument("--old-env", action="append", default=[], metavar="NAME=VALUE",
+                        help="an environment variable for the old worker only (repeatable)")
+    parser.add_argument("--new-env", action="append", default=[], metavar="NAME=VALUE",
+                        help="an environment variable for the new worker only (repeatable)")
     parser.add_argument("--old-traversal", help="the old worker's traversal (default: --traversal)")
     parser.add_argument("--new-traversal", help="the new worker's traversal (default: --traversal)")
     parser.add_argument("--method", default="raytraced", choices=["raytraced", "hbao"])
