@@ -14,7 +14,7 @@
 
 typedef struct SceneView {
   __global const KdNode* nodes;
-  __global const uint* leaf_triangles;     // triangle ids, leaf by leaf
+  __global const uint* leaf_triangles;     // the node array as words: each leaf's triangle ids follow it
   __global const TriangleCoordinates* triangles;  // relative to Scene::render_origin
   __global const uint* triangle_vertices;  // 3 vertex ids per triangle (only with normals)
   __global const float4* vertex_normals;   // NULL: geometric normals everywhere
@@ -27,17 +27,16 @@ typedef struct SceneView {
 
 // Every kernel that traces takes the scene as its first parameters, in this
 // order; buffers a scene does not need are NULL.
-#define MBAO_SCENE_PARAMS                                                                   \
-  __global const KdNode *kd_nodes, __global const uint *leaf_triangles,                      \
-      __global const TriangleCoordinates *triangles, __global const uint *triangle_vertices, \
-      __global const float4 *vertex_normals, __global const uint *triangle_masks,           \
-      __global const MaskedTriangle *masked_triangles, __global const MaskTexture *mask_textures, \
-      __global const uchar *mask_texels, float4 bounds_lo, float4 bounds_hi
+#define MBAO_SCENE_PARAMS                                                                       \
+  __global const KdNode *kd_nodes, __global const TriangleCoordinates *triangles,               \
+      __global const uint *triangle_vertices, __global const float4 *vertex_normals,            \
+      __global const uint *triangle_masks, __global const MaskedTriangle *masked_triangles,     \
+      __global const MaskTexture *mask_textures, __global const uchar *mask_texels, float4 bounds_lo, \
+      float4 bounds_hi
 
-#define MBAO_SCENE_VIEW()                                                                      \
-  ((SceneView){kd_nodes, leaf_triangles, triangles, triangle_vertices, vertex_normals,  \
-               triangle_masks, masked_triangles, mask_textures, mask_texels, bounds_lo.xyz,     \
-               bounds_hi.xyz})
+#define MBAO_SCENE_VIEW()                                                                              \
+  ((SceneView){kd_nodes, (__global const uint*)kd_nodes, triangles, triangle_vertices, vertex_normals, \
+               triangle_masks, masked_triangles, mask_textures, mask_texels, bounds_lo.xyz, bounds_hi.xyz})
 
 static inline float3 triangle_corner(const SceneView* scene, uint triangle, int corner) {
   __global const float* along = (__global const float*)scene->triangles[triangle].along;

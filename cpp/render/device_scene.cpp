@@ -1,5 +1,6 @@
 #include "render/device_scene.h"
 
+#include "accel/kd_device_layout.h"
 #include "opencl/launch.h"
 
 
@@ -34,8 +35,7 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
   }
 
   try {
-    nodes_ = upload(context, queue, tree.nodes);
-    leaf_triangles_ = upload(context, queue, tree.leaf_triangles);
+    nodes_ = upload(context, queue, kd_device_layout(tree));
     triangles_ = upload(context, queue, triangles);
     if (with_normals && mesh.has_normals()) {
       std::vector<cl_uint> vertices;
@@ -64,7 +64,7 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
 cl_uint DeviceScene::set_args(cl::Kernel& kernel) const {
   cl_uint index = 0;
   // A buffer the scene does not need is NULL in the kernel.
-  for (const cl::Buffer* buffer : {&nodes_, &leaf_triangles_, &triangles_, &triangle_vertices_, &vertex_normals_,
+  for (const cl::Buffer* buffer : {&nodes_, &triangles_, &triangle_vertices_, &vertex_normals_,
                                    &triangle_masks_, &masked_triangles_, &mask_textures_, &mask_texels_})
     set_buffer_or_null(kernel, index++, *buffer);
   kernel.setArg(index++, bounds_lo_);

@@ -28,7 +28,7 @@ class DeviceScene {
   template <typename T>
   cl::Buffer upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data);
 
-  cl::Buffer nodes_, leaf_triangles_, triangles_, triangle_vertices_, vertex_normals_;
+  cl::Buffer nodes_, triangles_, triangle_vertices_, vertex_normals_;
   cl::Buffer triangle_masks_, masked_triangles_, mask_textures_, mask_texels_;
   cl_float4 bounds_lo_{}, bounds_hi_{};
   std::size_t bytes_ = 0;

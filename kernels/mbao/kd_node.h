@@ -4,7 +4,10 @@
 //                          (the child below is always the next node);
 //                          leaf -> number of triangles.
 //   payload: interior -> split position (float bits);
-//            leaf -> offset of the leaf's first entry in the triangle-index list.
+//            leaf -> where the leaf's triangle ids start, counted in 32-bit
+//            words from the start of the node array: on the device they follow
+//            the leaf's node (cpp/accel/kd_device_layout.h); in KdTree, the
+//            offset of its first entry in the separate list leaf_triangles.
 #ifndef MBAO_KD_NODE_H
 #define MBAO_KD_NODE_H
 

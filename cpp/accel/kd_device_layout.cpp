@@ -1,0 +1,45 @@
+#include "accel/kd_device_layout.h"
+
+#include <cstring>
+
+#include "core/error.h"
+
+namespace mbao {
+namespace {
+
+// Nodes a leaf's list takes after it: two ids to a node.
+std::size_t list_slots(KdNode node) {
+  return kd_is_leaf(node) ? (std::size_t(kd_triangle_count(node)) + 1) / 2 : 0;
+}
+
+}  // namespace
+
+std::vector<KdNode> kd_device_layout(const KdTree& tree) {
+  std::vector<std::size_t> placed(tree.nodes.size());
+  std::size_t slots = 0;
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    placed[i] = slots;
+    slots += 1 + list_slots(tree.nodes[i]);
+  }
+  // Leaves address their lists in 32-bit words, two per node.
+  if (slots > MBAO_KD_MAX_INDEX)
+    throw Error("kd-tree: " + std::to_string(slots) + " nodes with the leaves' lists inlined, more than the node " +
+                "format can address (" + std::to_string(MBAO_KD_MAX_INDEX) + ")");
+
+  std::vector<KdNode> layout(slots, KdNode{0, 0});
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const KdNode node = tree.nodes[i];
+    const auto at = std::uint32_t(placed[i]);
+    if (!kd_is_leaf(node)) {
+      layout[at] = kd_make_interior(kd_axis(node), kd_split(node), std::uint32_t(placed[kd_above_child(node)]));
+      continue;
+    }
+    const std::uint32_t count = kd_triangle_count(node);
+    layout[at] = kd_make_leaf(count, 2 * (at + 1));
+    if (count > 0)
+      std::memcpy(&layout[at + 1], &tree.leaf_triangles[kd_first_index(node)], count * sizeof(std::uint32_t));
+  }
+  return layout;
+}
+
+}  // namespace mbao

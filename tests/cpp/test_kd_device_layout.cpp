@@ -1,0 +1,96 @@
+// The kd-tree as the kernels read it: the same tree as KdTree's, node for node,
+// with each leaf's triangle ids in the words right after the leaf.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "accel/kd_device_layout.h"
+#include "core/error.h"
+#include "scene/cornell_box.h"
+
+namespace mbao {
+namespace {
+
+TriangleMesh small_triangles(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  TriangleMesh mesh;
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3 center(unit(rng), unit(rng), unit(rng));
+    for (int k = 0; k < 3; ++k)
+      mesh.positions.push_back(center + 0.05f * glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f));
+    const auto base = std::uint32_t(3 * i);
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  }
+  return mesh;
+}
+
+// Walks node `i` of the tree and node `at` of the layout together; returns the
+// layout's nodes and list slots reached from them.
+std::size_t expect_same_subtree(const KdTree& tree, std::size_t i, const std::vector<KdNode>& layout,
+                                std::size_t at) {
+  const KdNode node = tree.nodes.at(i), placed = layout.at(at);
+  EXPECT_EQ(kd_is_leaf(placed), kd_is_leaf(node)) << "node " << i;
+  if (!kd_is_leaf(node)) {
+    EXPECT_EQ(kd_axis(placed), kd_axis(node));
+    EXPECT_EQ(kd_split(placed), kd_split(node));
+    // The child below stays right after its parent: the walks never store it.
+    return 1 + expect_same_subtree(tree, i + 1, layout, at + 1) +
+           expect_same_subtree(tree, kd_above_child(node), layout, kd_above_child(placed));
+  }
+  const std::uint32_t count = kd_triangle_count(node);
+  EXPECT_EQ(kd_triangle_count(placed), count);
+  EXPECT_EQ(kd_first_index(placed), 2 * (at + 1)) << "leaf " << i << ": its ids follow it";
+  const auto* words = reinterpret_cast<const std::uint32_t*>(layout.data());
+  for (std::uint32_t k = 0; k < count; ++k)
+    EXPECT_EQ(words[kd_first_index(placed) + k], tree.leaf_triangles[kd_first_index(node) + k]);
+  return 1 + (count + 1) / 2;
+}
+
+void expect_layout_of(const KdTree& tree) {
+  const std::vector<KdNode> layout = kd_device_layout(tree);
+  // Every node and list slot is reached once from the root: nothing is left over.
+  EXPECT_EQ(expect_same_subtree(tree, 0, layout, 0), layout.size());
+  std::size_t slots = tree.nodes.size();
+  for (const KdNode& node : tree.nodes)
+    if (kd_is_leaf(node)) slots += (kd_triangle_count(node) + 1) / 2;
+  EXPECT_EQ(layout.size(), slots);
+}
+
+TEST(KdDeviceLayout, IsTheTreeWithEachLeafsIdsAfterIt) {
+  expect_layout_of(build_kd_tree(small_triangles(3000, 3)));
+  expect_layout_of(build_kd_tree(cornell_box()->mesh()));
+}
+
+TEST(KdDeviceLayout, OddAndEmptyListsTakeWholeNodes) {
+  // root: split at 0.5 on y; below: a leaf of 3 ids, above: an empty leaf.
+  KdTree tree;
+  tree.nodes = {kd_make_interior(1, 0.5f, 2), kd_make_leaf(3, 0), kd_make_leaf(0, 3)};
+  tree.leaf_triangles = {7, 8, 9};
+  const std::vector<KdNode> layout = kd_device_layout(tree);
+  ASSERT_EQ(layout.size(), 5u);  // root, leaf, two nodes of ids (one word unused), empty leaf
+  EXPECT_EQ(kd_above_child(layout[0]), 4u);
+  expect_layout_of(tree);
+}
+
+TEST(KdDeviceLayout, TooManyNodesForTheNodeFormatAreAnError) {
+  // Two leaves of 2^30 - 1 ids each need 2^30 + 3 nodes with their lists; the
+  // check comes before the lists are read, so they need not exist.
+  KdTree tree;
+  tree.nodes = {kd_make_interior(0, 0.5f, 2), kd_make_leaf(MBAO_KD_MAX_INDEX, 0),
+                kd_make_leaf(MBAO_KD_MAX_INDEX, 0)};
+  EXPECT_THROW(
+      {
+        try {
+          kd_device_layout(tree);
+        } catch (const Error& e) {
+          EXPECT_NE(std::string(e.what()).find("more than the node format can address"), std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      Error);
+}
+
+}  // namespace
+}  // namespace mbao
