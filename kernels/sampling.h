@@ -28,13 +28,16 @@ static inline void orthonormal_basis(float3 n, float3* t, float3* b) {
 }
 
 // Malley's method: uniform on the unit disk, projected up to the hemisphere.
+// Unit length up to rounding, as n, t and b are: not normalised again, which
+// took PoCL's normalize a square root, a division and its guards for vectors
+// too long or too short to square.
 static inline float3 cosine_direction(float3 n, float u1, float u2) {
   const float r = sqrt(u1);
   // Not sincos(2 pi u2): PoCL takes that through its general argument reduction.
   const float cos_phi = cospi(2.0f * u2), sin_phi = sinpi(2.0f * u2);
   float3 t, b;
   orthonormal_basis(n, &t, &b);
-  return normalize(r * cos_phi * t + r * sin_phi * b + sqrt(fmax(0.0f, 1.0f - u1)) * n);
+  return r * cos_phi * t + r * sin_phi * b + sqrt(fmax(0.0f, 1.0f - u1)) * n;
 }
 
 #endif
