@@ -100,10 +100,12 @@ static inline uint packet_intersect(const SceneView* scene, const PacketFrames* 
   return hits;
 }
 
-// The lanes of `hits` whose hit on `triangle` an alpha mask does not cut away.
-static inline uint packet_solid_hits(const SceneView* scene, uint triangle, uint hits, const PacketHits* h) {
+// The lanes of `hits` whose hit on the triangle of leaf entry `entry` its alpha
+// mask does not cut away.
+static inline uint packet_solid_hits(const SceneView* scene, uint entry, uint hits, const PacketHits* h) {
 #if MBAO_ALPHA_MASKS
-  if (!hits || scene->triangle_masks[triangle] == MBAO_NOT_MASKED) return hits;
+  if (!hits || !kd_entry_masked(entry)) return hits;
+  const uint triangle = kd_entry_triangle(entry);
   float b1[MBAO_LANES], b2[MBAO_LANES];
   vstore16(h->b1, 0, b1);
   vstore16(h->b2, 0, b2);
@@ -122,9 +124,10 @@ static inline void packet_test_leaf(const SceneView* scene, const PacketFrames* 
                                     PacketHits* best) {
   const uint first_entry = kd_first_index(leaf), end_entry = first_entry + kd_triangle_count(leaf);
   for (uint entry = first_entry; entry < end_entry; ++entry) {
-    const uint triangle = scene->leaf_triangles[entry];
+    const uint entry_word = scene->leaf_triangles[entry], triangle = kd_entry_triangle(entry_word);
     PacketHits h;
-    const uint hits = packet_solid_hits(scene, triangle, packet_intersect(scene, f, active, triangle, best->t, &h), &h);
+    const uint hits =
+        packet_solid_hits(scene, entry_word, packet_intersect(scene, f, active, triangle, best->t, &h), &h);
     if (!hits) continue;
     const int16 better = lane_mask(hits) & ((h.t < best->t) | ((uint16)(triangle) < best->triangle));
     best->t = select(best->t, h.t, better);

@@ -1,20 +1,28 @@
 #include "accel/kd_device_layout.h"
 
-#include <cstring>
+#include <string>
 
 #include "core/error.h"
+#include "mbao/alpha_mask.h"
 
 namespace mbao {
 namespace {
 
-// Nodes a leaf's list takes after it: two ids to a node.
+// Nodes a leaf's list takes after it: two entries to a node.
 std::size_t list_slots(KdNode node) {
   return kd_is_leaf(node) ? (std::size_t(kd_triangle_count(node)) + 1) / 2 : 0;
 }
 
+std::uint32_t leaf_entry(std::uint32_t triangle, const std::vector<std::uint32_t>& triangle_mask) {
+  if (triangle & MBAO_KD_ENTRY_MASKED)
+    throw Error("kd-tree: triangle id " + std::to_string(triangle) + " needs the bit of a leaf entry's mask flag");
+  const bool masked = triangle < triangle_mask.size() && triangle_mask[triangle] != MBAO_NOT_MASKED;
+  return masked ? triangle | MBAO_KD_ENTRY_MASKED : triangle;
+}
+
 }  // namespace
 
-std::vector<KdNode> kd_device_layout(const KdTree& tree) {
+std::vector<KdNode> kd_device_layout(const KdTree& tree, const std::vector<std::uint32_t>& triangle_mask) {
   std::vector<std::size_t> placed(tree.nodes.size());
   std::size_t slots = 0;
   for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
@@ -36,8 +44,10 @@ std::vector<KdNode> kd_device_layout(const KdTree& tree) {
     }
     const std::uint32_t count = kd_triangle_count(node);
     layout[at] = kd_make_leaf(count, 2 * (at + 1));
-    if (count > 0)
-      std::memcpy(&layout[at + 1], &tree.leaf_triangles[kd_first_index(node)], count * sizeof(std::uint32_t));
+    for (std::uint32_t k = 0; k < count; ++k) {
+      KdNode& pair = layout[at + 1 + k / 2];  // words 2 (at + 1) + k: header first
+      (k % 2 ? pair.payload : pair.header) = leaf_entry(tree.leaf_triangles[kd_first_index(node) + k], triangle_mask);
+    }
   }
   return layout;
 }

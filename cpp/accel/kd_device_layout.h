@@ -8,12 +8,16 @@
 namespace mbao {
 
 // The kd-tree as the kernels read it (kernels/mbao/kd_node.h): KdTree's nodes
-// in their order, depth first, with each non-empty leaf's triangle ids right
-// after the leaf's node, two to a node's 8 bytes. A leaf's fetch then brings
-// its first ids in the same cache line, where a separate list cost a walk a
+// in their order, depth first, with each non-empty leaf's entries right after
+// the leaf's node, two to a node's 8 bytes. A leaf's fetch then brings its
+// first entries in the same cache line, where a separate list cost a walk a
 // second dependent miss per leaf (docs/traversal-on-pocl.md). Interior nodes
 // keep the child below right after them, and every index is remapped.
-// Throws mbao::Error where the nodes and lists exceed what a node can address.
-std::vector<KdNode> kd_device_layout(const KdTree& tree);
+//
+// An entry is a triangle id with MBAO_KD_ENTRY_MASKED set where
+// triangle_mask (AlphaMasks::triangle_mask; empty: no masks) gives the
+// triangle one. Throws mbao::Error where the nodes and lists exceed what a
+// node can address, or an id needs the flag's bit.
+std::vector<KdNode> kd_device_layout(const KdTree& tree, const std::vector<std::uint32_t>& triangle_mask = {});
 
 }  // namespace mbao

@@ -35,7 +35,7 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
   }
 
   try {
-    nodes_ = upload(context, queue, kd_device_layout(tree));
+    nodes_ = upload(context, queue, kd_device_layout(tree, scene.masks().triangle_mask));
     triangles_ = upload(context, queue, triangles);
     if (with_normals && mesh.has_normals()) {
       std::vector<cl_uint> vertices;

@@ -35,11 +35,18 @@ MBAO_FN KdNode kd_make_leaf(mbao_u32 triangle_count, mbao_u32 first_index) {
   return node;
 }
 
+// A leaf's entry on the device (cpp/accel/kd_device_layout.h): the triangle id
+// in the low 31 bits, the top bit set where the triangle has an alpha mask, so
+// that a walk looks up the masks of those triangles only.
+#define MBAO_KD_ENTRY_MASKED 0x80000000u
+
 MBAO_FN int kd_is_leaf(KdNode node) { return (node.header & 3u) == MBAO_KD_LEAF; }
 MBAO_FN mbao_u32 kd_axis(KdNode node) { return node.header & 3u; }
 MBAO_FN float kd_split(KdNode node) { return mbao_u32_as_float(node.payload); }
 MBAO_FN mbao_u32 kd_above_child(KdNode node) { return node.header >> 2; }
 MBAO_FN mbao_u32 kd_triangle_count(KdNode node) { return node.header >> 2; }
 MBAO_FN mbao_u32 kd_first_index(KdNode node) { return node.payload; }
+MBAO_FN mbao_u32 kd_entry_triangle(mbao_u32 entry) { return entry & ~MBAO_KD_ENTRY_MASKED; }
+MBAO_FN int kd_entry_masked(mbao_u32 entry) { return (entry & MBAO_KD_ENTRY_MASKED) != 0; }
 
 #endif

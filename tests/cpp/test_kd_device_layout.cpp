@@ -1,11 +1,13 @@
 // The kd-tree as the kernels read it: the same tree as KdTree's, node for node,
-// with each leaf's triangle ids in the words right after the leaf.
+// with each leaf's entries (triangle ids, flagged where the triangle has an
+// alpha mask) in the words right after the leaf.
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "accel/kd_device_layout.h"
 #include "core/error.h"
+#include "mbao/alpha_mask.h"
 #include "scene/cornell_box.h"
 
 namespace mbao {
@@ -25,32 +27,40 @@ TriangleMesh small_triangles(std::size_t n, unsigned seed) {
   return mesh;
 }
 
+std::uint32_t word(const std::vector<KdNode>& layout, std::size_t index) {
+  const KdNode& pair = layout.at(index / 2);
+  return index % 2 ? pair.payload : pair.header;
+}
+
 // Walks node `i` of the tree and node `at` of the layout together; returns the
 // layout's nodes and list slots reached from them.
 std::size_t expect_same_subtree(const KdTree& tree, std::size_t i, const std::vector<KdNode>& layout,
-                                std::size_t at) {
+                                std::size_t at, const std::vector<std::uint32_t>& triangle_mask) {
   const KdNode node = tree.nodes.at(i), placed = layout.at(at);
   EXPECT_EQ(kd_is_leaf(placed), kd_is_leaf(node)) << "node " << i;
   if (!kd_is_leaf(node)) {
     EXPECT_EQ(kd_axis(placed), kd_axis(node));
     EXPECT_EQ(kd_split(placed), kd_split(node));
     // The child below stays right after its parent: the walks never store it.
-    return 1 + expect_same_subtree(tree, i + 1, layout, at + 1) +
-           expect_same_subtree(tree, kd_above_child(node), layout, kd_above_child(placed));
+    return 1 + expect_same_subtree(tree, i + 1, layout, at + 1, triangle_mask) +
+           expect_same_subtree(tree, kd_above_child(node), layout, kd_above_child(placed), triangle_mask);
   }
   const std::uint32_t count = kd_triangle_count(node);
   EXPECT_EQ(kd_triangle_count(placed), count);
   EXPECT_EQ(kd_first_index(placed), 2 * (at + 1)) << "leaf " << i << ": its ids follow it";
-  const auto* words = reinterpret_cast<const std::uint32_t*>(layout.data());
-  for (std::uint32_t k = 0; k < count; ++k)
-    EXPECT_EQ(words[kd_first_index(placed) + k], tree.leaf_triangles[kd_first_index(node) + k]);
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::uint32_t entry = word(layout, kd_first_index(placed) + k);
+    const std::uint32_t triangle = tree.leaf_triangles[kd_first_index(node) + k];
+    EXPECT_EQ(kd_entry_triangle(entry), triangle);
+    EXPECT_EQ(kd_entry_masked(entry), !triangle_mask.empty() && triangle_mask[triangle] != MBAO_NOT_MASKED);
+  }
   return 1 + (count + 1) / 2;
 }
 
-void expect_layout_of(const KdTree& tree) {
-  const std::vector<KdNode> layout = kd_device_layout(tree);
+void expect_layout_of(const KdTree& tree, const std::vector<std::uint32_t>& triangle_mask = {}) {
+  const std::vector<KdNode> layout = kd_device_layout(tree, triangle_mask);
   // Every node and list slot is reached once from the root: nothing is left over.
-  EXPECT_EQ(expect_same_subtree(tree, 0, layout, 0), layout.size());
+  EXPECT_EQ(expect_same_subtree(tree, 0, layout, 0, triangle_mask), layout.size());
   std::size_t slots = tree.nodes.size();
   for (const KdNode& node : tree.nodes)
     if (kd_is_leaf(node)) slots += (kd_triangle_count(node) + 1) / 2;
@@ -71,6 +81,13 @@ TEST(KdDeviceLayout, OddAndEmptyListsTakeWholeNodes) {
   ASSERT_EQ(layout.size(), 5u);  // root, leaf, two nodes of ids (one word unused), empty leaf
   EXPECT_EQ(kd_above_child(layout[0]), 4u);
   expect_layout_of(tree);
+}
+
+TEST(KdDeviceLayout, EntriesOfMaskedTrianglesAreFlagged) {
+  const TriangleMesh mesh = small_triangles(2000, 7);
+  std::vector<std::uint32_t> triangle_mask(mesh.triangles.size(), MBAO_NOT_MASKED);
+  for (std::size_t t = 0; t < triangle_mask.size(); t += 3) triangle_mask[t] = std::uint32_t(t / 3);
+  expect_layout_of(build_kd_tree(mesh), triangle_mask);
 }
 
 TEST(KdDeviceLayout, TooManyNodesForTheNodeFormatAreAnError) {
