@@ -205,6 +205,21 @@ static inline int lanes_visit_leaf(const SceneView* scene, Lanes* lanes, uint k,
   return 0;
 }
 
+// Starts loading a node. PoCL 3.1 compiles OpenCL's prefetch() to nothing and
+// __builtin_prefetch to prefetcht0; other compilers get prefetch().
+static inline void prefetch_node(__global const uint2* node) {
+#if defined(__has_builtin)
+#if __has_builtin(__builtin_prefetch)
+#define MBAO_BUILTIN_PREFETCH 1
+#endif
+#endif
+#ifdef MBAO_BUILTIN_PREFETCH
+  __builtin_prefetch(node);
+#else
+  prefetch(node, 1);
+#endif
+}
+
 // Traces the stream's rays [first, end) in sixteen lanes, adding their counts
 // to *totals in programs built with MBAO_COUNT_TRAVERSAL.
 static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint first, uint end, int any_hit,
@@ -235,6 +250,10 @@ static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint
 #endif
     const int16 at_leaf = (lane_uints(header) & 3u) == MBAO_KD_LEAF;
     lanes_descend(&lanes, header, payload, live, stack);
+    // The next step's nodes on their way before the leaves' tests, which can
+    // fill the core's window for the sixteen loads at the top of the loop.
+#pragma unroll
+    for (uint k = 0; k < MBAO_LANES; ++k) prefetch_node(node_words + lanes.node[k]);
     for (uint leaves = live & lane_bits(at_leaf); leaves; leaves &= leaves - 1) {
       const uint k = ctz(leaves);
       KdNode leaf;
