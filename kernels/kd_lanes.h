@@ -176,8 +176,14 @@ static inline void lanes_descend(Lanes* lanes, const uint* header, const uint* p
   const ulong16 entries = upsample(as_uint16(t_hi), far);
   const uint16 top = lane_uints(lanes->top);
   const uint16 slots = top * MBAO_LANES + lane_indices();
-#pragma unroll
-  for (uint k = 0; k < MBAO_LANES; ++k) stack[slots[k]] = entries[k];
+  // Lane by lane as components, written out: a vector indexed by a loop
+  // counter is a clang extension, not OpenCL C.
+#define MBAO_PUSH_LANE(k) stack[slots.s##k] = entries.s##k
+  MBAO_PUSH_LANE(0), MBAO_PUSH_LANE(1), MBAO_PUSH_LANE(2), MBAO_PUSH_LANE(3);
+  MBAO_PUSH_LANE(4), MBAO_PUSH_LANE(5), MBAO_PUSH_LANE(6), MBAO_PUSH_LANE(7);
+  MBAO_PUSH_LANE(8), MBAO_PUSH_LANE(9), MBAO_PUSH_LANE(a), MBAO_PUSH_LANE(b);
+  MBAO_PUSH_LANE(c), MBAO_PUSH_LANE(d), MBAO_PUSH_LANE(e), MBAO_PUSH_LANE(f);
+#undef MBAO_PUSH_LANE
   set_lane_uints(lanes->top, top - as_uint16(both & lanes_set(live)));
 }
 
