@@ -3,29 +3,14 @@
 // alpha mask) in the words right after the leaf.
 #include <gtest/gtest.h>
 
-#include <random>
-
 #include "accel/kd_device_layout.h"
 #include "core/error.h"
 #include "mbao/alpha_mask.h"
+#include "random_soup.h"
 #include "scene/cornell_box.h"
 
 namespace mbao {
 namespace {
-
-TriangleMesh small_triangles(std::size_t n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  TriangleMesh mesh;
-  for (std::size_t i = 0; i < n; ++i) {
-    const glm::vec3 center(unit(rng), unit(rng), unit(rng));
-    for (int k = 0; k < 3; ++k)
-      mesh.positions.push_back(center + 0.05f * glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f));
-    const auto base = std::uint32_t(3 * i);
-    mesh.triangles.push_back({base, base + 1, base + 2});
-  }
-  return mesh;
-}
 
 std::uint32_t word(const std::vector<KdNode>& layout, std::size_t index) {
   const KdNode& pair = layout.at(index / 2);
@@ -68,7 +53,7 @@ void expect_layout_of(const KdTree& tree, const std::vector<std::uint32_t>& tria
 }
 
 TEST(KdDeviceLayout, IsTheTreeWithEachLeafsIdsAfterIt) {
-  expect_layout_of(build_kd_tree(small_triangles(3000, 3)));
+  expect_layout_of(build_kd_tree(random_soup(3000, 3)));
   expect_layout_of(build_kd_tree(cornell_box()->mesh()));
 }
 
@@ -84,7 +69,7 @@ TEST(KdDeviceLayout, OddAndEmptyListsTakeWholeNodes) {
 }
 
 TEST(KdDeviceLayout, EntriesOfMaskedTrianglesAreFlagged) {
-  const TriangleMesh mesh = small_triangles(2000, 7);
+  const TriangleMesh mesh = random_soup(2000, 7);
   std::vector<std::uint32_t> triangle_mask(mesh.triangles.size(), MBAO_NOT_MASKED);
   for (std::size_t t = 0; t < triangle_mask.size(); t += 3) triangle_mask[t] = std::uint32_t(t / 3);
   expect_layout_of(build_kd_tree(mesh), triangle_mask);

@@ -14,6 +14,7 @@
 #include "accel/split_events.h"
 #include "accel/triangle_clip.h"
 #include "mbao/limits.h"
+#include "random_soup.h"
 #include "scene/cornell_box.h"
 
 namespace mbao {
@@ -130,21 +131,6 @@ KdTree checked_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {}
     EXPECT_NEAR(tree.stats.sah_cost, walk.sah, 1e-9 * walk.sah);
   }
   return tree;
-}
-
-TriangleMesh random_soup(std::size_t n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  TriangleMesh mesh;
-  for (std::size_t i = 0; i < n; ++i) {
-    const glm::vec3 center(unit(rng), unit(rng), unit(rng));
-    const float size = 0.3f * std::pow(unit(rng), 3.0f);  // mostly small, some large
-    for (int k = 0; k < 3; ++k)
-      mesh.positions.push_back(center + size * glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f));
-    const auto base = std::uint32_t(3 * i);
-    mesh.triangles.push_back({base, base + 1, base + 2});
-  }
-  return mesh;
 }
 
 // Axis-aligned unit quads on an integer grid in all three orientations: many
