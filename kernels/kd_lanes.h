@@ -152,8 +152,8 @@ static inline void lanes_descend(Lanes* lanes, const uint* header, const uint* p
   const float16 t_lo = lane_floats(lanes->t_lo), t_hi = lane_floats(lanes->t_hi);
   const uint16 axis = node_header & 3u;
   const int16 on_y = axis == 1u, on_z = axis == 2u;
-  const float16 origin =
-      select(select(lane_floats(lanes->origin_x), lane_floats(lanes->origin_y), on_y), lane_floats(lanes->origin_z), on_z);
+  const float16 origin = select(select(lane_floats(lanes->origin_x), lane_floats(lanes->origin_y), on_y),
+                                lane_floats(lanes->origin_z), on_z);
   const float16 inv_dir = select(select(lane_floats(lanes->inv_dir_x), lane_floats(lanes->inv_dir_y), on_y),
                                  lane_floats(lanes->inv_dir_z), on_z);
   const float16 t_split = (as_float16(lane_uints(payload)) - origin) * inv_dir;
@@ -211,14 +211,15 @@ static inline int lanes_visit_leaf(const SceneView* scene, Lanes* lanes, uint k,
   return 0;
 }
 
-// Starts loading a node. PoCL 3.1 compiles OpenCL's prefetch() to nothing and
-// __builtin_prefetch to prefetcht0; other compilers get prefetch().
-static inline void prefetch_node(__global const uint2* node) {
 #if defined(__has_builtin)
 #if __has_builtin(__builtin_prefetch)
 #define MBAO_BUILTIN_PREFETCH 1
 #endif
 #endif
+
+// Starts loading a node. PoCL 3.1 compiles OpenCL's prefetch() to nothing and
+// __builtin_prefetch to prefetcht0; other compilers get prefetch().
+static inline void prefetch_node(__global const uint2* node) {
 #ifdef MBAO_BUILTIN_PREFETCH
   __builtin_prefetch(node);
 #else

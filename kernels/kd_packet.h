@@ -124,7 +124,7 @@ static inline void packet_test_leaf(const SceneView* scene, const PacketFrames* 
                                     PacketHits* best) {
   const uint first_entry = kd_first_index(leaf), end_entry = first_entry + kd_triangle_count(leaf);
   for (uint entry = first_entry; entry < end_entry; ++entry) {
-    const uint entry_word = scene->leaf_triangles[entry], triangle = kd_entry_triangle(entry_word);
+    const uint entry_word = scene->leaf_entries[entry], triangle = kd_entry_triangle(entry_word);
     PacketHits h;
     const uint hits =
         packet_solid_hits(scene, entry_word, packet_intersect(scene, f, active, triangle, best->t, &h), &h);

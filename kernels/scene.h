@@ -14,7 +14,7 @@
 
 typedef struct SceneView {
   __global const KdNode* nodes;
-  __global const uint* leaf_triangles;     // the node array as words: each leaf's entries follow it
+  __global const uint* leaf_entries;       // the node array as words, each leaf's entries after it
   __global const TriangleCoordinates* triangles;  // relative to Scene::render_origin
   __global const uint* triangle_vertices;  // 3 vertex ids per triangle (only with normals)
   __global const float4* vertex_normals;   // NULL: geometric normals everywhere

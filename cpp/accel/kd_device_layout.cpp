@@ -45,8 +45,9 @@ std::vector<KdNode> kd_device_layout(const KdTree& tree, const std::vector<std::
     const std::uint32_t count = kd_triangle_count(node);
     layout[at] = kd_make_leaf(count, 2 * (at + 1));
     for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t entry = leaf_entry(tree.leaf_triangles[kd_first_index(node) + k], triangle_mask);
       KdNode& pair = layout[at + 1 + k / 2];  // words 2 (at + 1) + k: header first
-      (k % 2 ? pair.payload : pair.header) = leaf_entry(tree.leaf_triangles[kd_first_index(node) + k], triangle_mask);
+      (k % 2 ? pair.payload : pair.header) = entry;
     }
   }
   return layout;

@@ -4,10 +4,10 @@
 //                          (the child below is always the next node);
 //                          leaf -> number of triangles.
 //   payload: interior -> split position (float bits);
-//            leaf -> where the leaf's triangle ids start, counted in 32-bit
-//            words from the start of the node array: on the device they follow
-//            the leaf's node (cpp/accel/kd_device_layout.h); in KdTree, the
-//            offset of its first entry in the separate list leaf_triangles.
+//            leaf -> where the leaf's entries start, counted in 32-bit words:
+//            on the device, from the start of the node array, where they
+//            follow the leaf's node (cpp/accel/kd_device_layout.h); in KdTree,
+//            in the separate list leaf_triangles.
 #ifndef MBAO_KD_NODE_H
 #define MBAO_KD_NODE_H
 
