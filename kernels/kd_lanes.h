@@ -65,6 +65,11 @@ static inline uint lane_bits(int16 mask) {
   return in_2.x | in_2.y;
 }
 
+// The index of the lowest set bit of `bits` (not 0), as the count of the bits
+// below it: ctz is OpenCL C 2.0, which compilers of OpenCL C 1.2 need not know.
+// LLVM makes this one tzcnt.
+static inline uint lowest_lane(uint bits) { return popcount(~bits & (bits - 1u)); }
+
 // Lane k true where `bits` has bit k set: lane_bits the other way.
 static inline int16 lanes_set(uint bits) { return (lane_bit_values() & bits) != 0u; }
 
@@ -253,7 +258,8 @@ static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint
       payload[k] = words.y;
     }
 #if MBAO_COUNT_TRAVERSAL
-    for (uint lanes_left = live; lanes_left; lanes_left &= lanes_left - 1) ++lanes.counts[ctz(lanes_left)].nodes;
+    for (uint lanes_left = live; lanes_left; lanes_left &= lanes_left - 1)
+      ++lanes.counts[lowest_lane(lanes_left)].nodes;
 #endif
     const int16 at_leaf = (lane_uints(header) & 3u) == MBAO_KD_LEAF;
     lanes_descend(&lanes, header, payload, live, stack);
@@ -262,7 +268,7 @@ static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint
 #pragma unroll
     for (uint k = 0; k < MBAO_LANES; ++k) prefetch_node(node_words + lanes.node[k]);
     for (uint leaves = live & lane_bits(at_leaf); leaves; leaves &= leaves - 1) {
-      const uint k = ctz(leaves);
+      const uint k = lowest_lane(leaves);
       KdNode leaf;
       leaf.header = header[k];
       leaf.payload = payload[k];

@@ -88,7 +88,7 @@ static inline uint packet_intersect(const SceneView* scene, const PacketFrames* 
     vstore16(out->b2, 0, lane_b2);
     vstore16(t_max, 0, lane_t_max);
     for (; redo; redo &= redo - 1) {
-      const uint k = ctz(redo);
+      const uint k = lowest_lane(redo);
       const int hit_k = intersect_triangle(&f->lane[k], t, lane_t_max[k], &lane_t[k], &lane_b1[k], &lane_b2[k]);
       hits = hit_k ? hits | (1u << k) : hits & ~(1u << k);
     }
@@ -110,7 +110,7 @@ static inline uint packet_solid_hits(const SceneView* scene, uint entry, uint hi
   vstore16(h->b1, 0, b1);
   vstore16(h->b2, 0, b2);
   for (uint lanes = hits; lanes; lanes &= lanes - 1) {
-    const uint k = ctz(lanes);
+    const uint k = lowest_lane(lanes);
     if (!hit_is_solid(scene, triangle, b1[k], b2[k])) hits &= ~(1u << k);
   }
 #endif
