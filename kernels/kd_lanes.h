@@ -70,8 +70,8 @@ static inline uint lane_bits(int16 mask) {
 // LLVM makes this one tzcnt.
 static inline uint lowest_lane(uint bits) { return popcount(~bits & (bits - 1u)); }
 
-// Lane k true where `bits` has bit k set: lane_bits the other way.
-static inline int16 lanes_set(uint bits) { return (lane_bit_values() & bits) != 0u; }
+// Lane k of the mask wherever bit k of `bits` is set (lane_bits undone).
+static inline int16 lane_mask(uint bits) { return ((uint16)(bits) & lane_bit_values()) != 0u; }
 
 static inline uint16 lane_indices(void) {
   return (uint16)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 10u, 11u, 12u, 13u, 14u, 15u);
@@ -189,7 +189,7 @@ static inline void lanes_descend(Lanes* lanes, const uint* header, const uint* p
   MBAO_PUSH_LANE(8), MBAO_PUSH_LANE(9), MBAO_PUSH_LANE(a), MBAO_PUSH_LANE(b);
   MBAO_PUSH_LANE(c), MBAO_PUSH_LANE(d), MBAO_PUSH_LANE(e), MBAO_PUSH_LANE(f);
 #undef MBAO_PUSH_LANE
-  set_lane_uints(lanes->top, top - as_uint16(both & lanes_set(live)));
+  set_lane_uints(lanes->top, top - as_uint16(both & lane_mask(live)));
 }
 
 // Lane k's leaf, as trace_ray_from's walk takes it: returns 1 where the ray is

@@ -23,9 +23,6 @@
 
 #include "kd_lanes.h"
 
-// Lane k of the mask wherever bit k of `bits` is set (lane_bits undone).
-static inline int16 lane_mask(uint bits) { return ((uint16)(bits) & lane_bit_values()) != 0u; }
-
 // Each lane's ray for the watertight test: as vectors over the lanes, and as
 // the scalar test takes it, for its double fallback.
 typedef struct PacketFrames {
