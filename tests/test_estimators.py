@@ -111,6 +111,19 @@ def test_traversals_render_the_same_image(cornell, traversal):
     )
 
 
+@pytest.mark.parametrize("samples", [1, 3, 4, 6, 8])
+def test_lanes_draw_the_megakernels_directions_whatever_r(cornell, samples):
+    """The lanes' stream draws a surface's AO directions four at a time on
+    vectors, the rest one by one; the megakernel draws them one by one. An
+    image hardly shows a last-bit difference in a direction: those are
+    compared in tests/cpp/test_sampling.cpp."""
+    settings = dict(width=16, height=16, bounces=2, samples=samples, seed=11)
+    lanes = mbao.render(cornell, traversal="lanes", **settings)
+    assert lanes.stats["traversal_mode"] == "lanes"
+    megakernel = mbao.render(cornell, organisation="megakernel", **settings)
+    np.testing.assert_array_equal(lanes.ao, megakernel.ao)
+
+
 def test_the_wavefront_renders_the_megakernels_image(cornell):
     """The C++ tests compare them on more scenes; this is the Python path."""
     settings = dict(width=24, height=24, bounces=3, samples=3, rho=0.8, seed=9)
