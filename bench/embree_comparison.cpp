@@ -35,11 +35,14 @@ struct Frames {
   }
 };
 
-// mbao, Embree's single rays and Embree's packets, a frame of each in turn after
-// a warm-up frame of each: a machine whose speed drifts from one minute to the
-// next slows all three alike, and the ratio of rays/s stays the ratio of the
-// tracers (the development machine once ran Sponza's mbao frame in 0.65 of the
-// time it had taken a few minutes before).
+// mbao, Embree's single rays and Embree's packets in turn, each timed frame
+// after an untimed one of the same tracer: a machine whose speed drifts from
+// one minute to the next slows all three alike, so the ratio of rays/s stays
+// the ratio of the tracers (the development machine once ran Sponza's mbao
+// frame in 0.65 of the time it had taken a few minutes before), and every
+// timed frame starts on the caches its own tracer filled. Timed frame after
+// frame instead, Embree's packets always followed its single rays over the
+// same BVH and started warm, while mbao always started on Embree's data.
 struct Interleaved {
   Frames mbao, single, packets;
   mbao::RenderStats mbao_stats;  // of the last frame
@@ -49,11 +52,13 @@ Interleaved interleaved_frames(mbao::Renderer& renderer, const EmbreeAo& embree,
                                const mbao::RenderSettings& settings, int frames) {
   using Mode = EmbreeAo::Mode;
   Interleaved f;
-  for (int frame = -1; frame < frames; ++frame) {
+  for (int frame = 0; frame < frames; ++frame) {
+    renderer.render(s.scene, s.camera, settings);
     const mbao::RenderStats stats = renderer.render(s.scene, s.camera, settings).stats;
+    embree.render(s.camera, settings, Mode::SingleRays);
     const EmbreeFrame single = embree.render(s.camera, settings, Mode::SingleRays);
+    embree.render(s.camera, settings, Mode::Packets16);
     const EmbreeFrame packets = embree.render(s.camera, settings, Mode::Packets16);
-    if (frame < 0) continue;  // the warm-up
     f.mbao.add(stats.frame_ms, stats.rays_primary, stats.rays_secondary);
     f.single.add(single.frame_ms, single.rays_primary, single.rays_secondary);
     f.packets.add(packets.frame_ms, packets.rays_primary, packets.rays_secondary);
@@ -107,7 +112,7 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
   std::cout << "\nmbao: traversal " << mbao::to_string(options.settings.traversal)
             << " (the JSON's mbao.traversal and mbao.organisation say what ran); Embree 3: " << threads
             << " threads, high-quality BVH, the faster of its two forms in the ratio; max_distance = inf; a frame of"
-               " each of the three in turn, medians of "
+               " each of the three in turn, each after an untimed one of its own, medians of "
             << options.frames << ".\n\n";
   return rows;
 }
