@@ -2,10 +2,11 @@
 // known answers on the host, and the same numbers from the device.
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
+#include "device_outputs.h"
 #include "mbao/philox.h"
-#include "opencl/devices.h"
 #include "opencl/kernel_sources.h"
 
 namespace mbao {
@@ -40,9 +41,6 @@ TEST(Philox, UnitFloatsAreInTheHalfOpenUnitInterval) {
 }
 
 TEST(Philox, DeviceProducesTheHostsNumbers) {
-  const DeviceInfo device = default_device();
-  const cl::Context context(device.device);
-  cl::CommandQueue queue(context, device.device);
   const std::string source = kernel_program_source("mbao/philox.h") + R"(
     __kernel void draw(__global uint4* out) {
       const uint i = get_global_id(0);
@@ -51,15 +49,8 @@ TEST(Philox, DeviceProducesTheHostsNumbers) {
       const Philox4x32 r = philox4x32_10(c, 0x9e3779b9u, i);
       out[i] = (uint4)(r.v[0], r.v[1], r.v[2], r.v[3]);
     })";
-  cl::Program program(context, source);
-  program.build(device.device);
   const std::size_t n = 1000;
-  cl::Buffer out(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
-  cl::Kernel kernel(program, "draw");
-  kernel.setArg(0, out);
-  queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n));
-  std::vector<cl_uint4> device_words(n);
-  queue.enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(cl_uint4), device_words.data());
+  const std::vector<cl_uint4> device_words = device_outputs<cl_uint4>(source, "draw", n);
   for (mbao_u32 i = 0; i < n; ++i) {
     const Philox4x32 host = philox4x32_10({{i, 7u * i, 0xdeadbeefu, i ^ 0x12345678u}}, 0x9e3779b9u, i);
     for (int w = 0; w < 4; ++w) ASSERT_EQ(device_words[i].s[w], host.v[w]) << "counter " << i << " word " << w;

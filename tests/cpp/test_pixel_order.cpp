@@ -5,8 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "device_outputs.h"
 #include "mbao/pixel_order.h"
-#include "opencl/devices.h"
 #include "opencl/kernel_sources.h"
 
 namespace mbao {
@@ -76,26 +76,15 @@ TEST(PixelOrder, WalksCutBlocksRowByRow) {
 }
 
 TEST(PixelOrder, DeviceWalksTheHostsOrder) {
-  const DeviceInfo device = default_device();
-  const cl::Context context(device.device);
-  cl::CommandQueue queue(context, device.device);
   const std::string source = kernel_program_source("mbao/pixel_order.h") + R"(
     __kernel void order(uint width, uint height, __global uint* pixels) {
       const uint position = get_global_id(0);
       pixels[position] = pixel_at_position(position, width, height);
     })";
-  cl::Program program(context, source);
-  program.build(device.device);
   for (const Xy& size : {Xy{37, 21}, Xy{512, 512}, Xy{1, 33}}) {
     const mbao_u32 n = size.first * size.second;
-    cl::Buffer out(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint));
-    cl::Kernel kernel(program, "order");
-    kernel.setArg(0, cl_uint(size.first));
-    kernel.setArg(1, cl_uint(size.second));
-    kernel.setArg(2, out);
-    queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n));
-    std::vector<cl_uint> device_pixels(n);
-    queue.enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(cl_uint), device_pixels.data());
+    const std::vector<cl_uint> device_pixels =
+        device_outputs<cl_uint>(source, "order", n, cl_uint(size.first), cl_uint(size.second));
     for (mbao_u32 position = 0; position < n; ++position)
       ASSERT_EQ(device_pixels[position], pixel_at_position(position, size.first, size.second))
           << size.first << " x " << size.second << ", position " << position;

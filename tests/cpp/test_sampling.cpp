@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "opencl/devices.h"
+#include "device_outputs.h"
 #include "opencl/kernel_sources.h"
 
 namespace mbao {
@@ -47,18 +47,9 @@ const char* kCompare = R"(
   })";
 
 TEST(Sampling, DirectionsDrawnFourAtATimeAreTheDirectionsDrawnOneByOne) {
-  const DeviceInfo device = default_device();
-  const cl::Context context(device.device);
-  cl::CommandQueue queue(context, device.device);
-  cl::Program program(context, kernel_program_source("sampling.h") + kCompare);
-  program.build(device.device);
   const std::size_t n = 20000;
-  cl::Buffer out(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint));
-  cl::Kernel kernel(program, "compare");
-  kernel.setArg(0, out);
-  queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n));
-  std::vector<cl_uint> mismatches(n);
-  queue.enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(cl_uint), mismatches.data());
+  const std::vector<cl_uint> mismatches =
+      device_outputs<cl_uint>(kernel_program_source("sampling.h") + kCompare, "compare", n);
   for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(mismatches[i], 0u) << "work item " << i;
 }
 
