@@ -31,23 +31,31 @@
 #define MBAO_TRAVERSAL MBAO_TRAVERSAL_PUSHDOWN
 #endif
 
-// Stack entries (a power of two: the short stack wraps around) and whether
-// descents remember a push-down node.
+// Each walk's stack: its entries (the short stack's a power of two: it wraps
+// around), whether it is as deep as the tree (it never wraps) and whether
+// descents remember a push-down node. A lanes program walks its rays of one
+// per work item (ray queries, HBAO's G-buffer) as the full stack.
 #if MBAO_TRAVERSAL == MBAO_TRAVERSAL_RESTART
 #define MBAO_STACK_SIZE 0
+#define MBAO_FULL_STACK 0
 #define MBAO_PUSH_DOWN 0
 #elif MBAO_TRAVERSAL == MBAO_TRAVERSAL_PUSHDOWN
 #define MBAO_STACK_SIZE 0
+#define MBAO_FULL_STACK 0
 #define MBAO_PUSH_DOWN 1
 #elif MBAO_TRAVERSAL == MBAO_TRAVERSAL_SHORT_STACK
 #ifndef MBAO_SHORT_STACK_SIZE
 #define MBAO_SHORT_STACK_SIZE 4
 #endif
 #define MBAO_STACK_SIZE MBAO_SHORT_STACK_SIZE
+#define MBAO_FULL_STACK 0
 #define MBAO_PUSH_DOWN 1
-#else
+#elif MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK || MBAO_TRAVERSAL == MBAO_TRAVERSAL_LANES
 #define MBAO_STACK_SIZE MBAO_KD_MAX_DEPTH
+#define MBAO_FULL_STACK 1
 #define MBAO_PUSH_DOWN 0
+#else
+#error "MBAO_TRAVERSAL must be one of MBAO_TRAVERSAL_RESTART .. MBAO_TRAVERSAL_LANES"
 #endif
 
 // What a walk cost, counted only in programs built with MBAO_COUNT_TRAVERSAL.
@@ -126,7 +134,7 @@ typedef struct FarStack {
 } FarStack;
 
 static inline void far_stack_push_if(FarStack* stack, uint push, uint node, float t_hi) {
-#if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
+#if MBAO_FULL_STACK
   // It holds at most one entry per tree level, so top never passes the spare slot.
   const uint slot = stack->top;
   stack->top += push;
@@ -142,7 +150,7 @@ static inline void far_stack_push_if(FarStack* stack, uint push, uint node, floa
 
 #if MBAO_STACK_SIZE > 0
 static inline int far_stack_is_empty(const FarStack* stack) {
-#if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
+#if MBAO_FULL_STACK
   return stack->top == 0;
 #else
   return stack->count == 0;
@@ -151,7 +159,7 @@ static inline int far_stack_is_empty(const FarStack* stack) {
 
 static inline int far_stack_pop(FarStack* stack, uint* node, float* t_hi) {
   if (far_stack_is_empty(stack)) return 0;
-#if MBAO_TRAVERSAL == MBAO_TRAVERSAL_STACK
+#if MBAO_FULL_STACK
   --stack->top;
 #else
   stack->top = (stack->top - 1) & (MBAO_STACK_SIZE - 1);

@@ -1,26 +1,29 @@
-"""The kernels are OpenCL C 1.2 (README, "OpenCL C 1.2 or later"), not PoCL's dialect.
+"""The kernels are OpenCL C 1.2 (docs/limits.md, "OpenCL C 1.2 or later"), not PoCL's dialect.
 
 PoCL takes more than OpenCL C 1.2 offers (the lanes used ctz, an OpenCL C 2.0
-built-in), and a GPU's compiler need not. So every program is compiled here by
-clang's OpenCL C 1.2 front end for SPIR, which knows only the standard's built-ins,
-with the option sets the renderer builds (every traversal, each define off and
-on), and must compile without an error or a warning. clang is a `make test`
-dependency (the sanitizer build uses it).
+built-in), and a GPU's compiler need not. So every program variant a render plan
+can ask for (render/render_plan.h's all_program_variants) is compiled here by
+clang's OpenCL C 1.2 front end for SPIR, which knows only the standard's
+built-ins, with the double-precision geometry and with its float fallback, and
+must compile without an error or a warning. clang is a `make test` dependency
+(the sanitizer build uses it).
 """
 
-import itertools
+import collections
+import concurrent.futures
+import os
 import shutil
 import subprocess
 
 import pytest
 
 from conftest import REPO
+from mbao import _core
 
 KERNELS = REPO / "kernels"
-PROGRAMS = ["render.cl", "trace.cl", "hbao.cl"]
-TRAVERSALS = range(5)  # MBAO_TRAVERSAL_RESTART .. MBAO_TRAVERSAL_LANES (kd_traversal.h)
-SWITCHES = ["MBAO_COUNT_TRAVERSAL", "MBAO_ALPHA_MASKS", "MBAO_SHADING_NORMALS", "MBAO_UNLIMITED_DISTANCE",
-            "MBAO_LOAD_BOTH_CHILDREN", "MBAO_ORIGIN_PATHS"]
+VARIANTS = collections.defaultdict(list)
+for _file, _options in _core.kernel_variants():
+    VARIANTS[_file].append(_options)
 
 
 def clang():
@@ -30,13 +33,28 @@ def clang():
     return path
 
 
-@pytest.mark.parametrize("program, traversal, switched_on", itertools.product(PROGRAMS, TRAVERSALS, [0, 1]))
-def test_program_compiles_as_opencl_c_1_2(program, traversal, switched_on):
-    # The float fallbacks (MBAO_USE_FP64=0) with the switches on, the double ones with them off.
-    defines = [f"-DMBAO_TRAVERSAL={traversal}", f"-DMBAO_USE_FP64={1 - switched_on}"]
-    defines += [f"-D{name}={switched_on}" for name in SWITCHES]
+def compile_errors(program, options, use_fp64):
     # __OPENCL_VERSION__ is the runtime's (the platform's version), which clang alone does not define.
     command = [clang(), "-x", "cl", "-cl-std=CL1.2", "-target", "spir64", "-Xclang", "-finclude-default-header",
-               "-fsyntax-only", "-D__OPENCL_VERSION__=120", f"-I{KERNELS}", *defines, str(KERNELS / program)]
+               "-fsyntax-only", "-D__OPENCL_VERSION__=120", f"-I{KERNELS}", *options.split(),
+               f"-DMBAO_USE_FP64={use_fp64}", str(KERNELS / program)]
     result = subprocess.run(command, capture_output=True, text=True)
-    assert result.returncode == 0 and not result.stderr, f"{' '.join(command)}\n{result.stderr}"
+    if result.returncode == 0 and not result.stderr:
+        return None
+    return f"{' '.join(command)}\n{result.stderr}"
+
+
+def test_the_plan_lists_every_program():
+    assert sorted(VARIANTS) == ["hbao.cl", "render.cl", "trace.cl"]
+    # The lanes' walk and each of the four walks of one ray, in the programs that trace rays in streams.
+    for program in ("render.cl", "trace.cl"):
+        walks = {options.split()[0] for options in VARIANTS[program]}
+        assert walks == {f"-DMBAO_TRAVERSAL={w}" for w in range(5)}
+
+
+@pytest.mark.parametrize("program", ["render.cl", "trace.cl", "hbao.cl"])
+def test_every_variant_compiles_as_opencl_c_1_2(program):
+    jobs = [(options, fp64) for options in VARIANTS[program] for fp64 in (0, 1)]
+    with concurrent.futures.ThreadPoolExecutor(os.cpu_count()) as pool:
+        errors = [e for e in pool.map(lambda job: compile_errors(program, *job), jobs) if e]
+    assert not errors, f"{len(errors)} of {len(jobs)} builds failed; the first:\n{errors[0]}"

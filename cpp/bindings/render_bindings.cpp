@@ -27,6 +27,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["kernel_options"] = s.kernel_options;
   d["traversal_mode"] = s.traversal_mode;
   d["organisation"] = s.organisation.empty() ? py::object(py::none()) : py::str(s.organisation);
+  d["plan"] = s.plan;
   d["upload_ms"] = s.upload_ms;
   d["frame_ms"] = s.frame_ms;
   d["rays_primary"] = s.rays_primary;
@@ -156,6 +157,14 @@ The radius, in world units, is the render's max_distance.)doc")
         py::arg("traversal_stats"), py::arg("organisation"), py::arg("tile_pixels"), py::arg("work_group_size"),
         py::arg("max_rays"), py::arg("progress"), py::arg("method"), py::arg("hbao"),
         "Renders; returns (ao, mask, stats). Use mbao.render, which checks and documents the arguments.");
+  m.def(
+      "kernel_variants",
+      [] {
+        std::vector<std::pair<std::string, std::string>> variants;
+        for (const ProgramVariant& v : all_program_variants()) variants.emplace_back(v.file(), v.options());
+        return variants;
+      },
+      "Every (program file, build options) a render plan can ask for (render/render_plan.h).");
   m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"), py::arg("device"),
         py::arg("any_hit"), py::arg("traversal"), py::arg("traversal_stats"),
         "Traces (N, 3) origins along (N, 4) direction + t_max rows; returns (t, triangle, barycentrics).");

@@ -15,13 +15,13 @@ enum class NormalMode { Shading, Geometric };
 // Lanes: the full stack, sixteen rays per work item (kernels/kd_lanes.h); a
 // render walks its AO rays so in the wavefront organisation only, and its
 // camera rays sixteen to a packet (kernels/kd_packet.h).
-// Auto: the fastest measured for the device's type (see traversal_for).
+// Auto: the fastest measured for the device's class (plan_render in render/render_plan.h).
 // The values are the kernels' MBAO_TRAVERSAL (kernels/kd_traversal.h).
 enum class Traversal { Restart, PushDown, ShortStack, Stack, Lanes, Auto };
 // How the AO work is cut into kernels: one work item per pixel runs the whole
 // estimator, or one launch per bounce over a queue of the surfaces that bounce on.
 // Auto: the faster measured for the device's type where the wavefront can run
-// the settings (see organisation_for).
+// the settings (plan_render in render/render_plan.h).
 enum class KernelOrganisation { Megakernel, Wavefront, Auto };
 // What computes the image: the ray-traced estimators of SPEC 2, or HBAO (SPEC 4).
 enum class Method { RayTraced, Hbao };
@@ -73,7 +73,7 @@ struct RenderSettings {
   KernelOrganisation organisation = KernelOrganisation::Auto;  // wavefront: branching estimator only
   // Whether the rays that leave one surface point walk its path down the kd-tree
   // from private memory (OriginPath in kernels/kd_traversal.h); unset: the
-  // renderer's choice (see origin_paths_for).
+  // the plan's choice (plan_render in render/render_plan.h).
   std::optional<bool> origin_paths;
   Method method = Method::RayTraced;
   HbaoSettings hbao;  // method Hbao only

@@ -22,6 +22,7 @@ struct RenderStats {
   std::string kernel_options;    // what it was built for (SPEC features compiled in or out)
   std::string traversal_mode;    // the kd traversal the kernels ran ("auto" resolved for the device)
   std::string organisation;      // the ray-traced method's kernel organisation ("auto" resolved); empty for HBAO
+  std::vector<std::string> plan; // why "auto" chose as it did, a line per choice (RenderPlan::reasons)
   double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
   double frame_ms = 0.0;         // camera rays, AO and read-back of the image
   std::uint64_t rays_primary = 0;

@@ -21,51 +21,6 @@ namespace {
 constexpr std::size_t kMaxTileCameraSamples = std::size_t(1) << 20;
 constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 24;
 
-// What a program is built for: code that a scene or the settings do not need
-// is compiled out (no mask lookups without masks, no normals without shading
-// normals, no distance limit for max_distance = inf).
-struct ProgramFeatures {
-  Traversal traversal = Traversal::PushDown;  // its value is the kernels' MBAO_TRAVERSAL
-  bool count_traversal = false;
-  bool alpha_masks = false;
-  bool shading_normals = false;
-  bool unlimited_distance = true;
-  bool load_both_children = false;  // see trace_ray_from in kernels/kd_traversal.h
-  bool origin_paths = false;        // see OriginPath in kernels/kd_traversal.h
-
-  std::string options() const {
-    return "-DMBAO_TRAVERSAL=" + std::to_string(int(traversal)) +
-           " -DMBAO_COUNT_TRAVERSAL=" + std::to_string(int(count_traversal)) +
-           " -DMBAO_ALPHA_MASKS=" + std::to_string(int(alpha_masks)) +
-           " -DMBAO_SHADING_NORMALS=" + std::to_string(int(shading_normals)) +
-           " -DMBAO_UNLIMITED_DISTANCE=" + std::to_string(int(unlimited_distance)) +
-           " -DMBAO_LOAD_BOTH_CHILDREN=" + std::to_string(int(load_both_children)) +
-           " -DMBAO_ORIGIN_PATHS=" + std::to_string(int(origin_paths));
-  }
-};
-
-ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, Traversal traversal, bool count_traversal) {
-  ProgramFeatures features;
-  features.traversal = traversal;
-  features.count_traversal = count_traversal;
-  features.alpha_masks = !scene.masks().empty();
-  // Faster only for the full stack on a CPU; with a short stack or none it was slower there, and on an
-  // H100 it made every traversal 1.7-6.4 times slower (docs/traversal-on-pocl.md; README, "On an NVIDIA H100").
-  // Lanes: the camera rays and the ray queries of one ray per work item walk the full stack.
-  features.load_both_children =
-      device.type == "CPU" && (traversal == Traversal::Stack || traversal == Traversal::Lanes);
-  return features;
-}
-
-ProgramFeatures features_for(const Scene& scene, const DeviceInfo& device, const RenderSettings& settings,
-                             Traversal traversal) {
-  ProgramFeatures features = features_for(scene, device, traversal, settings.count_traversal);
-  features.shading_normals = settings.normals == NormalMode::Shading && scene.mesh().has_normals();
-  features.origin_paths = traversal != Traversal::Lanes && origin_paths_for(settings, device, scene.kd_tree()->stats);
-  features.unlimited_distance = std::isinf(settings.max_distance);
-  return features;
-}
-
 // The most pixels whose wavefront queues fit kMaxWavefrontQueueEntries (>= 1:
 // validate() refuses more per pixel); no limit for the megakernel.
 std::size_t queue_limited_pixels(const RenderSettings& s, std::size_t pixels) {
@@ -95,12 +50,6 @@ std::vector<cl_float4> relative_to(const std::vector<cl_float4>& points, const g
   return moved;
 }
 
-RenderSettings with_traversal(const RenderSettings& settings, Traversal traversal) {
-  RenderSettings resolved = settings;
-  resolved.traversal = traversal;
-  return resolved;
-}
-
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
 // Refuses, before allocating, a frame that cannot fit beside the scene: an
@@ -117,33 +66,6 @@ void check_device_memory(const DeviceInfo& device, const DeviceScene& scene, std
 }
 
 }  // namespace
-
-Traversal traversal_for(Traversal requested, const DeviceInfo& device, const KdTreeStats& tree) {
-  if (requested != Traversal::Auto) return requested;
-  if (device.type != "CPU") return Traversal::ShortStack;
-  return tree.max_depth >= kMinLanesDepth ? Traversal::Lanes : Traversal::Stack;
-}
-
-Traversal traversal_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree) {
-  const Traversal traversal = traversal_for(settings.traversal, device, tree);
-  const bool lanes_can_run = settings.organisation != KernelOrganisation::Megakernel &&
-                             settings.wavefront_can_run() && !settings.origin_paths.value_or(false);
-  if (settings.traversal == Traversal::Auto && traversal == Traversal::Lanes && !lanes_can_run)
-    return Traversal::Stack;
-  return traversal;
-}
-
-bool origin_paths_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree) {
-  if (settings.origin_paths) return *settings.origin_paths;
-  return device.type == "CPU" && tree.max_depth >= kMinOriginPathDepth;
-}
-
-KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device) {
-  if (settings.organisation != KernelOrganisation::Auto) return settings.organisation;
-  if (settings.traversal == Traversal::Lanes) return KernelOrganisation::Wavefront;
-  return device.type == "GPU" && settings.wavefront_can_run() ? KernelOrganisation::Wavefront
-                                                             : KernelOrganisation::Megakernel;
-}
 
 Renderer& Renderer::for_device(const DeviceInfo& device) {
   static std::mutex mutex;
@@ -170,18 +92,18 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   stats.tree = scene->kd_tree()->stats;
   stats.build_ms = stats.tree.build_ms;
 
-  const Traversal traversal = traversal_for(settings, device(), scene->kd_tree()->stats);
-  stats.traversal_mode = to_string(traversal);
-  const ProgramFeatures features = features_for(*scene, device(), settings, traversal);
+  const RenderPlan plan = plan_render(settings, device(), SceneTraits::of(*scene));
+  stats.traversal_mode = to_string(plan.traversal);
+  stats.plan = plan.reasons;
   Stopwatch upload_clock;
-  const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, features.shading_normals);
+  const std::shared_ptr<const DeviceScene> device_scene =
+      scenes_.get(compute_, scene, plan.program.shading_normals);
   stats.upload_ms = upload_clock.elapsed_ms();
 
-  const bool hbao = settings.method == Method::Hbao;
-  const BuiltProgram built = compute_.programs().get(hbao ? "hbao.cl" : "render.cl", features.options());
+  const BuiltProgram built = compute_.programs().get(plan.program.file(), plan.program.options());
   stats.kernel_build_ms = built.build_ms;
   stats.kernel_cache = to_string(built.origin);
-  stats.kernel_options = features.options();
+  stats.kernel_options = plan.program.options();
 
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   result.width = int(settings.width);
@@ -190,11 +112,14 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   result.mask.resize(pixels);
   const Camera local_camera = camera.relative_to(scene->render_origin());
   try {
-    if (hbao)
+    if (settings.method == Method::Hbao) {
       run_hbao(*device_scene, built.program, local_camera, settings, result);
-    else
-      run_traced(*device_scene, built.program, local_camera, with_traversal(settings, traversal), between_tiles,
-                 result);
+    } else {
+      RenderSettings planned = settings;
+      planned.traversal = plan.traversal;
+      planned.organisation = plan.organisation;
+      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, result);
+    }
   } catch (const cl::Error& e) {
     throw_device_error("rendering " + scene->name() + " on " + device().description(), e);
   }
@@ -203,10 +128,8 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
 }
 
 void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                          const RenderSettings& requested, const TileCallback& between_tiles, RenderResult& result) {
+                          const RenderSettings& settings, const TileCallback& between_tiles, RenderResult& result) {
   RenderStats& stats = result.stats;
-  RenderSettings settings = requested;
-  settings.organisation = organisation_for(requested, device());
   stats.organisation = to_string(settings.organisation);
   const std::size_t pixels = result.ao.size();
   const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
@@ -278,9 +201,8 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
   if (origins.empty()) return result;
   std::lock_guard<std::mutex> lock(mutex_);
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
-  const Traversal walk = traversal_for(traversal, device(), scene->kd_tree()->stats);
-  const BuiltProgram built =
-      compute_.programs().get("trace.cl", features_for(*scene, device(), walk, count_traversal).options());
+  const ProgramVariant variant = plan_trace(traversal, count_traversal, device(), SceneTraits::of(*scene));
+  const BuiltProgram built = compute_.programs().get(variant.file(), variant.options());
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {
     const cl::Context& context = compute_.context();
@@ -294,7 +216,7 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
     cl::Buffer hit_buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
     cl::Buffer count_buffer;
     if (count_traversal) count_buffer = cl::Buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
-    const bool lanes = walk == Traversal::Lanes;
+    const bool lanes = variant.walk == Traversal::Lanes;
     cl::Kernel kernel(built.program, lanes ? "trace_rays_in_lanes" : "trace_rays");
     cl_uint arg = device_scene->set_args(kernel);
     kernel.setArg(arg++, origin_buffer);

@@ -12,6 +12,7 @@
 #include "accel/kd_tree.h"
 #include "opencl/compute_context.h"
 #include "render/device_scene.h"
+#include "render/render_plan.h"
 #include "render/render_settings.h"
 #include "render/render_stats.h"
 #include "scene/camera.h"
@@ -30,41 +31,6 @@ struct TraceResult {
   std::vector<RayHit> hits;
   std::vector<cl_uint4> counts;  // per ray: nodes, leaves, triangle tests, restarts (when counted)
 };
-
-// What `requested` means on `device`, for rays in a scene whose tree is
-// `tree`: Auto is, on CPUs, lanes for trees at least kMinLanesDepth deep
-// (Sponza 0.81-0.88 and Sibenik 0.81-0.89 of the full stack's frame on PoCL,
-// the Stanford bunny, whose rays mostly escape, 1.02-1.08) and the full stack
-// otherwise (the Cornell box, 6 deep: lanes 1.08-1.18; the full stack has the
-// fewest nodes per ray and on PoCL the fastest frames of the walks of one ray,
-// mbao_bench's "traversals" section); on other devices the short stack, Horn et
-// al.'s choice for GPUs (on an H100 the two stacks tie and restart and
-// push-down are slower: bench/results/nvidia-h100.json; the short stack keeps
-// a work item's state small, where lanes keep sixteen stacks).
-Traversal traversal_for(Traversal requested, const DeviceInfo& device, const KdTreeStats& tree);
-constexpr int kMinLanesDepth = 16;
-// The same for a render, where lanes run in the wavefront only: Auto takes them
-// only where the wavefront can run the settings and the megakernel was not asked for.
-Traversal traversal_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree);
-
-// The organisation `settings` run with on `device`: Auto is the wavefront on GPUs
-// wherever it can run the settings (on an H100 at b = 2, 0.75-0.91 of the megakernel's
-// frame where many rays escape and a tie on closed scenes; a tie at b = 1;
-// bench/results/nvidia-h100.json) and the megakernel
-// otherwise (on PoCL they tie and the wavefront needs memory for its queues;
-// README "Megakernel against wavefront"), except that traversal lanes runs in the wavefront.
-KernelOrganisation organisation_for(const RenderSettings& settings, const DeviceInfo& device);
-
-// Whether the rays leaving one surface point share its path down the tree
-// (settings.origin_paths where set): on CPUs, for trees at least
-// kMinOriginPathDepth deep. There a walk's first descent, over nodes fetched
-// one after another, costs enough that taking them from the path pays (Sponza:
-// 0.96 / 0.93 of the frame at b = 1 / 2 on PoCL); on the Cornell box's tree, 6
-// deep, the path's setup costs more than it saves (1.04). On an H100 they cost
-// up to 6% of the frame at b = 2 (bench/results/nvidia-h100-origin-paths-alternating/):
-// there a path per bounce level, 264 bytes, sits in each work item's private memory.
-bool origin_paths_for(const RenderSettings& settings, const DeviceInfo& device, const KdTreeStats& tree);
-constexpr int kMinOriginPathDepth = 16;
 
 // Renders and traces on one OpenCL device, keeping its built programs and the
 // scenes uploaded to it. One per device for the life of the process (for_device);
@@ -90,9 +56,10 @@ class Renderer {
                     bool count_traversal = false);
 
  private:
-  // The two kinds of frame, given the scene on the device and the camera in its frame.
+  // The two kinds of frame, given the scene on the device and the camera in its frame; run_traced's
+  // settings carry the plan's traversal and organisation.
   void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                  const RenderSettings& requested, const TileCallback& between_tiles, RenderResult& result);
+                  const RenderSettings& settings, const TileCallback& between_tiles, RenderResult& result);
   void run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                 const RenderSettings& settings, RenderResult& result);
 

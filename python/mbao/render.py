@@ -23,8 +23,9 @@ class Result:
         pixels whose camera rays all missed are 1.
     mask: (height, width) bool, True where any camera sample hit geometry.
     stats: build_ms, tree_reused, kernel_build_ms, kernel_cache ("memory", "disk"
-        or "compiled"), kernel_options, upload_ms, frame_ms, rays_primary,
-        rays_secondary, memory_bytes, tiles, device, tree.
+        or "compiled"), kernel_options, traversal_mode, organisation, plan (why
+        "auto" chose the kernel variant it did, a line per choice), upload_ms,
+        frame_ms, rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
     """
 
     ao: np.ndarray
@@ -82,18 +83,16 @@ def render(
     traversal: how rays walk the kd-tree: "pushdown" or "short-stack" (Horn et al. 2007),
         "restart" (Foley and Sugerman 2005), "stack" (a full stack), "lanes" (the full stack,
         sixteen rays per work item in vector lanes, for CPUs: the branching estimator in the
-        wavefront organisation only; camera rays sixteen to a packet), or "auto": on CPUs
-        "lanes" where it can run and the tree is at least 16 deep, else "stack"; "short-stack"
-        on GPUs (stats["traversal_mode"] says which ran; on an H100 the two stacks tie). Same
-        image either way.
+        wavefront organisation only; camera rays sixteen to a packet), or "auto": the device
+        class's choice (docs/kernel-variants.md; stats["traversal_mode"] says which ran and
+        stats["plan"] why). Same image either way.
     device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
     traversal_stats: count nodes, leaves, triangle tests and restarts per ray into
         stats["traversal"] (kernels built to count, somewhat slower).
     organisation: "megakernel" (one work item runs a pixel's whole estimator),
         "wavefront" (branching only: one launch per bounce over a compacted queue of
-        the surfaces that bounce on), or "auto": the wavefront on GPUs where it can run
-        the settings (faster there at b >= 2) and wherever traversal is "lanes", else the
-        megakernel (on CPUs they tie where both walk one ray per work item).
+        the surfaces that bounce on), or "auto": the device class's choice, the wavefront
+        wherever traversal is "lanes" (docs/kernel-variants.md).
         Same image bit for bit; stats["organisation"] says which ran.
     tile_pixels, work_group_size: how the work is cut up (None: automatic); they do not change the image.
     max_rays: a render that could trace more rays than this (camera rays included) is refused

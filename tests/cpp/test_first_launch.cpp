@@ -17,6 +17,7 @@
 #include "opencl/devices.h"
 #include "render/device_scene.h"
 #include "render/frame.h"
+#include "render/render_plan.h"
 #include "scene/cornell_box.h"
 
 namespace mbao {
@@ -71,14 +72,13 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
   const std::shared_ptr<const Scene> scene = cornell_box();
   DeviceSceneCache scenes;
   const std::shared_ptr<const DeviceScene> device_scene = scenes.get(compute, scene, false);
-  // Any build of render.cl shows it; these are the options of the Cornell box's on a CPU today, with the
-  // traversal the frame's settings name (lanes programs have kernels of their own, camera packets included).
+  // Any build of render.cl shows it; these are the Cornell box's variants on a CPU, with the traversal the
+  // frame's settings name (lanes programs have kernels of their own, camera packets included).
   const auto program_for = [&](Traversal traversal) {
-    return compute.programs()
-        .get("render.cl", "-DMBAO_TRAVERSAL=" + std::to_string(int(traversal)) +
-                              " -DMBAO_COUNT_TRAVERSAL=0 -DMBAO_ALPHA_MASKS=0 -DMBAO_SHADING_NORMALS=0 "
-                              "-DMBAO_UNLIMITED_DISTANCE=1 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0")
-        .program;
+    ProgramVariant variant;
+    variant.walk = traversal;
+    variant.load_both_children = true;
+    return compute.programs().get(variant.file(), variant.options()).program;
   };
   const cl::Program programs[] = {program_for(Traversal::Stack), program_for(Traversal::Lanes)};
   if (files_under(caches / "pocl").empty())

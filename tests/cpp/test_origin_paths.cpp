@@ -290,28 +290,5 @@ TEST(OriginPaths, SponzaWithPathsIsTheImageWithout) {
   expect_same_render(sponza, camera, s);
 }
 
-TEST(OriginPaths, OnByDefaultOnCpusForDeepTreesOnly) {
-  DeviceInfo cpu, gpu;
-  cpu.type = "CPU";
-  gpu.type = "GPU";
-  KdTreeStats deep, shallow;
-  deep.max_depth = kMinOriginPathDepth;
-  shallow.max_depth = kMinOriginPathDepth - 1;
-  RenderSettings s;
-  EXPECT_TRUE(origin_paths_for(s, cpu, deep));
-  EXPECT_FALSE(origin_paths_for(s, cpu, shallow));
-  EXPECT_FALSE(origin_paths_for(s, gpu, deep));
-  s.origin_paths = true;
-  EXPECT_TRUE(origin_paths_for(s, gpu, shallow));
-  s.origin_paths = false;
-  EXPECT_FALSE(origin_paths_for(s, cpu, deep));
-  // The Cornell box's tree is too shallow for paths to pay; the renderer says what it chose.
-  const auto cornell = cornell_box();
-  RenderSettings defaults;
-  defaults.width = defaults.height = 8;
-  const RenderResult result = Renderer::for_device(default_device()).render(cornell, *cornell->camera(), defaults);
-  EXPECT_NE(result.stats.kernel_options.find("-DMBAO_ORIGIN_PATHS=0"), std::string::npos);
-}
-
 }  // namespace
 }  // namespace mbao

@@ -65,33 +65,13 @@ RenderSettings small(std::int64_t bounces) {
   return s;
 }
 
-TEST(Wavefront, AutoIsTheWavefrontOnGpusWhereItCanRunAndTheMegakernelElsewhere) {
-  DeviceInfo gpu, cpu;
-  gpu.type = "GPU";
-  cpu.type = "CPU";
-  RenderSettings s = small(2);
-  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Wavefront);
-  EXPECT_EQ(organisation_for(s, cpu), KernelOrganisation::Megakernel);
-  s.estimator = Estimator::Path;
-  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Megakernel);
-  s.estimator = Estimator::Branching;
-  s.method = Method::Hbao;
-  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Megakernel);
-  // What is asked for by name runs, on either device.
-  s = small(2);
-  s.organisation = KernelOrganisation::Megakernel;
-  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Megakernel);
-  s.organisation = KernelOrganisation::Wavefront;
-  EXPECT_EQ(organisation_for(s, cpu), KernelOrganisation::Wavefront);
-}
-
 TEST(Wavefront, StatsNameTheOrganisationThatRan) {
   const auto box = cornell_box();
   RenderSettings s = small(2);
   s.width = s.height = 8;
   Renderer& renderer = Renderer::for_device(default_device());
   EXPECT_EQ(renderer.render(box, *box->camera(), s).stats.organisation,
-            to_string(organisation_for(s, renderer.device())));
+            to_string(plan_render(s, renderer.device(), SceneTraits::of(*box)).organisation));
   for (KernelOrganisation named : {KernelOrganisation::Megakernel, KernelOrganisation::Wavefront})
     EXPECT_EQ(render(box, *box->camera(), s, named).stats.organisation, to_string(named));
 }
@@ -169,34 +149,6 @@ TEST(Wavefront, LanesCutALargeBounceIntoLaunches) {
   s.width = s.height = 24;
   s.samples = 1 << 12;
   expect_same_render(cornell, *cornell->camera(), s);
-}
-
-TEST(Wavefront, AutoTakesLanesOnCpusForDeepTreesWhereTheWavefrontCanRun) {
-  DeviceInfo gpu, cpu;
-  gpu.type = "GPU";
-  cpu.type = "CPU";
-  KdTreeStats deep, shallow;
-  deep.max_depth = kMinLanesDepth;
-  shallow.max_depth = kMinLanesDepth - 1;
-  RenderSettings s = small(2);
-  EXPECT_EQ(traversal_for(s, cpu, deep), Traversal::Lanes);
-  EXPECT_EQ(traversal_for(s, cpu, shallow), Traversal::Stack);
-  EXPECT_EQ(traversal_for(s, gpu, deep), Traversal::ShortStack);
-  EXPECT_EQ(traversal_for(Traversal::Auto, cpu, deep), Traversal::Lanes);  // ray queries
-  // Where lanes cannot run the settings, the full stack does.
-  s.organisation = KernelOrganisation::Megakernel;
-  EXPECT_EQ(traversal_for(s, cpu, deep), Traversal::Stack);
-  s = small(2);
-  s.estimator = Estimator::Path;
-  EXPECT_EQ(traversal_for(s, cpu, deep), Traversal::Stack);
-  s = small(2);
-  s.origin_paths = true;
-  EXPECT_EQ(traversal_for(s, cpu, deep), Traversal::Stack);
-  // Lanes run in the wavefront, which auto then picks on any device.
-  s = small(2);
-  s.traversal = Traversal::Lanes;
-  EXPECT_EQ(organisation_for(s, cpu), KernelOrganisation::Wavefront);
-  EXPECT_EQ(organisation_for(s, gpu), KernelOrganisation::Wavefront);
 }
 
 }  // namespace

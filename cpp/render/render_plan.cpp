@@ -1,0 +1,175 @@
+#include "render/render_plan.h"
+
+#include <cmath>
+
+namespace mbao {
+namespace {
+
+// The device table. Each entry's measurement is in docs/kernel-variants.md.
+const DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16};
+const DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0};
+const DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0};
+
+bool walks_full_stack(Traversal walk) { return walk == Traversal::Stack || walk == Traversal::Lanes; }
+
+// The walk of the rays that a lanes program traces one per work item.
+Traversal one_ray_walk(Traversal walk) { return walk == Traversal::Lanes ? Traversal::Stack : walk; }
+
+bool deep_enough(int depth, int min_depth) { return min_depth > 0 && depth >= min_depth; }
+
+std::string define(const char* name, int value) { return std::string(" -D") + name + "=" + std::to_string(value); }
+
+std::string depth_reason(const SceneTraits& scene, int min_depth) {
+  return "the tree is " + std::to_string(scene.tree_depth) + " deep, the profile's threshold " +
+         std::to_string(min_depth);
+}
+
+// Auto's walk for a render; lanes only where the wavefront can run the settings.
+Traversal plan_traversal(const RenderSettings& s, const DeviceProfile& profile, const SceneTraits& scene,
+                         std::vector<std::string>& reasons) {
+  if (s.traversal != Traversal::Auto) return s.traversal;
+  const bool lanes_can_run = s.organisation != KernelOrganisation::Megakernel && s.wavefront_can_run() &&
+                             !s.origin_paths.value_or(false);
+  const bool lanes = deep_enough(scene.tree_depth, profile.min_lanes_depth) && lanes_can_run;
+  const Traversal walk = lanes ? Traversal::Lanes : profile.walk;
+  std::string why = "traversal " + to_string(walk) + ": the " + profile.device_class + " profile's";
+  if (profile.min_lanes_depth > 0)
+    why += lanes ? " lanes (" + depth_reason(scene, profile.min_lanes_depth) + ")"
+                 : " walk of one ray (lanes need a tree at least " + std::to_string(profile.min_lanes_depth) +
+                       " deep and the wavefront; " + depth_reason(scene, profile.min_lanes_depth) + ")";
+  reasons.push_back(why);
+  return walk;
+}
+
+KernelOrganisation plan_organisation(const RenderSettings& s, Traversal traversal, const DeviceProfile& profile,
+                                     std::vector<std::string>& reasons) {
+  if (s.method == Method::Hbao) return KernelOrganisation::Megakernel;
+  if (s.organisation != KernelOrganisation::Auto) return s.organisation;
+  KernelOrganisation organisation = KernelOrganisation::Megakernel;
+  std::string why;
+  if (traversal == Traversal::Lanes) {
+    organisation = KernelOrganisation::Wavefront;
+    why = "lanes run in the wavefront";
+  } else if (profile.organisation == KernelOrganisation::Wavefront && s.wavefront_can_run()) {
+    organisation = KernelOrganisation::Wavefront;
+    why = "the " + profile.device_class + " profile's";
+  } else {
+    why = profile.organisation == KernelOrganisation::Wavefront ? "the wavefront cannot run these settings"
+                                                                : "the " + profile.device_class + " profile's";
+  }
+  reasons.push_back("organisation " + to_string(organisation) + ": " + why);
+  return organisation;
+}
+
+bool plan_origin_paths(const RenderSettings& s, Traversal walk, const DeviceProfile& profile,
+                       const SceneTraits& scene, std::vector<std::string>& reasons) {
+  if (walk == Traversal::Lanes || s.method == Method::Hbao) return false;
+  if (s.origin_paths) return *s.origin_paths;
+  const bool paths = deep_enough(scene.tree_depth, profile.min_origin_path_depth);
+  if (profile.min_origin_path_depth > 0)
+    reasons.push_back(std::string("origin paths ") + (paths ? "on" : "off") + ": " +
+                      depth_reason(scene, profile.min_origin_path_depth));
+  return paths;
+}
+
+}  // namespace
+
+const DeviceProfile& device_profile(const DeviceInfo& device) {
+  if (device.type == "CPU") return kCpu;
+  if (device.type == "GPU") return kGpu;
+  return kOther;
+}
+
+SceneTraits SceneTraits::of(const Scene& scene) {
+  SceneTraits traits;
+  traits.tree_depth = scene.kd_tree()->stats.max_depth;
+  traits.alpha_masks = !scene.masks().empty();
+  traits.vertex_normals = scene.mesh().has_normals();
+  return traits;
+}
+
+const char* ProgramVariant::file() const {
+  switch (program) {
+    case Program::Render: return "render.cl";
+    case Program::Trace: return "trace.cl";
+    case Program::Hbao: return "hbao.cl";
+  }
+  return "";
+}
+
+std::string ProgramVariant::options() const {
+  std::string o = define("MBAO_TRAVERSAL", int(walk)).substr(1);
+  if (program != Program::Hbao) o += define("MBAO_COUNT_TRAVERSAL", count_traversal);
+  o += define("MBAO_ALPHA_MASKS", alpha_masks);
+  if (program != Program::Trace) o += define("MBAO_SHADING_NORMALS", shading_normals);
+  if (program == Program::Render) o += define("MBAO_UNLIMITED_DISTANCE", unlimited_distance);
+  o += define("MBAO_LOAD_BOTH_CHILDREN", load_both_children);
+  if (program == Program::Render) o += define("MBAO_ORIGIN_PATHS", origin_paths);
+  return o;
+}
+
+std::vector<ProgramVariant> all_program_variants() {
+  std::vector<ProgramVariant> variants;
+  const Traversal walks[] = {Traversal::Restart, Traversal::PushDown, Traversal::ShortStack, Traversal::Stack,
+                             Traversal::Lanes};
+  for (Program program : {Program::Render, Program::Trace, Program::Hbao}) {
+    const bool render = program == Program::Render, hbao = program == Program::Hbao;
+    for (Traversal walk : walks) {
+      if (hbao && walk == Traversal::Lanes) continue;
+      for (int bits = 0; bits < 64; ++bits) {
+        ProgramVariant v;
+        v.program = program;
+        v.walk = walk;
+        v.count_traversal = bits & 1;
+        v.alpha_masks = bits & 2;
+        v.shading_normals = bits & 4;
+        v.unlimited_distance = bits & 8;
+        v.load_both_children = bits & 16;
+        v.origin_paths = bits & 32;
+        // Only the bits that the program reads, and only where the plan can set them.
+        if ((hbao && v.count_traversal) || (!render && !hbao && v.shading_normals) ||
+            (!render && !v.unlimited_distance) || (v.load_both_children && !walks_full_stack(walk)) ||
+            (v.origin_paths && (!render || walk == Traversal::Lanes)))
+          continue;
+        variants.push_back(v);
+      }
+    }
+  }
+  return variants;
+}
+
+RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const SceneTraits& scene) {
+  const DeviceProfile& profile = device_profile(device);
+  RenderPlan plan;
+  const bool hbao = s.method == Method::Hbao;
+  const Traversal traversal = plan_traversal(s, profile, scene, plan.reasons);
+  plan.traversal = hbao ? one_ray_walk(traversal) : traversal;
+  plan.organisation = plan_organisation(s, plan.traversal, profile, plan.reasons);
+
+  ProgramVariant& p = plan.program;
+  p.program = hbao ? Program::Hbao : Program::Render;
+  p.walk = plan.traversal;
+  p.count_traversal = !hbao && s.count_traversal;
+  p.alpha_masks = scene.alpha_masks;
+  p.shading_normals = s.normals == NormalMode::Shading && scene.vertex_normals;
+  p.unlimited_distance = hbao || std::isinf(s.max_distance);
+  p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
+  p.origin_paths = plan_origin_paths(s, p.walk, profile, scene, plan.reasons);
+  return plan;
+}
+
+ProgramVariant plan_trace(Traversal requested, bool count_traversal, const DeviceInfo& device,
+                          const SceneTraits& scene) {
+  const DeviceProfile& profile = device_profile(device);
+  ProgramVariant p;
+  p.program = Program::Trace;
+  p.walk = requested != Traversal::Auto                          ? requested
+           : deep_enough(scene.tree_depth, profile.min_lanes_depth) ? Traversal::Lanes
+                                                                  : profile.walk;
+  p.count_traversal = count_traversal;
+  p.alpha_masks = scene.alpha_masks;
+  p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
+  return p;
+}
+
+}  // namespace mbao

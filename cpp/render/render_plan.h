@@ -1,0 +1,78 @@
+#pragma once
+
+// Which kernel variant runs, and why: the one place where "auto" is decided.
+//
+// A plan turns what a render asks for (its settings), where it runs (the
+// device's class) and what it runs on (the scene's tree depth, alpha masks and
+// normals) into the kernels' variant: how one ray walks the kd-tree, whether a
+// bounce's rays are walked sixteen to a work item (lanes), how the AO work is
+// cut into kernels, and which features each program is compiled with.
+// docs/kernel-variants.md has the device table with the measurement behind
+// each entry.
+
+#include <string>
+#include <vector>
+
+#include "opencl/devices.h"
+#include "render/render_settings.h"
+#include "scene/scene.h"
+
+namespace mbao {
+
+// What one class of device runs where the settings leave the choice to mbao.
+struct DeviceProfile {
+  std::string device_class;              // "CPU", "GPU" or "other" (accelerators: unmeasured)
+  Traversal walk;                        // for rays walked one per work item
+  int min_lanes_depth;                   // lanes for trees at least this deep (0: never)
+  KernelOrganisation organisation;       // where the wavefront can run the settings
+  bool load_both_children;               // in the full stack's walk (MBAO_LOAD_BOTH_CHILDREN)
+  int min_origin_path_depth;             // origin paths for trees at least this deep (0: never)
+};
+
+// The row of the device table for `device`.
+const DeviceProfile& device_profile(const DeviceInfo& device);
+
+// What a plan needs to know of a scene.
+struct SceneTraits {
+  int tree_depth = 0;
+  bool alpha_masks = false;
+  bool vertex_normals = false;
+  static SceneTraits of(const Scene& scene);  // builds the scene's tree if it has none
+};
+
+enum class Program { Render, Trace, Hbao };
+
+// One build of one program: its file and the defines that program reads.
+struct ProgramVariant {
+  Program program = Program::Render;
+  Traversal walk = Traversal::Stack;  // MBAO_TRAVERSAL: never Auto; Lanes only for render.cl and trace.cl
+  bool count_traversal = false;      // render.cl, trace.cl
+  bool alpha_masks = false;
+  bool shading_normals = false;      // render.cl, hbao.cl
+  bool unlimited_distance = true;    // render.cl
+  bool load_both_children = false;   // full-stack walks only (Stack, Lanes)
+  bool origin_paths = false;         // render.cl, walks of one ray only
+
+  const char* file() const;
+  // "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 ...": the defines `program` reads, in a fixed order.
+  std::string options() const;
+};
+
+// Every variant a plan can ask for: the programs a build of mbao may compile.
+std::vector<ProgramVariant> all_program_variants();
+
+struct RenderPlan {
+  Traversal traversal;              // never Auto; for HBAO the G-buffer's walk
+  KernelOrganisation organisation;  // never Auto for the ray-traced method; Megakernel for HBAO
+  ProgramVariant program;
+  std::vector<std::string> reasons;  // one line per choice made for "auto"
+};
+
+// Throws nothing: `settings` is validated before (RenderSettings::validate).
+RenderPlan plan_render(const RenderSettings& settings, const DeviceInfo& device, const SceneTraits& scene);
+
+// A ray query (Renderer::trace): trace.cl with the walk `requested` resolves to.
+ProgramVariant plan_trace(Traversal requested, bool count_traversal, const DeviceInfo& device,
+                          const SceneTraits& scene);
+
+}  // namespace mbao

@@ -1,0 +1,196 @@
+// What "auto" runs (render/render_plan.h), device class by device class, and
+// what each program is compiled with. The images do not depend on the plan:
+// test_wavefront.cpp, test_origin_paths.cpp and tests/test_traversal.py
+// compare the variants' images and hits.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "render/render_plan.h"
+#include "render/renderer.h"
+#include "scene/cornell_box.h"
+
+namespace mbao {
+namespace {
+
+DeviceInfo device_of_type(const char* type) {
+  DeviceInfo device;
+  device.type = type;
+  return device;
+}
+const DeviceInfo kCpu = device_of_type("CPU"), kGpu = device_of_type("GPU"),
+                 kAccelerator = device_of_type("accelerator");
+
+SceneTraits tree_of_depth(int depth) {
+  SceneTraits scene;
+  scene.tree_depth = depth;
+  return scene;
+}
+const int kLanesDepth = device_profile(kCpu).min_lanes_depth;
+const SceneTraits kDeep = tree_of_depth(kLanesDepth), kShallow = tree_of_depth(kLanesDepth - 1);
+
+RenderSettings two_bounces() {
+  RenderSettings s;
+  s.bounces = 2;
+  return s;
+}
+
+TEST(RenderPlan, CpusWalkDeepTreesInLanesWhereTheWavefrontCanRunAndShallowOnesWithTheFullStack) {
+  RenderSettings s = two_bounces();
+  const RenderPlan deep = plan_render(s, kCpu, kDeep);
+  EXPECT_EQ(deep.traversal, Traversal::Lanes);
+  EXPECT_EQ(deep.organisation, KernelOrganisation::Wavefront);
+  const RenderPlan shallow = plan_render(s, kCpu, kShallow);
+  EXPECT_EQ(shallow.traversal, Traversal::Stack);
+  EXPECT_EQ(shallow.organisation, KernelOrganisation::Megakernel);
+  // Where lanes cannot run the settings, the full stack does.
+  s.organisation = KernelOrganisation::Megakernel;
+  EXPECT_EQ(plan_render(s, kCpu, kDeep).traversal, Traversal::Stack);
+  s = two_bounces();
+  s.estimator = Estimator::Path;
+  EXPECT_EQ(plan_render(s, kCpu, kDeep).traversal, Traversal::Stack);
+  s = two_bounces();
+  s.origin_paths = true;
+  EXPECT_EQ(plan_render(s, kCpu, kDeep).traversal, Traversal::Stack);
+  // Ray queries take lanes by the tree's depth alone.
+  EXPECT_EQ(plan_trace(Traversal::Auto, false, kCpu, kDeep).walk, Traversal::Lanes);
+  EXPECT_EQ(plan_trace(Traversal::Auto, false, kCpu, kShallow).walk, Traversal::Stack);
+}
+
+TEST(RenderPlan, GpusRunTheShortStackInTheWavefrontWhereItCanRunTheSettings) {
+  RenderSettings s = two_bounces();
+  EXPECT_EQ(plan_render(s, kGpu, kDeep).traversal, Traversal::ShortStack);
+  EXPECT_EQ(plan_render(s, kGpu, kDeep).organisation, KernelOrganisation::Wavefront);
+  EXPECT_EQ(plan_trace(Traversal::Auto, false, kGpu, kDeep).walk, Traversal::ShortStack);
+  s.estimator = Estimator::Path;
+  EXPECT_EQ(plan_render(s, kGpu, kDeep).organisation, KernelOrganisation::Megakernel);
+  // Other devices (unmeasured) take the GPU's walk in the megakernel.
+  EXPECT_EQ(plan_render(two_bounces(), kAccelerator, kDeep).traversal, Traversal::ShortStack);
+  EXPECT_EQ(plan_render(two_bounces(), kAccelerator, kDeep).organisation, KernelOrganisation::Megakernel);
+}
+
+TEST(RenderPlan, WhatIsAskedForByNameRunsOnAnyDevice) {
+  RenderSettings s = two_bounces();
+  s.organisation = KernelOrganisation::Megakernel;
+  s.traversal = Traversal::Restart;
+  EXPECT_EQ(plan_render(s, kGpu, kDeep).organisation, KernelOrganisation::Megakernel);
+  EXPECT_EQ(plan_render(s, kGpu, kDeep).traversal, Traversal::Restart);
+  s.organisation = KernelOrganisation::Wavefront;
+  EXPECT_EQ(plan_render(s, kCpu, kShallow).organisation, KernelOrganisation::Wavefront);
+  // Lanes run in the wavefront, which auto then picks on any device.
+  s = two_bounces();
+  s.traversal = Traversal::Lanes;
+  EXPECT_EQ(plan_render(s, kCpu, kShallow).organisation, KernelOrganisation::Wavefront);
+  EXPECT_EQ(plan_render(s, kGpu, kShallow).organisation, KernelOrganisation::Wavefront);
+  EXPECT_EQ(plan_trace(Traversal::PushDown, false, kCpu, kDeep).walk, Traversal::PushDown);
+}
+
+TEST(RenderPlan, OriginPathsOnCpusForDeepTreesOnlyAndNeverInLanes) {
+  RenderSettings s;
+  s.traversal = Traversal::Stack;
+  const int depth = device_profile(kCpu).min_origin_path_depth;
+  EXPECT_TRUE(plan_render(s, kCpu, tree_of_depth(depth)).program.origin_paths);
+  EXPECT_FALSE(plan_render(s, kCpu, tree_of_depth(depth - 1)).program.origin_paths);
+  EXPECT_FALSE(plan_render(s, kGpu, tree_of_depth(depth)).program.origin_paths);
+  s.origin_paths = true;
+  EXPECT_TRUE(plan_render(s, kGpu, tree_of_depth(depth - 1)).program.origin_paths);
+  s.origin_paths = false;
+  EXPECT_FALSE(plan_render(s, kCpu, tree_of_depth(depth)).program.origin_paths);
+  s = two_bounces();
+  EXPECT_FALSE(plan_render(s, kCpu, kDeep).program.origin_paths);  // lanes
+}
+
+TEST(RenderPlan, BothChildrenAreLoadedInTheFullStacksWalkOnCpusOnly) {
+  RenderSettings s;
+  for (const Traversal walk : {Traversal::Restart, Traversal::PushDown, Traversal::ShortStack, Traversal::Stack}) {
+    s.traversal = walk;
+    EXPECT_EQ(plan_render(s, kCpu, kShallow).program.load_both_children, walk == Traversal::Stack);
+    EXPECT_FALSE(plan_render(s, kGpu, kShallow).program.load_both_children);
+  }
+  EXPECT_TRUE(plan_trace(Traversal::Lanes, false, kCpu, kDeep).load_both_children);
+}
+
+TEST(RenderPlan, EachProgramIsBuiltWithTheDefinesItReads) {
+  SceneTraits scene = kDeep;
+  scene.alpha_masks = scene.vertex_normals = true;
+  RenderSettings s = two_bounces();
+  s.count_traversal = true;
+  s.max_distance = 2.0f;
+  EXPECT_EQ(plan_render(s, kCpu, scene).program.options(),
+            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 "
+            "-DMBAO_UNLIMITED_DISTANCE=0 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0");
+  EXPECT_EQ(plan_trace(Traversal::Auto, true, kCpu, scene).options(),
+            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_LOAD_BOTH_CHILDREN=1");
+  // HBAO's G-buffer walks one ray per pixel: none of the AO's counts, distance limit or origin paths.
+  s.method = Method::Hbao;
+  s.bounces = 1;
+  const RenderPlan hbao = plan_render(s, kCpu, scene);
+  EXPECT_STREQ(hbao.program.file(), "hbao.cl");
+  EXPECT_EQ(hbao.program.options(),
+            "-DMBAO_TRAVERSAL=3 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 -DMBAO_LOAD_BOTH_CHILDREN=1");
+  s.traversal = Traversal::Lanes;
+  EXPECT_EQ(plan_render(s, kCpu, scene).program.walk, Traversal::Stack);
+  s.normals = NormalMode::Geometric;
+  EXPECT_FALSE(plan_render(s, kCpu, scene).program.shading_normals);
+}
+
+// Every plan, over a grid of settings, devices and scenes, builds a variant
+// that all_program_variants lists: the list the OpenCL C 1.2 test compiles.
+TEST(RenderPlan, EveryPlannedProgramIsAListedVariant) {
+  std::set<std::string> listed;
+  for (const ProgramVariant& v : all_program_variants()) {
+    EXPECT_TRUE(listed.insert(std::string(v.file()) + " " + v.options()).second) << v.file() << " " << v.options();
+  }
+  const auto expect_listed = [&](const ProgramVariant& v) {
+    EXPECT_EQ(listed.count(std::string(v.file()) + " " + v.options()), 1u) << v.file() << " " << v.options();
+  };
+  for (const DeviceInfo& device : {kCpu, kGpu, kAccelerator})
+    for (int traits = 0; traits < 8; ++traits) {
+      SceneTraits scene = traits & 1 ? kDeep : kShallow;
+      scene.alpha_masks = traits & 2;
+      scene.vertex_normals = traits & 4;
+      for (const Traversal t : {Traversal::Restart, Traversal::PushDown, Traversal::ShortStack, Traversal::Stack,
+                                Traversal::Lanes, Traversal::Auto}) {
+        for (const bool count : {false, true}) expect_listed(plan_trace(t, count, device, scene));
+        for (int bits = 0; bits < 32; ++bits) {
+          RenderSettings s = two_bounces();
+          s.traversal = t;
+          s.count_traversal = bits & 1;
+          s.max_distance = bits & 2 ? 1.0f : s.max_distance;
+          s.normals = bits & 4 ? NormalMode::Geometric : NormalMode::Shading;
+          s.method = bits & 8 ? Method::Hbao : Method::RayTraced;
+          if (bits & 16 && t != Traversal::Lanes) s.origin_paths = !(bits & 1);
+          expect_listed(plan_render(s, device, scene).program);
+        }
+      }
+    }
+}
+
+TEST(RenderPlan, ReasonsNameEachAutomaticChoice) {
+  const RenderPlan plan = plan_render(two_bounces(), kCpu, kDeep);
+  ASSERT_EQ(plan.reasons.size(), 2u);  // traversal and organisation; lanes take no origin paths
+  EXPECT_NE(plan.reasons[0].find("traversal lanes"), std::string::npos);
+  EXPECT_NE(plan.reasons[1].find("organisation wavefront"), std::string::npos);
+  RenderSettings named = two_bounces();
+  named.traversal = Traversal::Stack;
+  named.organisation = KernelOrganisation::Megakernel;
+  named.origin_paths = false;
+  EXPECT_TRUE(plan_render(named, kCpu, kDeep).reasons.empty());
+}
+
+TEST(RenderPlan, TheRendererRunsThePlanAndSaysWhy) {
+  const auto box = cornell_box();
+  RenderSettings s;
+  s.width = s.height = 8;
+  Renderer& renderer = Renderer::for_device(default_device());
+  const RenderPlan plan = plan_render(s, renderer.device(), SceneTraits::of(*box));
+  const RenderResult result = renderer.render(box, *box->camera(), s);
+  EXPECT_EQ(result.stats.kernel_options, plan.program.options());
+  EXPECT_EQ(result.stats.traversal_mode, to_string(plan.traversal));
+  EXPECT_EQ(result.stats.organisation, to_string(plan.organisation));
+  EXPECT_EQ(result.stats.plan, plan.reasons);
+}
+
+}  // namespace
+}  // namespace mbao
