@@ -15,13 +15,6 @@ std::size_t work_group_size_for(const cl::Kernel& kernel, const cl::Device& devi
   return requested ? requested : std::min(kDefault, limit);
 }
 
-void set_buffer_or_null(cl::Kernel& kernel, cl_uint index, const cl::Buffer& buffer) {
-  if (buffer())
-    kernel.setArg(index, buffer);
-  else
-    kernel.setArg(index, sizeof(cl_mem), nullptr);
-}
-
 void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items, std::size_t work_group) {
   const std::size_t groups = std::max<std::size_t>(1, (items + work_group - 1) / work_group);
   queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * work_group), cl::NDRange(work_group));

@@ -12,9 +12,6 @@ namespace mbao {
 // allows. Throws std::invalid_argument for a request above that limit.
 std::size_t work_group_size_for(const cl::Kernel& kernel, const cl::Device& device, std::size_t requested);
 
-// Sets a buffer argument; a null buffer becomes NULL in the kernel.
-void set_buffer_or_null(cl::Kernel& kernel, cl_uint index, const cl::Buffer& buffer);
-
 // Enqueues `items` work items in groups of `work_group` (at least one group,
 // so an empty launch still runs: the kernels return for indices past their count).
 void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items, std::size_t work_group);

@@ -6,29 +6,47 @@ cl_float4 to_float4(const glm::vec3& v) { return {{v.x, v.y, v.z, 0.0f}}; }
 
 cl_uint2 seed_words(std::uint64_t seed) { return {{cl_uint(seed & 0xFFFFFFFFu), cl_uint(seed >> 32)}}; }
 
-cl_uint set_camera_args(cl::Kernel& kernel, cl_uint arg, const Camera& camera, const RenderSettings& s) {
+CameraArgs::CameraArgs(const Camera& camera, const RenderSettings& s) {
   const CameraBasis basis(camera);
   const float aspect = float(s.width) / float(s.height);
-  kernel.setArg(arg++, to_float4(camera.eye));
-  kernel.setArg(arg++, to_float4(basis.forward));
-  kernel.setArg(arg++, to_float4(basis.right));
-  kernel.setArg(arg++, to_float4(basis.up));
-  kernel.setArg(arg++, cl_float2{{basis.tan_half_vfov * aspect, basis.tan_half_vfov}});
-  kernel.setArg(arg++, cl_uint(s.width));
-  kernel.setArg(arg++, cl_uint(s.height));
-  return arg;
+  eye = to_float4(camera.eye);
+  forward = to_float4(basis.forward);
+  right = to_float4(basis.right);
+  up = to_float4(basis.up);
+  film_scale = cl_float2{{basis.tan_half_vfov * aspect, basis.tan_half_vfov}};
+  width = cl_uint(s.width);
+  height = cl_uint(s.height);
 }
 
-cl_uint set_ao_args(cl::Kernel& kernel, cl_uint arg, const Camera& camera, const RenderSettings& s) {
-  kernel.setArg(arg++, to_float4(camera.eye));
-  kernel.setArg(arg++, cl_uint2{{cl_uint(s.width), cl_uint(s.height)}});
-  kernel.setArg(arg++, cl_uint(s.spp));
-  kernel.setArg(arg++, cl_uint(s.bounces));
-  kernel.setArg(arg++, cl_uint(s.samples));
-  kernel.setArg(arg++, s.rho);
-  kernel.setArg(arg++, s.max_distance);
-  kernel.setArg(arg++, seed_words(s.seed));
-  return arg;
+void CameraArgs::append_to(KernelArgs& args) const {
+  args.append(eye);
+  args.append(forward);
+  args.append(right);
+  args.append(up);
+  args.append(film_scale);
+  args.append(width);
+  args.append(height);
+}
+
+AoArgs::AoArgs(const Camera& camera, const RenderSettings& s)
+    : eye(to_float4(camera.eye)),
+      image_size{{cl_uint(s.width), cl_uint(s.height)}},
+      spp(cl_uint(s.spp)),
+      bounces(cl_uint(s.bounces)),
+      samples(cl_uint(s.samples)),
+      rho(s.rho),
+      max_distance(s.max_distance),
+      seed(seed_words(s.seed)) {}
+
+void AoArgs::append_to(KernelArgs& args) const {
+  args.append(eye);
+  args.append(image_size);
+  args.append(spp);
+  args.append(bounces);
+  args.append(samples);
+  args.append(rho);
+  args.append(max_distance);
+  args.append(seed);
 }
 
 }  // namespace mbao

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 
+#include "opencl/kernel_args.h"
 #include "opencl/opencl.h"
 #include "render/render_settings.h"
 #include "scene/camera.h"
@@ -19,11 +20,26 @@ struct FrameBuffers {
 cl_float4 to_float4(const glm::vec3& v);
 cl_uint2 seed_words(std::uint64_t seed);
 
-// Sets the camera parameters that trace_camera_rays and hbao_gbuffer share (eye,
-// forward, right, up, film scale, width, height) from `arg` on; returns the next index.
-cl_uint set_camera_args(cl::Kernel& kernel, cl_uint arg, const Camera& camera, const RenderSettings& s);
+// The camera parameters that trace_camera_rays and hbao_gbuffer share, in their order.
+struct CameraArgs {
+  CameraArgs(const Camera& camera, const RenderSettings& s);
+  void append_to(KernelArgs& args) const;
 
-// Sets render.cl's MBAO_AO_PARAMS from argument `arg` on; returns the next argument's index.
-cl_uint set_ao_args(cl::Kernel& kernel, cl_uint arg, const Camera& camera, const RenderSettings& s);
+  cl_float4 eye, forward, right, up;
+  cl_float2 film_scale;  // tan of half the field of view, horizontally and vertically
+  cl_uint width, height;
+};
+
+// render.cl's MBAO_AO_PARAMS, in their order.
+struct AoArgs {
+  AoArgs(const Camera& camera, const RenderSettings& s);
+  void append_to(KernelArgs& args) const;
+
+  cl_float4 eye;
+  cl_uint2 image_size;
+  cl_uint spp, bounces, samples;
+  cl_float rho, max_distance;
+  cl_uint2 seed;
+};
 
 }  // namespace mbao

@@ -61,15 +61,13 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
   bounds_hi_ = to_float4(tree.bounds.hi);
 }
 
-cl_uint DeviceScene::set_args(cl::Kernel& kernel) const {
-  cl_uint index = 0;
+void DeviceScene::append_to(KernelArgs& args) const {
   // A buffer the scene does not need is NULL in the kernel.
   for (const cl::Buffer* buffer : {&nodes_, &triangles_, &triangle_vertices_, &vertex_normals_,
                                    &triangle_masks_, &masked_triangles_, &mask_textures_, &mask_texels_})
-    set_buffer_or_null(kernel, index++, *buffer);
-  kernel.setArg(index++, bounds_lo_);
-  kernel.setArg(index++, bounds_hi_);
-  return index;
+    args.append(*buffer);
+  args.append(bounds_lo_);
+  args.append(bounds_hi_);
 }
 
 std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute,

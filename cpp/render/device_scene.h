@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "opencl/compute_context.h"
+#include "opencl/kernel_args.h"
 #include "scene/scene.h"
 
 namespace mbao {
@@ -20,8 +21,8 @@ class DeviceScene {
   DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
               bool with_normals);
 
-  // Sets the kernel's leading scene parameters; returns the next parameter's index.
-  cl_uint set_args(cl::Kernel& kernel) const;
+  // The kernels' leading scene parameters (MBAO_SCENE_PARAMS), for set_kernel_args.
+  void append_to(KernelArgs& args) const;
   std::size_t bytes() const { return bytes_; }
 
  private:

@@ -30,7 +30,11 @@ std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
              const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels)
-    : pixels_(std::size_t(s.width) * std::size_t(s.height)),
+    : scene_(scene),
+      camera_args_(camera, s),
+      ao_args_(camera, s),
+      seed_(seed_words(s.seed)),
+      pixels_(std::size_t(s.width) * std::size_t(s.height)),
       tile_pixels_(tile_pixels),
       spp_(std::size_t(s.spp)),
       camera_rays_per_item_(camera_rays_per_item(s)) {
@@ -46,40 +50,26 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   }
 
   camera_rays_ = cl::Kernel(program, camera_rays_per_item_ > 1 ? "trace_camera_packets" : "trace_camera_rays");
-  cl_uint arg = set_camera_args(camera_rays_, scene.set_args(camera_rays_), camera, s);
-  camera_rays_.setArg(arg++, cl_uint(spp_));
-  camera_rays_.setArg(arg++, seed_words(s.seed));
-  camera_tile_arg_ = arg;
-  camera_rays_.setArg(arg + 2, buffers_.camera_hits);
-  set_buffer_or_null(camera_rays_, arg + 3, buffers_.traversal_totals);
   camera_group_ = work_group_size_for(camera_rays_, device, s.work_group_size);
 
   if (s.organisation == KernelOrganisation::Wavefront) {
-    wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, camera, s, tile_pixels, buffers_);
+    wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, ao_args_, s, tile_pixels, buffers_);
   } else {
-    set_up_megakernel(device, program, scene, camera, s);
+    set_up_megakernel(device, program, s);
   }
 }
 
-void Frame::set_up_megakernel(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
-                              const Camera& camera, const RenderSettings& s) {
+void Frame::set_up_megakernel(const cl::Device& device, const cl::Program& program, const RenderSettings& s) {
   ao_kernel_ = cl::Kernel(program, s.estimator == Estimator::Branching ? "ao_branching" : "ao_path");
-  const cl_uint arg = set_ao_args(ao_kernel_, scene.set_args(ao_kernel_), camera, s);
-  ao_tile_arg_ = arg;
-  ao_kernel_.setArg(arg + 2, buffers_.camera_hits);
-  ao_kernel_.setArg(arg + 3, buffers_.ao);
-  ao_kernel_.setArg(arg + 4, buffers_.coverage);
-  ao_kernel_.setArg(arg + 5, buffers_.secondary_rays);
-  set_buffer_or_null(ao_kernel_, arg + 6, buffers_.traversal_totals);
   ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
 }
 
 void Frame::set_tile(std::size_t first, std::size_t count) {
-  camera_rays_.setArg(camera_tile_arg_, cl_uint(first));
-  camera_rays_.setArg(camera_tile_arg_ + 1, cl_uint(count));
+  set_kernel_args(camera_rays_, scene_, camera_args_, cl_uint(spp_), seed_, cl_uint(first), cl_uint(count),
+                  buffers_.camera_hits, buffers_.traversal_totals);
   if (wavefront_) return;  // it sets its own kernels' tile
-  ao_kernel_.setArg(ao_tile_arg_, cl_uint(first));
-  ao_kernel_.setArg(ao_tile_arg_ + 1, cl_uint(count));
+  set_kernel_args(ao_kernel_, scene_, ao_args_, cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.ao,
+                  buffers_.coverage, buffers_.secondary_rays, buffers_.traversal_totals);
 }
 
 void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {

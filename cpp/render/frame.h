@@ -45,21 +45,22 @@ class Frame {
   std::string launch_signature() const;
 
  private:
-  void set_up_megakernel(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
-                         const Camera& camera, const RenderSettings& s);
+  void set_up_megakernel(const cl::Device& device, const cl::Program& program, const RenderSettings& s);
   void set_tile(std::size_t first, std::size_t count);
   // The camera kernel's work items for `pixels` pixels.
   std::size_t camera_items(std::size_t pixels) const;
 
+  const DeviceScene& scene_;
+  const CameraArgs camera_args_;
+  const AoArgs ao_args_;
+  const cl_uint2 seed_;
   std::size_t pixels_, tile_pixels_, spp_;
   std::size_t camera_rays_per_item_;
   FrameBuffers buffers_;
   cl::Kernel camera_rays_;
-  cl_uint camera_tile_arg_ = 0;
   std::size_t camera_group_ = 0;
   // The megakernel, or else the wavefront.
   cl::Kernel ao_kernel_;
-  cl_uint ao_tile_arg_ = 0;
   std::size_t ao_group_ = 0;
   std::unique_ptr<Wavefront> wavefront_;
   std::size_t bytes_ = 0;

@@ -20,26 +20,13 @@ HbaoFrame::HbaoFrame(const cl::Context& context, const cl::Device& device, const
   coverage_ = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
 
   gbuffer_ = cl::Kernel(program, "hbao_gbuffer");
-  cl_uint arg = set_camera_args(gbuffer_, scene.set_args(gbuffer_), camera, s);
-  gbuffer_.setArg(arg++, positions_);
-  gbuffer_.setArg(arg++, normals_);
+  set_kernel_args(gbuffer_, scene, CameraArgs(camera, s), positions_, normals_);
   gbuffer_group_ = work_group_size_for(gbuffer_, device, s.work_group_size);
 
   hbao_ = cl::Kernel(program, "hbao");
-  arg = 0;
-  hbao_.setArg(arg++, positions_);
-  hbao_.setArg(arg++, normals_);
-  hbao_.setArg(arg++, cl_uint(s.width));
-  hbao_.setArg(arg++, cl_uint(s.height));
-  hbao_.setArg(arg++, CameraBasis(camera).tan_half_vfov);
-  hbao_.setArg(arg++, s.max_distance);
-  hbao_.setArg(arg++, float(std::sin(s.hbao.angle_bias_deg * M_PI / 180.0)));
-  hbao_.setArg(arg++, s.hbao.falloff);
-  hbao_.setArg(arg++, cl_uint(s.hbao.directions));
-  hbao_.setArg(arg++, cl_uint(s.hbao.steps));
-  hbao_.setArg(arg++, seed_words(s.seed));
-  hbao_.setArg(arg++, ao_);
-  hbao_.setArg(arg++, coverage_);
+  set_kernel_args(hbao_, positions_, normals_, cl_uint(s.width), cl_uint(s.height), CameraBasis(camera).tan_half_vfov,
+                  s.max_distance, float(std::sin(s.hbao.angle_bias_deg * M_PI / 180.0)), s.hbao.falloff,
+                  cl_uint(s.hbao.directions), cl_uint(s.hbao.steps), seed_words(s.seed), ao_, coverage_);
   hbao_group_ = work_group_size_for(hbao_, device, s.work_group_size);
 }
 

@@ -218,17 +218,14 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
     if (count_traversal) count_buffer = cl::Buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
     const bool lanes = variant.walk == Traversal::Lanes;
     cl::Kernel kernel(built.program, lanes ? "trace_rays_in_lanes" : "trace_rays");
-    cl_uint arg = device_scene->set_args(kernel);
-    kernel.setArg(arg++, origin_buffer);
-    kernel.setArg(arg++, direction_buffer);
-    kernel.setArg(arg++, cl_uint(n));
-    kernel.setArg(arg++, cl_int(any_hit));
     const std::size_t group = work_group_size_for(kernel, device().device, 0);
     const std::size_t rays_per_item = lanes ? rays_per_lane_item(n, device().device, group) : 1;
-    if (lanes) kernel.setArg(arg++, cl_uint(rays_per_item));
-    kernel.setArg(arg++, hit_buffer);
-    set_buffer_or_null(kernel, arg++, count_buffer);
-    if (lanes) set_buffer_or_null(kernel, arg++, cl::Buffer());  // no frame totals here
+    if (lanes)  // no frame totals here
+      set_kernel_args(kernel, *device_scene, origin_buffer, direction_buffer, cl_uint(n), cl_int(any_hit),
+                      cl_uint(rays_per_item), hit_buffer, count_buffer, cl::Buffer());
+    else
+      set_kernel_args(kernel, *device_scene, origin_buffer, direction_buffer, cl_uint(n), cl_int(any_hit),
+                      hit_buffer, count_buffer);
     launch(queue, kernel, (n + rays_per_item - 1) / rays_per_item, group);
     queue.enqueueReadBuffer(hit_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), result.hits.data());
     if (count_traversal)

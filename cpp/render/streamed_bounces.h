@@ -4,9 +4,9 @@
 #include <string>
 
 #include "opencl/opencl.h"
+#include "render/ao_kernel_args.h"
 #include "render/device_scene.h"
 #include "render/render_settings.h"
-#include "scene/camera.h"
 
 namespace mbao {
 
@@ -25,7 +25,7 @@ class StreamedBounces {
  public:
   // max_sources: the most sources a bounce of a tile has (camera samples or queue entries).
   StreamedBounces(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-                  const DeviceScene& scene, const Camera& camera, const RenderSettings& settings,
+                  const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& settings,
                   std::size_t max_sources, const WavefrontCounts& counts);
 
   void set_tile(std::size_t first_position);
@@ -42,15 +42,23 @@ class StreamedBounces {
 
  private:
   static std::size_t sources_per_launch(const RenderSettings& settings, std::size_t max_sources);
+  // Sets the three kernels' arguments for sources [first_source, first_source + sources) of the bounce.
+  void set_launch(std::size_t first_source, std::size_t sources, bool any_hit, std::size_t rays_per_item);
   void enqueue_launch(cl::CommandQueue& queue, std::size_t first_source, std::size_t sources, bool any_hit);
 
+  const DeviceScene& scene_;
+  const AoArgs ao_args_;
+  const WavefrontCounts counts_;
   cl::Device device_;
   std::size_t samples_, bounces_;
   bool bounces_on_;  // rho > 0: bounces before the last need closest hits
   std::size_t sources_per_launch_;
   cl::Buffer ray_origins_, ray_directions_, ray_hits_;
   cl::Kernel rays_, trace_, hits_;
-  cl_uint rays_bounce_arg_ = 0, trace_count_arg_ = 0, hits_bounce_arg_ = 0;
+  // The bounce being launched: its tile's first pixel position, its number, the queue its sources are in
+  // (none for bounce 1, whose sources are the camera hits) and the queue it fills (none for the last).
+  std::size_t first_position_ = 0, bounce_ = 1;
+  cl::Buffer from_, to_;
   std::size_t rays_group_ = 0, trace_group_ = 0, hits_group_ = 0;
   std::size_t bytes_ = 0;
 };

@@ -41,9 +41,9 @@ std::size_t Wavefront::device_bytes(const RenderSettings& s, std::size_t tile_pi
 }
 
 Wavefront::Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-                     const DeviceScene& scene, const Camera& camera, const RenderSettings& s,
+                     const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& s,
                      std::size_t tile_pixels, const FrameBuffers& frame)
-    : spp_(std::size_t(s.spp)), bounces_(std::size_t(s.bounces)) {
+    : scene_(scene), ao_args_(ao_args), frame_(frame), spp_(std::size_t(s.spp)), bounces_(std::size_t(s.bounces)) {
   const BufferSizes sizes = buffer_sizes(s, tile_pixels);
   const auto allocate = [&](std::size_t bytes) {
     return bytes ? cl::Buffer(context, CL_MEM_READ_WRITE, bytes) : cl::Buffer();
@@ -58,64 +58,38 @@ Wavefront::Wavefront(const cl::Context& context, const cl::Device& device, const
   if (s.traversal == Traversal::Lanes) {
     const WavefrontCounts counts{frame.camera_hits, escape_counts_, sample_rays_, queue_lengths_,
                                  frame.traversal_totals};
-    streams_ = std::make_unique<StreamedBounces>(context, device, program, scene, camera, s, sizes.max_sources, counts);
+    streams_ =
+        std::make_unique<StreamedBounces>(context, device, program, scene, ao_args, s, sizes.max_sources, counts);
   } else {
-    set_up_bounce_kernels(device, program, scene, camera, s, frame);
+    set_up_bounce_kernels(device, program, s);
   }
-
   finish_ = cl::Kernel(program, "wavefront_finish");
-  cl_uint arg = set_ao_args(finish_, 0, camera, s);
-  finish_tile_arg_ = arg;
-  finish_.setArg(arg + 2, frame.camera_hits);
-  finish_.setArg(arg + 3, escape_counts_);
-  finish_.setArg(arg + 4, sample_rays_);
-  finish_.setArg(arg + 5, frame.ao);
-  finish_.setArg(arg + 6, frame.coverage);
-  finish_.setArg(arg + 7, frame.secondary_rays);
   finish_group_ = work_group_size_for(finish_, device, s.work_group_size);
 }
 
-void Wavefront::set_up_bounce_kernels(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
-                                      const Camera& camera, const RenderSettings& s, const FrameBuffers& frame) {
+void Wavefront::set_up_bounce_kernels(const cl::Device& device, const cl::Program& program, const RenderSettings& s) {
   first_bounce_ = cl::Kernel(program, "wavefront_first_bounce");
-  cl_uint arg = set_ao_args(first_bounce_, scene.set_args(first_bounce_), camera, s);
-  first_bounce_tile_arg_ = arg;
-  first_bounce_.setArg(arg + 2, frame.camera_hits);
-  first_bounce_.setArg(arg + 3, escape_counts_);
-  first_bounce_.setArg(arg + 4, sample_rays_);
-  set_buffer_or_null(first_bounce_, arg + 5, queue_of(1));
-  first_bounce_.setArg(arg + 6, queue_lengths_);
-  set_buffer_or_null(first_bounce_, arg + 7, frame.traversal_totals);
-
   bounce_ = cl::Kernel(program, "wavefront_bounce");
-  arg = set_ao_args(bounce_, scene.set_args(bounce_), camera, s);
-  bounce_tile_arg_ = arg;  // then the bounce, its queue, ...
-  bounce_.setArg(arg + 3, escape_counts_);
-  bounce_.setArg(arg + 4, sample_rays_);
-  bounce_.setArg(arg + 6, queue_lengths_);  // ... and the queue it fills
-  set_buffer_or_null(bounce_, arg + 7, frame.traversal_totals);
-
   first_bounce_group_ = work_group_size_for(first_bounce_, device, s.work_group_size);
   bounce_group_ = work_group_size_for(bounce_, device, s.work_group_size);
 }
 
 void Wavefront::start_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   queue.enqueueFillBuffer(queue_lengths_, cl_uint(0), 0, (bounces_ + 1) * sizeof(cl_uint));
+  first_position_ = first;
   if (streams_) {
     streams_->set_tile(first);
   } else {
-    first_bounce_.setArg(first_bounce_tile_arg_, cl_uint(first));
-    first_bounce_.setArg(first_bounce_tile_arg_ + 1, cl_uint(count * spp_));
-    bounce_.setArg(bounce_tile_arg_, cl_uint(first));
+    set_kernel_args(first_bounce_, scene_, ao_args_, cl_uint(first), cl_uint(count * spp_), frame_.camera_hits,
+                    escape_counts_, sample_rays_, queue_of(1), queue_lengths_, frame_.traversal_totals);
   }
-  finish_.setArg(finish_tile_arg_, cl_uint(first));
-  finish_.setArg(finish_tile_arg_ + 1, cl_uint(count));
+  set_kernel_args(finish_, ao_args_, cl_uint(first), cl_uint(count), frame_.camera_hits, escape_counts_,
+                  sample_rays_, frame_.ao, frame_.coverage, frame_.secondary_rays);
 }
 
 void Wavefront::set_bounce(std::size_t bounce) {
-  bounce_.setArg(bounce_tile_arg_ + 1, cl_uint(bounce));
-  bounce_.setArg(bounce_tile_arg_ + 2, queue_of(bounce - 1));
-  set_buffer_or_null(bounce_, bounce_tile_arg_ + 5, queue_of(bounce));
+  set_kernel_args(bounce_, scene_, ao_args_, cl_uint(first_position_), cl_uint(bounce), queue_of(bounce - 1),
+                  escape_counts_, sample_rays_, queue_of(bounce), queue_lengths_, frame_.traversal_totals);
 }
 
 void Wavefront::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {

@@ -9,7 +9,6 @@
 #include "render/device_scene.h"
 #include "render/render_settings.h"
 #include "render/streamed_bounces.h"
-#include "scene/camera.h"
 
 namespace mbao {
 
@@ -23,7 +22,7 @@ namespace mbao {
 class Wavefront {
  public:
   Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-            const DeviceScene& scene, const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels,
+            const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& settings, std::size_t tile_pixels,
             const FrameBuffers& frame);
 
   // AO for pixels [first, first + count), whose camera hits the frame holds.
@@ -50,8 +49,7 @@ class Wavefront {
     }
   };
   static BufferSizes buffer_sizes(const RenderSettings& settings, std::size_t tile_pixels);
-  void set_up_bounce_kernels(const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
-                             const Camera& camera, const RenderSettings& s, const FrameBuffers& frame);
+  void set_up_bounce_kernels(const cl::Device& device, const cl::Program& program, const RenderSettings& s);
   void enqueue_bounces(cl::CommandQueue& queue, std::size_t tile_samples);
   void enqueue_streamed_bounces(cl::CommandQueue& queue, std::size_t tile_samples);
 
@@ -63,12 +61,15 @@ class Wavefront {
   // Points the bounce kernel at bounce `bounce`: the queue it reads and the one it fills.
   void set_bounce(std::size_t bounce);
 
+  const DeviceScene& scene_;
+  const AoArgs ao_args_;
+  const FrameBuffers frame_;
   std::size_t spp_, bounces_;
+  std::size_t first_position_ = 0;  // the tile's
   std::size_t longest_queue_ = 0;  // entries, the larger queue's
   cl::Buffer escape_counts_, sample_rays_, queue_lengths_;
   cl::Buffer queues_[2];
   cl::Kernel first_bounce_, bounce_, finish_;
-  cl_uint first_bounce_tile_arg_ = 0, bounce_tile_arg_ = 0, finish_tile_arg_ = 0;
   std::size_t first_bounce_group_ = 0, bounce_group_ = 0, finish_group_ = 0;
   std::unique_ptr<StreamedBounces> streams_;  // traversal "lanes": these bounce kernels, not the two above
   std::size_t bytes_ = 0;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "opencl/devices.h"
+#include "opencl/kernel_args.h"
 
 namespace mbao {
 
@@ -19,9 +20,7 @@ std::vector<T> device_outputs(const std::string& source, const char* name, std::
   program.build(device.device);
   cl::Kernel kernel(program, name);
   cl::Buffer out(context, CL_MEM_WRITE_ONLY, n * sizeof(T));
-  cl_uint index = 0;
-  (kernel.setArg(index++, args), ...);
-  kernel.setArg(index, out);
+  set_kernel_args(kernel, args..., out);
   queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n));
   std::vector<T> values(n);
   queue.enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(T), values.data());

@@ -196,11 +196,8 @@ TEST(OriginPaths, RaysAlongAPathFindWhatRaysFromTheRootFind) {
       const cl::Buffer along_counts(compute.context(), CL_MEM_WRITE_ONLY, rays * sizeof(cl_uint4));
       const cl::Buffer root_counts(compute.context(), CL_MEM_WRITE_ONLY, rays * sizeof(cl_uint4));
       const cl::Buffer lengths(compute.context(), CL_MEM_WRITE_ONLY, p.points.size() * sizeof(cl_uint));
-      cl_uint arg = device_scene.set_args(kernel);
-      for (const cl::Buffer* b : {&points, &dirs}) kernel.setArg(arg++, *b);
-      kernel.setArg(arg++, kRaysPerPoint);
-      kernel.setArg(arg++, cl_uint(p.points.size()));
-      for (const cl::Buffer* b : {&along, &root, &along_counts, &root_counts, &lengths}) kernel.setArg(arg++, *b);
+      set_kernel_args(kernel, device_scene, points, dirs, kRaysPerPoint, cl_uint(p.points.size()), along, root,
+                      along_counts, root_counts, lengths);
       compute.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(p.points.size()));
 
       const auto hits_along = read<cl_uint4>(compute, along, rays), hits_root = read<cl_uint4>(compute, root, rays);
