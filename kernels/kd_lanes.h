@@ -9,7 +9,7 @@
 // takes the next ray of the work item's range, so the lanes stay full to the
 // end of it. The hits are trace_ray_from's with the full stack, bit for bit:
 // every lane takes the same steps in the same order (tests/test_traversal.py).
-// docs/traversal-on-pocl.md has the measurements behind each choice.
+// docs/traversal.md has the measurements behind each choice.
 #ifndef MBAO_KD_LANES_H
 #define MBAO_KD_LANES_H
 

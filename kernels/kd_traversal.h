@@ -126,7 +126,7 @@ static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, Kd
 // steps that push nothing (a descent step does not branch on whether it
 // pushes). The array is not a member: beside an array indexed at run time the
 // compiler left the counters in memory, and every step waited on a store and
-// a load of `top` (docs/traversal-on-pocl.md). Restart and push-down keep none.
+// a load of `top` (docs/traversal.md). Restart and push-down keep none.
 typedef struct FarStack {
   __private uint2* entries;
   uint top;    // next free slot
@@ -294,7 +294,7 @@ static inline uint descend_along(const OriginPath* path, const float2* axis_ray,
 //
 // With MBAO_LOAD_BOTH_CHILDREN (the full stack on CPUs) a step also loads both
 // children before the choice, so that the next node's fetch overlaps the step's
-// arithmetic instead of following it (docs/traversal-on-pocl.md has the
+// arithmetic instead of following it (docs/traversal.md has the
 // measurements). They are written out in the loop: in a function of their own
 // they made Sponza's frames 1.03 and 1.07 of these (two runs of paired frames).
 static inline int trace_ray_from(const SceneView* scene, const RayOrigin* origin, float3 dir, float t_max,

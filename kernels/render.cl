@@ -542,7 +542,7 @@ __kernel void stream_bounce_rays(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_p
   const uint pixel = tile_pixel(&s, first_position, sample / spp);
   uint i = 0;
   // Four at a time on vectors: drawing them one by one, this kernel took about
-  // twice the time on PoCL (docs/traversal-on-pocl.md).
+  // twice the time on PoCL (docs/traversal.md).
   for (; i + 4 <= s.samples; i += 4) {
     float3 dir[4];
     int cast[4];

@@ -1,7 +1,7 @@
 """The Python API's contract: what mbao.render, mbao.Mesh, mbao.Camera,
 mbao.devices and mbao.save_image accept, return and refuse.
 
-Each test states one promise of the public API (python/mbao, SPEC.md). Renders
+Each test states one promise of the public API (python/mbao, docs/spec.md). Renders
 are tiny (a few dozen pixels) unless a test needs real work to measure.
 """
 

@@ -11,7 +11,7 @@ namespace mbao {
 // in their order, depth first, with each non-empty leaf's entries right after
 // the leaf's node, two to a node's 8 bytes. A leaf's fetch then brings its
 // first entries in the same cache line, where a separate list cost a walk a
-// second dependent miss per leaf (docs/traversal-on-pocl.md). Interior nodes
+// second dependent miss per leaf (docs/traversal.md). Interior nodes
 // keep the child below right after them, and every index is remapped.
 //
 // An entry is a triangle id with MBAO_KD_ENTRY_MASKED set where

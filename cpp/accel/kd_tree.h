@@ -25,7 +25,7 @@ struct KdBuildOptions {
   // the plane. Near the leaves clipping costs a fifth of the build and buys
   // little: with 16, Sponza's tree builds in 0.8-0.9 of the time of
   // clipping everywhere, and the benchmark's AO rays visit 0.7% fewer nodes and
-  // test 5% more triangles (README, "The kd-tree build").
+  // test 5% more triangles (docs/kd-tree-build.md).
   std::size_t min_triangles_to_clip = 16;
   int threads = 0;                 // 0: one per hardware thread; the tree is the same for any number
   // Skip the SAH sweep's planes that a bound shows cannot be the cheapest

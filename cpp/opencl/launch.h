@@ -21,7 +21,7 @@ void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items
 // fewer where that would leave the device's compute units under four groups
 // each, never under 16 (one lane's worth). A lane whose ray ends takes the
 // next of its work item's rays, so the more each item has, the longer its
-// lanes stay full (on PoCL 512 rays per item gained over 128: docs/traversal-on-pocl.md).
+// lanes stay full (on PoCL 512 rays per item gained over 128: docs/traversal.md).
 std::size_t rays_per_lane_item(std::size_t rays, const cl::Device& device, std::size_t work_group);
 
 // Launches `kernel`, whose arguments make every work item return at once, on

@@ -16,7 +16,7 @@ constexpr std::size_t kBytesPerRay = 2 * sizeof(cl_float4) + sizeof(cl_uint4);  
 // The lanes' walk has few, long work items (up to 512 rays each: launch.h's
 // rays_per_lane_item). On a CPU, in groups of 8 rather than 64, the cores
 // share the last of them more evenly: Sponza's b = 1 frame took 0.96-1.00 of
-// the time in six runs (docs/traversal-on-pocl.md).
+// the time in six runs (docs/traversal.md).
 constexpr std::size_t kCpuLanesGroup = 8;
 
 std::size_t lanes_work_group(const cl::Kernel& trace, const cl::Device& device, std::size_t requested) {

@@ -6,7 +6,7 @@
 // aligned run of 4^k positions in a block is a square. Taken row by row, the 64
 // pixels of a work group span a strip of a row whose rays share less: on PoCL
 // the frames took 0.92-0.93 of the time on Sponza, and no more on any scene
-// (docs/traversal-on-pocl.md). Blocks that the image's right or bottom edge
+// (docs/traversal.md). Blocks that the image's right or bottom edge
 // cuts are walked row by row.
 #ifndef MBAO_PIXEL_ORDER_H
 #define MBAO_PIXEL_ORDER_H

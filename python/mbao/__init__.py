@@ -5,7 +5,7 @@
     result = mbao.render(scene, bounces=2)
     mbao.save_image("ao.png", result.ao)
 
-What is computed, and every convention, is defined in SPEC.md (section numbers
+What is computed, and every convention, is defined in docs/spec.md (section numbers
 in the docstrings refer to it).
 """
 

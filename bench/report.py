@@ -1,0 +1,212 @@
+"""The performance tables of README.md and docs/performance.md, made from bench/results/*.json.
+
+    .venv/bin/python bench/report.py          # rewrites the tables in place
+    .venv/bin/python bench/report.py --check  # exits 1, naming the table, where a committed one differs
+
+bench/results/ holds one benchmark run per device class (mbao_bench --json; the
+command that made each is in the file). A table sits in a Markdown file between
+`<!-- report: KIND FILE -->` and `<!-- /report -->`, where FILE names a result
+file without .json (or `all` for a table across the files) and KIND one of
+TABLES below; everything between the two lines is this script's.
+"""
+
+import argparse
+import json
+import pathlib
+import re
+import sys
+
+REPO = pathlib.Path(__file__).resolve().parent.parent
+RESULTS = REPO / "bench" / "results"
+DOCUMENTS = [REPO / "README.md", REPO / "docs" / "performance.md"]
+
+# The seed paper's Table 1 (RTX 2080 Ti, 512 x 512, r = 4): frame ms at b = 1 and 2.
+PAPER_MS = {"cornell_box (built-in)": (1.5, 10.4), "sponza": (21.3, 147.5)}
+
+BLOCK = re.compile(r"(<!-- report: (\w[\w-]*) ([\w.-]+) -->\n)(.*?)(<!-- /report -->)", re.S)
+
+
+def load_results():
+    runs = {}
+    for path in sorted(RESULTS.glob("*.json")):
+        if path.name != "latest.json":  # make bench's output, not committed
+            runs[path.stem] = json.loads(path.read_text())
+    return runs
+
+
+def device_name(run):
+    platform, _, name = run["device"].partition(": ")
+    if platform == "Portable Computing Language":
+        return "PoCL, " + name.split("-")[-1]
+    return name
+
+
+def ms(value):
+    return f"{value:.1f}" if value >= 10 else f"{value:.2f}"
+
+
+def table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---:" if h.endswith(("ms", "/s", "ratio")) else "---"
+                                                            for h in header) + "|"]
+    lines += ["| " + " | ".join(str(cell) for cell in row) + " |" for row in rows]
+    return lines
+
+
+def frame(result, bounces):
+    return next(f for f in result["frames"] if f["bounces"] == bounces)
+
+
+def unlimited(run):
+    return [r for r in run["results"] if r["max_distance"] == "inf"]
+
+
+def embree_ratio(run, scene, bounces):
+    for row in run.get("embree", []):
+        if row["scene"] == scene and row["bounces"] == bounces:
+            return f"{row['rays_per_s_ratio']:.2f}"
+    return ""
+
+
+def summary(runs):
+    """README: Table 1 at max_distance = inf, b = 1 and 2, on each device, beside the paper."""
+    header = ["scene", "b"] + [f"{device_name(run)} ms" for run in runs.values()]
+    with_embree = [name for name, run in runs.items() if run.get("embree")]
+    header += [f"{device_name(runs[name])}: mbao / Embree rays/s" for name in with_embree]
+    header += ["paper, RTX 2080 Ti ms"]
+    first = next(iter(runs.values()))
+    rows = []
+    for result in unlimited(first):
+        scene = result["scene"]
+        for b in (1, 2):
+            row = [scene, b]
+            for run in runs.values():
+                match = [r for r in unlimited(run) if r["scene"] == scene]
+                row.append(ms(frame(match[0], b)["frame_ms"]) if match else "")
+            row += [embree_ratio(runs[name], scene, b) for name in with_embree]
+            row.append(PAPER_MS[scene][b - 1] if scene in PAPER_MS else "")
+            rows.append(row)
+    return table(header, rows)
+
+
+def sources(runs):
+    """Which device, day and command each result file comes from."""
+    lines = []
+    for name, run in runs.items():
+        lines.append(f"* `bench/results/{name}.json`: {run['device']} ({run['device_version']}), "
+                     f"{run['date'][:10]}: `{run['command']}`")
+    return lines
+
+
+def table1(run):
+    header = ["scene", "triangles", "max_distance", "build ms", "b=1 ms", "b=2 ms", "b=1 Mrays/s", "b=2 Mrays/s"]
+    rows = []
+    for r in run["results"]:
+        f1, f2 = frame(r, 1), frame(r, 2)
+        rows.append([r["scene"], r["triangles"], r["max_distance"], ms(r["build_ms"]), ms(f1["frame_ms"]),
+                     ms(f2["frame_ms"]), f"{f1['mrays_per_s']:.1f}", f"{f2['mrays_per_s']:.1f}"])
+    return table(header, rows)
+
+
+def embree(run):
+    header = ["scene", "b", "mbao ms", "Embree single rays ms", "Embree packets of 16 ms", "rays/s ratio"]
+    rows = [[row["scene"], row["bounces"], ms(row["mbao"]["frame_ms"]), ms(row["embree_single_rays"]["frame_ms"]),
+             ms(row["embree_packets16"]["frame_ms"]), f"{row['rays_per_s_ratio']:.2f}"] for row in run["embree"]]
+    return table(header, rows)
+
+
+def trees(run):
+    header = ["scene", "nodes", "leaves (empty)", "depth", "triangles per leaf", "leaf references", "SAH cost", "MiB"]
+    rows = []
+    for r in run["results"]:
+        t = r["tree"]
+        if r["max_distance"] != "inf":
+            continue
+        rows.append([r["scene"], t["nodes"], f"{t['leaves']} ({t['empty_leaves']})", t["max_depth"],
+                     f"{t['mean_triangles_per_leaf']:.2f}", t["leaf_references"], f"{t['sah_cost']:.1f}",
+                     f"{t['memory_bytes'] / 2**20:.1f}"])
+    return table(header, rows)
+
+
+def kd_build(run):
+    header = ["scene", "tree", "build ms", "nodes", "leaf references", "SAH cost", "nodes per ray",
+              "leaves per ray", "triangle tests per ray"]
+    rows = []
+    for scene in run["kd_build"]:
+        for t in scene["trees"]:
+            s, p = t["stats"], t["per_ray"]
+            rows.append([scene["scene"], t["tree"], ms(t["build_ms"]), s["nodes"], s["leaf_references"],
+                         f"{s['sah_cost']:.2f}", f"{p['nodes_per_ray']:.2f}", f"{p['leaves_per_ray']:.2f}",
+                         f"{p['triangles_per_ray']:.2f}"])
+    return table(header, rows)
+
+
+def traversals(run):
+    header = ["scene", "traversal", "b=2 ms", "nodes per ray", "leaves per ray", "triangle tests per ray",
+              "restarts per ray"]
+    rows = [[row["scene"], row["traversal"], ms(row["frames"]["frame_ms"]), f"{row['per_ray']['nodes_per_ray']:.1f}",
+             f"{row['per_ray']['leaves_per_ray']:.1f}", f"{row['per_ray']['triangles_per_ray']:.1f}",
+             f"{row['per_ray']['restarts_per_ray']:.2f}"] for row in run["traversals"]]
+    return table(header, rows)
+
+
+def organisation(run):
+    header = ["scene", "max_distance", "b", "work group", "megakernel ms", "wavefront ms", "wavefront / megakernel ratio",
+              "same image"]
+    rows = [[row["scene"], row["max_distance"], row["bounces"], row["work_group_size"], ms(row["megakernel_ms"]),
+             ms(row["wavefront_ms"]), f"{row['wavefront_over_megakernel']:.2f}", "yes" if row["same_image"] else "NO"]
+            for row in run["organisation"]]
+    return table(header, rows)
+
+
+TABLES = {"table1": table1, "embree": embree, "trees": trees, "kd-build": kd_build, "traversals": traversals,
+          "organisation": organisation}
+ACROSS_FILES = {"summary": summary, "sources": sources}
+
+
+def render(kind, file, runs):
+    if file == "all":
+        if kind not in ACROSS_FILES:
+            raise SystemExit(f"report: no table '{kind}' across files; known: {', '.join(ACROSS_FILES)}")
+        lines = ACROSS_FILES[kind](runs)
+    else:
+        if file not in runs:
+            raise SystemExit(f"report: no bench/results/{file}.json; there are: {', '.join(runs)}")
+        if kind not in TABLES:
+            raise SystemExit(f"report: no table '{kind}'; known: {', '.join(TABLES)}")
+        lines = TABLES[kind](runs[file])
+    return "\n".join(lines) + "\n"
+
+
+def regenerate(text, runs):
+    """The text with every report block rewritten; [(kind, file)] of the blocks that changed."""
+    changed = []
+
+    def fill(match):
+        opening, kind, file, old, closing = match.groups()
+        new = render(kind, file, runs)
+        if new != old:
+            changed.append((kind, file))
+        return opening + new + closing
+
+    return BLOCK.sub(fill, text), changed
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--check", action="store_true", help="change nothing; exit 1 where a table is out of date")
+    args = parser.parse_args()
+    runs = load_results()
+    stale = []
+    for path in DOCUMENTS:
+        text, changed = regenerate(path.read_text(), runs)
+        stale += [f"{path.relative_to(REPO)}: {kind} {file}" for kind, file in changed]
+        if changed and not args.check:
+            path.write_text(text)
+    if args.check and stale:
+        print("out of date (run bench/report.py):\n  " + "\n  ".join(stale), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
