@@ -39,9 +39,12 @@ def worker(args):
     # HBAO's radius as `python -m mbao compare` picks it.
     options_for_method = {"max_distance": ao_radius(scene, camera, None)[0]} if args.method == "hbao" else {}
 
-    def render(size, **options):
+    def render(size, traversal_stats=False):
+        engine = dict(traversal=args.traversal, traversal_stats=traversal_stats)
+        # Builds from before mbao.Engine took the engine settings as keywords of render().
+        engine = {"engine": mbao.Engine(**engine)} if hasattr(mbao, "Engine") else engine
         return mbao.render(scene, camera=camera, width=size, height=size, bounces=args.bounces,
-                           traversal=args.traversal, method=args.method, **options_for_method, **options)
+                           method=args.method, **options_for_method, **engine)
 
     image = render(args.size).ao  # also the warm-up frame
     print(hashlib.sha1(image.tobytes()).hexdigest(), flush=True)

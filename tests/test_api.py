@@ -5,6 +5,7 @@ Each test states one promise of the public API (python/mbao, docs/spec.md). Rend
 are tiny (a few dozen pixels) unless a test needs real work to measure.
 """
 
+import inspect
 import json
 import math
 import os
@@ -227,17 +228,21 @@ BAD_ARGUMENTS = [
     (dict(estimator="foo"), ValueError, r"estimator.*branching.*path"),
     (dict(estimator=3), TypeError, r"estimator"),
     (dict(normals="smooth"), ValueError, r"normals.*shading.*geometric"),
-    (dict(traversal="kd"), ValueError, r"traversal.*auto.*pushdown.*restart.*short-stack.*stack.*lanes"),
-    (dict(organisation="queue"), ValueError, r"organisation.*megakernel.*wavefront"),
-    (dict(organisation="wavefront", estimator="path"), ValueError, r"wavefront.*branching.*path"),
-    (dict(traversal="lanes", organisation="megakernel"), ValueError, r"lanes.*wavefront.*not \"megakernel\""),
-    (dict(traversal="lanes", estimator="path"), ValueError, r"lanes.*branching estimator only"),
+    (dict(engine=dict(traversal="kd")), ValueError, r"traversal.*auto.*pushdown.*restart.*short-stack.*stack.*lanes"),
+    (dict(engine=dict(organisation="queue")), ValueError, r"organisation.*megakernel.*wavefront"),
+    (dict(engine=dict(organisation="wavefront"), estimator="path"), ValueError, r"wavefront.*branching.*path"),
+    (dict(engine=dict(traversal="lanes", organisation="megakernel")), ValueError,
+     r"lanes.*wavefront.*not \"megakernel\""),
+    (dict(engine=dict(traversal="lanes"), estimator="path"), ValueError, r"lanes.*branching estimator only"),
+    (dict(engine=dict(traversal_stats=1)), TypeError, r"traversal_stats"),
     (dict(seed=-1), ValueError, r"seed.*(2\*\*64|2\^64)"),
     (dict(seed=2**64), ValueError, r"seed.*(2\*\*64|2\^64)"),
     (dict(seed=1.5), TypeError, r"seed"),
     (dict(camera="camera.json"), TypeError, r"camera"),
-    (dict(tile_pixels=0), ValueError, r"tile_pixels"),
-    (dict(work_group_size=0), ValueError, r"work_group_size"),
+    (dict(engine=dict(tile_pixels=0)), ValueError, r"tile_pixels"),
+    (dict(engine=dict(work_group_size=0)), ValueError, r"work_group_size"),
+    (dict(engine="stack"), TypeError, r"engine.*mbao.Engine"),
+    (dict(traversl="stack"), TypeError, r"traversl.*width.*engine=mbao.Engine"),
     (dict(device=1.5), TypeError, r"device"),
 ]
 
@@ -249,7 +254,58 @@ def test_bad_argument_is_refused_by_name(cornell, arguments, error, message):
     settings = dict(width=1, height=1)
     settings.update(arguments)
     with pytest.raises(error, match=message):
+        if isinstance(settings.get("engine"), dict):
+            settings["engine"] = mbao.Engine(**settings["engine"])
         mbao.render(cornell, **settings)
+
+
+# -- one definition of the settings --------------------------------------------------------
+
+ENGINE_KNOBS = ("traversal", "organisation", "tile_pixels", "work_group_size", "traversal_stats")
+
+
+def test_render_lists_the_users_settings_with_the_tables_defaults():
+    parameters = inspect.signature(mbao.render).parameters
+    specs = {spec["name"]: spec for spec in mbao._core.setting_specs()}
+    assert not set(ENGINE_KNOBS) & set(parameters), "engine settings belong in engine=mbao.Engine(...)"
+    for name, spec in specs.items():
+        if spec["group"] == "render":
+            assert parameters[name].default == spec["default"], name
+            assert f"{name}: {spec['doc'].split()[0]}" in mbao.render.__doc__, f"{name} is not documented"
+        else:
+            assert getattr(mbao.Engine(), name) == spec["default"], name
+            assert f"{name}: " in mbao.Engine.__doc__, f"{name} is not documented"
+    assert {"camera", "hbao", "engine", "device", "progress"} <= set(parameters)
+
+
+def test_the_defaults_are_the_cores(cornell):
+    """A render with no settings and one with every default spelt out are the same render."""
+    specs = mbao._core.setting_specs()
+    spelt_out = {spec["name"]: spec["default"] for spec in specs if spec["group"] == "render"}
+    spelt_out.update(width=6, height=5, seed=4)
+    engine = mbao.Engine(**{spec["name"]: spec["default"] for spec in specs if spec["group"] == "engine"})
+    a = mbao.render(cornell, engine=engine, **spelt_out)
+    b = mbao.render(cornell, width=6, height=5, seed=4)
+    np.testing.assert_array_equal(a.ao, b.ao)
+    assert a.stats["kernel_options"] == b.stats["kernel_options"]
+
+
+def test_engine_keywords_of_render_still_work_for_one_release(cornell):
+    settings = dict(width=8, height=8, bounces=2, seed=3)
+    with pytest.warns(DeprecationWarning, match=r"engine=mbao.Engine\(traversal=...\)"):
+        old = mbao.render(cornell, traversal="restart", **settings)
+    new = mbao.render(cornell, engine=mbao.Engine(traversal="restart"), **settings)
+    assert old.stats["traversal_mode"] == new.stats["traversal_mode"] == "restart"
+    np.testing.assert_array_equal(old.ao, new.ao)
+    with pytest.raises(TypeError, match="beside engine="):
+        mbao.render(cornell, engine=mbao.Engine(), traversal="restart", **settings)
+
+
+def test_an_engine_is_checked_when_it_is_made():
+    with pytest.raises(ValueError, match="organisation must be one of"):
+        mbao.Engine(organisation="queue")
+    assert mbao.Engine(tile_pixels=np.int64(9)).tile_pixels == 9
+    assert "traversal='stack'" in repr(mbao.Engine(traversal="stack"))
 
 
 def test_scene_must_be_a_scene():

@@ -20,9 +20,11 @@ def soup():
 
 
 def assert_packets_find_the_single_rays_hits(scene, camera, **settings):
-    settings = dict(camera=camera, bounces=1, samples=2, seed=11, traversal_stats=True, **settings)
-    packets = mbao.render(scene, traversal="lanes", **settings)
-    alone = mbao.render(scene, traversal="stack", organisation="wavefront", **settings)
+    tile_pixels = settings.pop("tile_pixels", None)
+    settings = dict(camera=camera, bounces=1, samples=2, seed=11, **settings)
+    engine = dict(traversal_stats=True, tile_pixels=tile_pixels)
+    packets = mbao.render(scene, engine=mbao.Engine(traversal="lanes", **engine), **settings)
+    alone = mbao.render(scene, engine=mbao.Engine(traversal="stack", organisation="wavefront", **engine), **settings)
     assert packets.stats["traversal_mode"] == "lanes" and alone.stats["traversal_mode"] == "stack"
     np.testing.assert_array_equal(packets.ao, alone.ao)
     np.testing.assert_array_equal(packets.mask, alone.mask)

@@ -115,6 +115,19 @@ def test_every_render_option_is_accepted(tmp_path, gltf_scene):
     assert read_image(tmp_path / "ao.exr")[0].width == 10
 
 
+def test_help_gives_every_setting_its_default_and_the_engine_options_a_group(tmp_path):
+    proc = run_mbao("render", "--help", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    text = " ".join(proc.stdout.split())  # argparse wraps the help at the terminal's width
+    render_part, engine_part = text.split("engine options:")
+    for spec in mbao._core.setting_specs():
+        flag = "--" + spec["name"].replace("_", "-")
+        assert flag in (render_part if spec["group"] == "render" else engine_part), flag
+    for default in ("(default: 512, allowed [1, 16384])", "(default: 1, allowed [1, 65536])",
+                    "(default: 4, allowed [1, 1048576])", "(default: 0, allowed [0, 2^64))"):
+        assert default in render_part, default
+
+
 def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
     scene, camera, _ = gltf_scene
     proc = run_mbao("render", scene, "--camera", camera, "--width", 12, "--height", 9, "--seed", 3, "--bounces", 2,

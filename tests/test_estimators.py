@@ -88,11 +88,12 @@ def test_images_do_not_depend_on_tiling_or_work_group_size(cornell, estimator):
     settings = dict(width=37, height=21, bounces=2, samples=3, spp=2, estimator=estimator, seed=77)
     reference = mbao.render(cornell, **settings)
     for tile_pixels, work_group_size in ((1, None), (7, 1), (64, 16), (391, 128), (None, 3)):
-        other = mbao.render(cornell, tile_pixels=tile_pixels, work_group_size=work_group_size, **settings)
+        engine = mbao.Engine(tile_pixels=tile_pixels, work_group_size=work_group_size)
+        other = mbao.render(cornell, engine=engine, **settings)
         np.testing.assert_array_equal(other.ao, reference.ao)
         np.testing.assert_array_equal(other.mask, reference.mask)
         assert other.stats["rays_secondary"] == reference.stats["rays_secondary"]
-    assert mbao.render(cornell, tile_pixels=1, **settings).stats["tiles"] == 37 * 21
+    assert mbao.render(cornell, engine=mbao.Engine(tile_pixels=1), **settings).stats["tiles"] == 37 * 21
 
 
 def test_the_seed_alone_decides_the_noise(cornell):
@@ -107,7 +108,7 @@ def test_the_seed_alone_decides_the_noise(cornell):
 def test_traversals_render_the_same_image(cornell, traversal):
     settings = dict(width=20, height=20, bounces=2, samples=4, seed=5)
     np.testing.assert_array_equal(
-        mbao.render(cornell, traversal=traversal, **settings).ao, mbao.render(cornell, **settings).ao
+        mbao.render(cornell, engine=mbao.Engine(traversal=traversal), **settings).ao, mbao.render(cornell, **settings).ao
     )
 
 
@@ -118,17 +119,17 @@ def test_lanes_draw_the_megakernels_directions_whatever_r(cornell, samples):
     image hardly shows a last-bit difference in a direction: those are
     compared in tests/cpp/test_sampling.cpp."""
     settings = dict(width=16, height=16, bounces=2, samples=samples, seed=11)
-    lanes = mbao.render(cornell, traversal="lanes", **settings)
+    lanes = mbao.render(cornell, engine=mbao.Engine(traversal="lanes"), **settings)
     assert lanes.stats["traversal_mode"] == "lanes"
-    megakernel = mbao.render(cornell, organisation="megakernel", **settings)
+    megakernel = mbao.render(cornell, engine=mbao.Engine(organisation="megakernel"), **settings)
     np.testing.assert_array_equal(lanes.ao, megakernel.ao)
 
 
 def test_the_wavefront_renders_the_megakernels_image(cornell):
     """The C++ tests compare them on more scenes; this is the Python path."""
     settings = dict(width=24, height=24, bounces=3, samples=3, rho=0.8, seed=9)
-    wavefront = mbao.render(cornell, organisation="wavefront", **settings)
-    megakernel = mbao.render(cornell, organisation="megakernel", **settings)
+    wavefront = mbao.render(cornell, engine=mbao.Engine(organisation="wavefront"), **settings)
+    megakernel = mbao.render(cornell, engine=mbao.Engine(organisation="megakernel"), **settings)
     np.testing.assert_array_equal(wavefront.ao, megakernel.ao)
     assert wavefront.stats["rays_secondary"] == megakernel.stats["rays_secondary"]
 
@@ -138,7 +139,7 @@ def test_auto_traversal_is_the_full_stack_on_cpus_and_the_short_stack_elsewhere(
     settings = dict(width=8, height=8, device=device)
     expected = "stack" if device.type == "CPU" else "short-stack"  # the Cornell box's tree is 6 deep
     assert mbao.render(cornell, **settings).stats["traversal_mode"] == expected
-    assert mbao.render(cornell, traversal="restart", **settings).stats["traversal_mode"] == "restart"
+    assert mbao.render(cornell, engine=mbao.Engine(traversal="restart"), **settings).stats["traversal_mode"] == "restart"
 
 
 def test_auto_traversal_is_lanes_on_cpus_for_deep_trees_where_the_wavefront_runs(rng):
@@ -151,7 +152,7 @@ def test_auto_traversal_is_lanes_on_cpus_for_deep_trees_where_the_wavefront_runs
     assert result.stats["traversal_mode"] == ("lanes" if on_cpu else "short-stack")
     assert result.stats["organisation"] == "wavefront"
     # The path estimator and the megakernel walk one ray per work item.
-    for other in (dict(estimator="path"), dict(organisation="megakernel")):
+    for other in (dict(estimator="path"), dict(engine=mbao.Engine(organisation="megakernel"))):
         assert mbao.render(deep, **other, **settings).stats["traversal_mode"] == ("stack" if on_cpu else "short-stack")
 
 
@@ -161,7 +162,8 @@ def test_auto_organisation_is_the_wavefront_on_gpus_and_the_megakernel_elsewhere
     expected = "wavefront" if device.type == "GPU" else "megakernel"
     assert mbao.render(cornell, **settings).stats["organisation"] == expected
     assert mbao.render(cornell, estimator="path", **settings).stats["organisation"] == "megakernel"
-    assert mbao.render(cornell, organisation="wavefront", **settings).stats["organisation"] == "wavefront"
+    wavefront = mbao.Engine(organisation="wavefront")
+    assert mbao.render(cornell, engine=wavefront, **settings).stats["organisation"] == "wavefront"
 
 
 def test_camera_samples_average_over_the_pixel():

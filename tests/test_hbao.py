@@ -115,7 +115,7 @@ def test_stats_describe_an_hbao_frame(cornell):
     (dict(bounces=2), r"one bounce.*gtao_multibounce"),
     (dict(max_distance=float("inf")), r"finite max_distance"),
     (dict(spp=2), r"spp"),
-    (dict(organisation="wavefront"), r"organisation"),
+    (dict(engine=mbao.Engine(organisation="wavefront")), r"organisation"),
     (dict(hbao=mbao.HBAO(directions=0)), r"directions.*\[1, 64\]"),
     (dict(hbao=mbao.HBAO(steps=65)), r"steps.*\[1, 64\]"),
     (dict(hbao=mbao.HBAO(angle_bias_deg=90)), r"angle_bias_deg.*\[0, 90\)"),

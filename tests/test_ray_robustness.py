@@ -170,7 +170,7 @@ def test_closed_meshes_do_not_leak(name, traversal):
     for estimator in ("branching",) if traversal == "lanes" else ESTIMATORS:
         for bounces in (1, 2, 3):
             result = mbao.render(scene, camera=camera, width=16, height=16, bounces=bounces, samples=4,
-                                 estimator=estimator, traversal=traversal)
+                                 estimator=estimator, engine=mbao.Engine(traversal=traversal))
             assert result.mask.all()
             np.testing.assert_array_equal(result.ao, 0.0, err_msg=f"{estimator}, b = {bounces}")
 

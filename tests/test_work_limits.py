@@ -62,7 +62,8 @@ def test_bad_max_rays(cornell, value, error):
 
 def test_progress_is_called_after_every_tile(cornell):
     calls = []
-    result = mbao.render(cornell, width=32, height=32, tile_pixels=64, progress=lambda *a: calls.append(a))
+    result = mbao.render(cornell, width=32, height=32, engine=mbao.Engine(tile_pixels=64),
+                         progress=lambda *a: calls.append(a))
     tiles = result.stats["tiles"]
     assert tiles == 32 * 32 // 64
     assert calls == [(done, tiles) for done in range(1, tiles + 1)]
@@ -78,7 +79,7 @@ class Stop(Exception):
 
 
 def test_an_exception_in_progress_stops_the_render_and_the_next_one_works(cornell):
-    settings = dict(width=32, height=32, tile_pixels=64, bounces=2)
+    settings = dict(width=32, height=32, engine=mbao.Engine(tile_pixels=64), bounces=2)
     calls = []
 
     def stop_at_third_tile(done, total):
@@ -99,7 +100,7 @@ def test_ctrl_c_stops_the_render_between_tiles_and_the_next_one_works(cornell):
     released. Progress goes to a dict's C-implemented __setitem__, which runs
     no Python bytecode and so no signal handler: only the render's own check
     between tiles can stop it early."""
-    settings = dict(width=64, height=64, tile_pixels=64, bounces=3, samples=8)
+    settings = dict(width=64, height=64, engine=mbao.Engine(tile_pixels=64), bounces=3, samples=8)
     tiles_done = {}
 
     def interrupt_once_rendering():

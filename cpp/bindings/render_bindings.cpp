@@ -4,6 +4,7 @@
 
 #include "bindings/bindings.h"
 #include "render/renderer.h"
+#include "render/setting_specs.h"
 
 namespace py = pybind11;
 
@@ -48,31 +49,52 @@ py::dict stats_dict(const RenderStats& s) {
   return d;
 }
 
+// A setting's value as Python holds it: None for an automatic count, inf for an unlimited distance.
+py::object to_python(const SettingSpec& spec, const SettingValue& value) {
+  if (spec.kind == SettingKind::AutoCount && std::get<std::uint64_t>(value) == 0) return py::none();
+  return std::visit([](const auto& v) -> py::object { return py::cast(v); }, value);
+}
+
+SettingValue from_python(const SettingSpec& spec, const py::handle& value) {
+  switch (spec.kind) {
+    case SettingKind::Integer: return value.cast<std::int64_t>();
+    case SettingKind::Unsigned: return value.cast<std::uint64_t>();
+    case SettingKind::AutoCount: return value.is_none() ? std::uint64_t(0) : value.cast<std::uint64_t>();
+    case SettingKind::Real: return value.cast<double>();
+    case SettingKind::Choice: return value.cast<std::string>();
+    case SettingKind::Flag: return value.cast<bool>();
+  }
+  throw std::logic_error("unknown setting kind");
+}
+
+py::list specs_list() {
+  static const char* const kinds[] = {"integer", "unsigned", "auto count", "real", "choice", "flag"};
+  py::list specs;
+  for (const SettingSpec& spec : setting_specs()) {
+    py::dict d;
+    d["name"] = spec.name;
+    d["group"] = spec.group == SettingGroup::Render ? "render" : "engine";
+    d["kind"] = kinds[int(spec.kind)];
+    d["doc"] = spec.doc;
+    d["range"] = spec.range();
+    const bool numeric = spec.kind == SettingKind::Integer || spec.kind == SettingKind::Unsigned ||
+                         spec.kind == SettingKind::Real;
+    d["lo"] = numeric ? to_python(spec, spec.lo) : py::none();
+    d["hi"] = numeric ? to_python(spec, spec.hi) : py::none();
+    d["choices"] = spec.choices;
+    d["default"] = to_python(spec, spec.default_value());
+    specs.append(d);
+  }
+  return specs;
+}
+
 py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera>& camera, const DeviceInfo& device,
-                 std::int64_t width, std::int64_t height, std::int64_t bounces, std::int64_t samples,
-                 const std::string& estimator, float rho, float max_distance, std::int64_t spp,
-                 const std::string& normals, std::uint64_t seed, const std::string& traversal, bool traversal_stats,
-                 const std::string& organisation, std::size_t tile_pixels, std::size_t work_group_size,
-                 std::uint64_t max_rays, const py::object& progress, const std::string& method,
-                 const HbaoSettings& hbao) {
+                 const py::dict& values, const py::object& progress, const HbaoSettings& hbao) {
   RenderSettings settings;
-  settings.width = width;
-  settings.height = height;
-  settings.bounces = bounces;
-  settings.samples = samples;
-  settings.estimator = parse_estimator(estimator);
-  settings.rho = rho;
-  settings.max_distance = max_distance;
-  settings.spp = spp;
-  settings.normals = parse_normal_mode(normals);
-  settings.seed = seed;
-  settings.traversal = parse_traversal(traversal);
-  settings.count_traversal = traversal_stats;
-  settings.organisation = parse_organisation(organisation);
-  settings.tile_pixels = tile_pixels;
-  settings.work_group_size = work_group_size;
-  settings.max_rays = max_rays;
-  settings.method = parse_method(method);
+  for (const auto& [name, value] : values) {
+    const SettingSpec& spec = setting_spec(name.cast<std::string>());
+    spec.set(settings, from_python(spec, value));
+  }
   settings.hbao = hbao;
   settings.validate();
   // Ctrl-C is seen between tiles: the signal handler only sets a flag while
@@ -85,7 +107,7 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
   RenderResult result;
   {
     py::gil_scoped_release release;
-    const Camera view = camera ? *camera : scene->default_camera(float(width) / float(height));
+    const Camera view = camera ? *camera : scene->default_camera(float(settings.width) / float(settings.height));
     result = Renderer::for_device(device).render(scene, view, settings, between_tiles);
   }
   const py::ssize_t h = result.height, w = result.width;
@@ -151,12 +173,13 @@ The radius, in world units, is the render's max_distance.)doc")
         return "HBAO(directions=" + std::to_string(h.directions) + ", steps=" + std::to_string(h.steps) +
                ", angle_bias_deg=" + std::to_string(h.angle_bias_deg) + ", falloff=" + std::to_string(h.falloff) + ")";
       });
-  m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("width"),
-        py::arg("height"), py::arg("bounces"), py::arg("samples"), py::arg("estimator"), py::arg("rho"),
-        py::arg("max_distance"), py::arg("spp"), py::arg("normals"), py::arg("seed"), py::arg("traversal"),
-        py::arg("traversal_stats"), py::arg("organisation"), py::arg("tile_pixels"), py::arg("work_group_size"),
-        py::arg("max_rays"), py::arg("progress"), py::arg("method"), py::arg("hbao"),
-        "Renders; returns (ao, mask, stats). Use mbao.render, which checks and documents the arguments.");
+  m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("settings"),
+        py::arg("progress"), py::arg("hbao"),
+        "Renders; returns (ao, mask, stats). settings: {name: value} of setting_specs(). Use mbao.render, which "
+        "checks and documents the arguments.");
+  m.def("setting_specs", &specs_list,
+        "The render settings, each as a dict: name, group (\"render\" or \"engine\"), kind, doc, range, lo, hi, "
+        "choices and default (render/setting_specs.h).");
   m.def(
       "kernel_variants",
       [] {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "render/setting_specs.h"
+
 namespace mbao {
 namespace {
 
@@ -19,64 +21,72 @@ constexpr std::uint64_t kMaxRaysPerPixel = 0xFFFFFFFFull;
 
 }  // namespace
 
-Estimator parse_estimator(const std::string& name) {
-  if (name == "branching") return Estimator::Branching;
-  if (name == "path") return Estimator::Path;
-  bad("estimator must be \"branching\" or \"path\", got \"" + name + "\"");
-}
+namespace {
 
-NormalMode parse_normal_mode(const std::string& name) {
-  if (name == "shading") return NormalMode::Shading;
-  if (name == "geometric") return NormalMode::Geometric;
-  bad("normals must be \"shading\" or \"geometric\", got \"" + name + "\"");
-}
+// Each choice's values by the names the Python API gives them, in the order its errors list them.
+template <typename E>
+struct Named {
+  const char* name;
+  E value;
+};
+const Named<Estimator> kEstimators[] = {{"branching", Estimator::Branching}, {"path", Estimator::Path}};
+const Named<NormalMode> kNormalModes[] = {{"shading", NormalMode::Shading}, {"geometric", NormalMode::Geometric}};
+const Named<Traversal> kTraversals[] = {{"auto", Traversal::Auto},           {"pushdown", Traversal::PushDown},
+                                        {"restart", Traversal::Restart},     {"short-stack", Traversal::ShortStack},
+                                        {"stack", Traversal::Stack},         {"lanes", Traversal::Lanes}};
+const Named<KernelOrganisation> kOrganisations[] = {{"auto", KernelOrganisation::Auto},
+                                                    {"megakernel", KernelOrganisation::Megakernel},
+                                                    {"wavefront", KernelOrganisation::Wavefront}};
+const Named<Method> kMethods[] = {{"raytraced", Method::RayTraced}, {"hbao", Method::Hbao}};
 
-Traversal parse_traversal(const std::string& name) {
-  if (name == "pushdown") return Traversal::PushDown;
-  if (name == "restart") return Traversal::Restart;
-  if (name == "short-stack") return Traversal::ShortStack;
-  if (name == "stack") return Traversal::Stack;
-  if (name == "lanes") return Traversal::Lanes;
-  if (name == "auto") return Traversal::Auto;
-  bad("traversal must be \"auto\", \"pushdown\", \"restart\", \"short-stack\", \"stack\" or \"lanes\", got \"" +
-      name + "\"");
-}
-
-KernelOrganisation parse_organisation(const std::string& name) {
-  if (name == "megakernel") return KernelOrganisation::Megakernel;
-  if (name == "wavefront") return KernelOrganisation::Wavefront;
-  if (name == "auto") return KernelOrganisation::Auto;
-  bad("organisation must be \"auto\", \"megakernel\" or \"wavefront\", got \"" + name + "\"");
-}
-
-Method parse_method(const std::string& name) {
-  if (name == "raytraced") return Method::RayTraced;
-  if (name == "hbao") return Method::Hbao;
-  bad("method must be \"raytraced\" or \"hbao\", got \"" + name + "\"");
-}
-
-std::string to_string(Method method) { return method == Method::RayTraced ? "raytraced" : "hbao"; }
-
-std::string to_string(Estimator estimator) { return estimator == Estimator::Branching ? "branching" : "path"; }
-std::string to_string(NormalMode mode) { return mode == NormalMode::Shading ? "shading" : "geometric"; }
-std::string to_string(Traversal traversal) {
-  switch (traversal) {
-    case Traversal::Restart: return "restart";
-    case Traversal::PushDown: return "pushdown";
-    case Traversal::ShortStack: return "short-stack";
-    case Traversal::Stack: return "stack";
-    case Traversal::Lanes: return "lanes";
-    default: return "auto";
+template <typename E, std::size_t N>
+E parse(const char* setting, const Named<E> (&names)[N], const std::string& name) {
+  std::string allowed;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (name == names[i].name) return names[i].value;
+    allowed += (i == 0 ? "\"" : i + 1 < N ? ", \"" : " or \"") + std::string(names[i].name) + "\"";
   }
+  bad(std::string(setting) + " must be " + allowed + ", got \"" + name + "\"");
 }
 
-std::string to_string(KernelOrganisation organisation) {
-  switch (organisation) {
-    case KernelOrganisation::Megakernel: return "megakernel";
-    case KernelOrganisation::Wavefront: return "wavefront";
-    default: return "auto";
-  }
+template <typename E, std::size_t N>
+std::string name_of(const Named<E> (&names)[N], E value) {
+  for (const Named<E>& named : names)
+    if (named.value == value) return named.name;
+  return "?";
 }
+
+template <typename E, std::size_t N>
+std::vector<std::string> all_names(const Named<E> (&names)[N]) {
+  std::vector<std::string> all;
+  for (const Named<E>& named : names) all.push_back(named.name);
+  return all;
+}
+
+}  // namespace
+
+Estimator parse_estimator(const std::string& name) { return parse("estimator", kEstimators, name); }
+NormalMode parse_normal_mode(const std::string& name) { return parse("normals", kNormalModes, name); }
+Traversal parse_traversal(const std::string& name) { return parse("traversal", kTraversals, name); }
+KernelOrganisation parse_organisation(const std::string& name) { return parse("organisation", kOrganisations, name); }
+Method parse_method(const std::string& name) { return parse("method", kMethods, name); }
+
+std::string to_string(Estimator estimator) { return name_of(kEstimators, estimator); }
+std::string to_string(NormalMode mode) { return name_of(kNormalModes, mode); }
+std::string to_string(Traversal traversal) { return name_of(kTraversals, traversal); }
+std::string to_string(KernelOrganisation organisation) { return name_of(kOrganisations, organisation); }
+std::string to_string(Method method) { return name_of(kMethods, method); }
+
+template <>
+std::vector<std::string> names_of<Estimator>() { return all_names(kEstimators); }
+template <>
+std::vector<std::string> names_of<NormalMode>() { return all_names(kNormalModes); }
+template <>
+std::vector<std::string> names_of<Traversal>() { return all_names(kTraversals); }
+template <>
+std::vector<std::string> names_of<KernelOrganisation>() { return all_names(kOrganisations); }
+template <>
+std::vector<std::string> names_of<Method>() { return all_names(kMethods); }
 
 std::uint64_t RenderSettings::max_rays_per_camera_sample() const {
   if (estimator == Estimator::Path) return std::uint64_t(samples) * std::uint64_t(bounces);
@@ -114,13 +124,13 @@ bool RenderSettings::wavefront_can_run() const {
 }
 
 void RenderSettings::validate() const {
-  check_range("width", width, 1, 16384);
-  check_range("height", height, 1, 16384);
-  check_range("samples", samples, 1, 1 << 20);
-  check_range("spp", spp, 1, 1 << 16);
-  check_range("bounces", bounces, 1, estimator == Estimator::Branching ? kMaxBranchingBounces : 1 << 16);
-  if (!(rho >= 0.0f && rho <= 1.0f)) bad("rho must be in [0, 1], got " + std::to_string(rho));
-  if (!(max_distance > 0.0f)) bad("max_distance must be > 0 (inf for unlimited), got " + std::to_string(max_distance));
+  if (estimator == Estimator::Branching && (bounces < 1 || bounces > kMaxBranchingBounces))
+    bad("bounces must be in [1, " + std::to_string(kMaxBranchingBounces) + "] for the branching estimator, got " +
+        std::to_string(bounces) +
+        (bounces > 1 ? "; the path estimator takes up to " +
+                           std::to_string(std::get<std::int64_t>(setting_spec("bounces").hi)) + " (estimator=\"path\")"
+                     : ""));
+  for (const SettingSpec& spec : setting_specs()) spec.check(*this);
   if (method == Method::Hbao) return validate_hbao();
   const std::uint64_t per_pixel = max_rays_per_camera_sample() * std::uint64_t(spp);
   if (per_pixel > kMaxRaysPerPixel) {

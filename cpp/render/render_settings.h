@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "mbao/limits.h"
 
@@ -46,6 +47,9 @@ std::string to_string(NormalMode mode);
 std::string to_string(Traversal traversal);
 std::string to_string(KernelOrganisation organisation);
 std::string to_string(Method method);
+// Every name parse_* takes for enum E, in the order its errors list them.
+template <typename E>
+std::vector<std::string> names_of();
 
 // About a quarter of an hour on two CPU cores under PoCL (~10 M rays/s), ten
 // seconds on a GPU: past this a render is more likely a mistake (r^b grows

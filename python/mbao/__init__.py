@@ -17,12 +17,14 @@ from .images import save_image
 from .reference import Reference, reference, reference_camera
 from .render import Result, render, trace
 from .scene import Mesh, load
+from .settings import Engine
 
 __all__ = [
     "DEFAULT_MAX_RAYS",
     "Camera",
     "Device",
     "DeviceError",
+    "Engine",
     "HBAO",
     "Error",
     "LoadError",

@@ -5,14 +5,14 @@
 """
 
 import argparse
-import math
 import sys
 
 from . import _core
 from .devices import devices
 from .images import save_image
-from .render import ESTIMATORS, METHODS, NORMAL_MODES, ORGANISATIONS, TRAVERSALS, render
+from .render import render
 from .scene import load
+from .settings import ENGINE, RENDER, Engine
 
 
 class _Parser(argparse.ArgumentParser):
@@ -29,28 +29,21 @@ def _parser():
     r.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
     r.add_argument("-o", "--output", default="ao.png", help="image to write: .png (8-bit) or .exr (float); default ao.png")
     r.add_argument("--camera", help="camera.json (SPEC 3.1.1); default: the scene's own camera, else one framing it")
-    r.add_argument("--width", type=int, default=512)
-    r.add_argument("--height", type=int, default=512)
-    r.add_argument("--bounces", type=int, default=1)
-    r.add_argument("--samples", type=int, default=4, help="r: directions per hit")
-    r.add_argument("--estimator", choices=ESTIMATORS, default="branching")
-    r.add_argument("--rho", type=float, default=1.0, help="albedo in [0, 1]")
-    r.add_argument(
-        "--max-distance", type=float, default=math.inf, help="AO radius; default inf (camera.json may suggest one)"
-    )
-    r.add_argument("--spp", type=int, default=1, help="camera samples per pixel")
-    r.add_argument("--normals", choices=NORMAL_MODES, default="shading")
-    r.add_argument("--traversal", choices=TRAVERSALS, default="auto")
-    r.add_argument("--seed", type=int, default=0)
-    r.add_argument("--traversal-stats", action="store_true", help="count nodes, leaves, triangle tests per ray")
-    r.add_argument("--organisation", choices=ORGANISATIONS, default="auto")
-    r.add_argument("--method", choices=METHODS, default="raytraced", help="hbao: the screen-space baseline")
-    r.add_argument("--hbao-directions", type=int, default=8)
-    r.add_argument("--hbao-steps", type=int, default=6)
-    r.add_argument("--hbao-angle-bias", type=float, default=10.0, help="degrees")
-    r.add_argument("--hbao-falloff", type=float, default=1.0)
-    r.add_argument("--max-rays", type=int, help="refuse renders that could trace more rays (default 1e10)")
+    for spec in RENDER.values():
+        _add_setting(r, spec)
+    hbao, defaults = r.add_argument_group("HBAO options", "for --method hbao (SPEC 4)"), _core.HBAO()
+    hbao.add_argument("--hbao-directions", type=int, default=defaults.directions,
+                      help="image directions per pixel, 1..64 (default: %(default)s)")
+    hbao.add_argument("--hbao-steps", type=int, default=defaults.steps,
+                      help="samples along each direction, 1..64 (default: %(default)s)")
+    hbao.add_argument("--hbao-angle-bias", type=float, default=defaults.angle_bias_deg,
+                      help="degrees above the tangent plane below which horizons are ignored (default: %(default)s)")
+    hbao.add_argument("--hbao-falloff", type=float, default=defaults.falloff,
+                      help="attenuation 1 - falloff * (r / radius)^2, in [0, 1] (default: %(default)s)")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
+    engine = r.add_argument_group("engine options", "how the work is done; none of them changes the image")
+    for spec in ENGINE.values():
+        _add_setting(engine, spec)
 
     c = commands.add_parser("compare", help="the paper's Figure 2 (HBAO | 1 bounce | 2 bounces | difference) "
                                             "and error against time for every method")
@@ -73,6 +66,22 @@ def _parser():
     return parser
 
 
+def _add_setting(parser, spec):
+    """The option of one setting of mbao.render, named, typed and documented by the settings' table."""
+    flag, kind = "--" + spec["name"].replace("_", "-"), spec["kind"]
+    if kind == "flag":
+        parser.add_argument(flag, action="store_true", help=spec["doc"])
+        return
+    allowed = f", allowed {spec['range']}" if kind in ("integer", "unsigned", "real") else ""
+    default = "automatic" if spec["default"] is None else "%(default)s"
+    options = dict(default=spec["default"], help=f"{spec['doc']} (default: {default}{allowed})")
+    if kind == "choice":
+        options["choices"] = spec["choices"]
+    else:
+        options["type"] = float if kind == "real" else int
+    parser.add_argument(flag, **options)
+
+
 def _device_argument(text):
     return int(text) if text is not None and text.isdigit() else text
 
@@ -83,23 +92,10 @@ def _render(args):
     result = render(
         scene,
         camera=camera,
-        width=args.width,
-        height=args.height,
-        bounces=args.bounces,
-        samples=args.samples,
-        estimator=args.estimator,
-        rho=args.rho,
-        max_distance=args.max_distance,
-        spp=args.spp,
-        normals=args.normals,
-        seed=args.seed,
-        traversal=args.traversal,
-        device=_device_argument(args.device),
-        traversal_stats=args.traversal_stats,
-        organisation=args.organisation,
-        max_rays=args.max_rays,
-        method=args.method,
         hbao=_core.HBAO(args.hbao_directions, args.hbao_steps, args.hbao_angle_bias, args.hbao_falloff),
+        engine=Engine(**{name: getattr(args, name) for name in ENGINE}),
+        device=_device_argument(args.device),
+        **{name: getattr(args, name) for name in RENDER},
     )
     save_image(args.output, result.ao)
     s = result.stats

@@ -1,19 +1,15 @@
 """Rendering and ray queries."""
 
 import dataclasses
+import inspect
 import math
+import warnings
 
 import numpy as np
 
 from . import _checks, _core
 from .devices import resolve
-
-ESTIMATORS = ("branching", "path")
-NORMAL_MODES = ("shading", "geometric")
-TRAVERSALS = ("auto", "pushdown", "restart", "short-stack", "stack", "lanes")
-ORGANISATIONS = ("auto", "megakernel", "wavefront")
-METHODS = ("raytraced", "hbao")
-
+from .settings import ENGINE, RENDER, Engine, checked, describe, engine_values
 
 @dataclasses.dataclass(frozen=True)
 class Result:
@@ -42,100 +38,66 @@ def _check_scene(scene):
         raise TypeError(f"scene must be an mbao.Scene or mbao.Mesh, got {type(scene).__name__}")
 
 
-def render(
-    scene,
-    *,
-    camera=None,
-    width=512,
-    height=512,
-    bounces=1,
-    samples=4,
-    estimator="branching",
-    rho=1.0,
-    max_distance=math.inf,
-    spp=1,
-    normals="shading",
-    seed=0,
-    traversal="auto",
-    device=None,
-    traversal_stats=False,
-    organisation="auto",
-    tile_pixels=None,
-    work_group_size=None,
-    max_rays=None,
-    progress=None,
-    method="raytraced",
-    hbao=None,
-):
-    """Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
-
-    camera: an mbao.Camera; by default the scene's own (the Cornell box's, a glTF
-        file's first perspective camera), else one framing the scene's bounds.
-    width, height: image size in pixels, 1..16384.
-    bounces: b >= 1 (branching: at most 16). samples: r, directions per hit.
-    estimator: "branching" (the paper's: r + r^2 + ... + r^b rays per camera
-        sample) or "path" (r paths of up to b segments).
-    rho: albedo in [0, 1]. max_distance: hits farther away count as misses (> 0, inf).
-    spp: camera samples per pixel (1: the pixel centre; more: jittered, box filter).
-    normals: "shading" (interpolated vertex normals where the mesh has them) or "geometric".
-    seed: any integer in [0, 2^64); the image is a pure function of the seed and
-        the settings, whatever the device, tiling or work-group size.
-    traversal: how rays walk the kd-tree: "pushdown" or "short-stack" (Horn et al. 2007),
-        "restart" (Foley and Sugerman 2005), "stack" (a full stack), "lanes" (the full stack,
-        sixteen rays per work item in vector lanes, for CPUs: the branching estimator in the
-        wavefront organisation only; camera rays sixteen to a packet), or "auto": the device
-        class's choice (docs/kernel-variants.md; stats["traversal_mode"] says which ran and
-        stats["plan"] why). Same image either way.
-    device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
-    traversal_stats: count nodes, leaves, triangle tests and restarts per ray into
-        stats["traversal"] (kernels built to count, somewhat slower).
-    organisation: "megakernel" (one work item runs a pixel's whole estimator),
-        "wavefront" (branching only: one launch per bounce over a compacted queue of
-        the surfaces that bounce on), or "auto": the device class's choice, the wavefront
-        wherever traversal is "lanes" (docs/kernel-variants.md).
-        Same image bit for bit; stats["organisation"] says which ran.
-    tile_pixels, work_group_size: how the work is cut up (None: automatic); they do not change the image.
-    max_rays: a render that could trace more rays than this (camera rays included) is refused
-        with a ValueError saying how many it would take; None: mbao.DEFAULT_MAX_RAYS (1e10).
-        Branching work grows as samples^bounces: the path estimator needs samples * bounces.
-    progress: None, or a callable progress(tiles_done, tiles_total) called after each tile.
-    method: "raytraced" (the estimators above) or "hbao": screen-space horizon-based AO
-        (SPEC 4) on the camera rays' hits through the pixel centres, with radius
-        max_distance (finite), one bounce, spp 1; hbao: an mbao.HBAO for its settings.
-
-    The GIL is released while rendering. Ctrl-C (KeyboardInterrupt), or an exception raised by
-    progress, stops the render after the tile in flight; the next render works as usual.
-    """
+def render(scene, *, camera=None, hbao=None, engine=None, device=None, progress=None, **settings):
+    # The signature and the docstring are made below from the settings' table.
     _check_scene(scene)
     if camera is not None and not isinstance(camera, _core.Camera):
         raise TypeError(f"camera must be an mbao.Camera or None, got {type(camera).__name__}")
-    seed = _checks.integer("seed", seed, 0, 2**64 - 1, "[0, 2**64)")
-    ao, mask, stats = _core.render(
-        scene,
-        camera,
-        resolve(device),
-        width=_checks.integer("width", width),
-        height=_checks.integer("height", height),
-        bounces=_checks.integer("bounces", bounces),
-        samples=_checks.integer("samples", samples),
-        estimator=_checks.choice("estimator", estimator, ESTIMATORS),
-        rho=_checks.real("rho", rho),
-        max_distance=_checks.real("max_distance", max_distance),
-        spp=_checks.integer("spp", spp),
-        normals=_checks.choice("normals", normals, NORMAL_MODES),
-        seed=seed,
-        traversal=_checks.choice("traversal", traversal, TRAVERSALS),
-        traversal_stats=_checks.boolean("traversal_stats", traversal_stats),
-        organisation=_checks.choice("organisation", organisation, ORGANISATIONS),
-        tile_pixels=_optional_count("tile_pixels", tile_pixels),
-        work_group_size=_optional_count("work_group_size", work_group_size),
-        max_rays=_core.DEFAULT_MAX_RAYS if max_rays is None else _checks.integer("max_rays", max_rays, 1, 2**64 - 1,
-                                                                                   "[1, 2**64)"),
-        progress=_progress(progress),
-        method=_checks.choice("method", method, METHODS),
-        hbao=_hbao_settings(hbao),
-    )
+    engine = _engine(engine, settings)
+    values = {}
+    for name, value in settings.items():
+        if name not in RENDER:
+            raise TypeError(f"render() got an unexpected keyword argument {name!r}; its settings are "
+                            f"{', '.join(RENDER)}, and engine=mbao.Engine(...) takes {', '.join(ENGINE)}")
+        values[name] = checked(RENDER[name], value)
+    values.update(engine_values(engine))
+    ao, mask, stats = _core.render(scene, camera, resolve(device), values, _progress(progress), _hbao_settings(hbao))
     return Result(ao, mask, stats)
+
+
+render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
+
+scene: an mbao.Scene (mbao.load, mbao.Mesh, mbao.cornell_box()).
+camera: an mbao.Camera; by default the scene's own (the Cornell box's, a glTF
+    file's first perspective camera), else one framing the scene's bounds.
+
+{chr(10).join(describe(spec) for spec in RENDER.values())}
+
+hbao: an mbao.HBAO with HBAO's own settings, for method="hbao".
+engine: an mbao.Engine: how the work is done (traversal, kernel organisation,
+    tiles, work groups, traversal counts). None: mbao's choice for the device.
+    No engine setting changes the image; stats["plan"] says what was chosen.
+device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
+progress: None, or a callable progress(tiles_done, tiles_total) called after each tile.
+
+Bad arguments raise TypeError or ValueError naming the argument and its allowed
+range. The GIL is released while rendering. Ctrl-C (KeyboardInterrupt), or an
+exception raised by progress, stops the render after the tile in flight; the
+next render works as usual.
+"""
+
+render.__signature__ = inspect.Signature(
+    [inspect.Parameter("scene", inspect.Parameter.POSITIONAL_OR_KEYWORD),
+     inspect.Parameter("camera", inspect.Parameter.KEYWORD_ONLY, default=None)]
+    + [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=spec["default"]) for name, spec in RENDER.items()]
+    + [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=None)
+       for name in ("hbao", "engine", "device", "progress")]
+)
+
+
+def _engine(engine, settings):
+    """The engine settings: `engine`, or an Engine of the engine keywords render() took before there was one."""
+    if engine is not None and not isinstance(engine, Engine):
+        raise TypeError(f"engine must be None or an mbao.Engine, got {type(engine).__name__}")
+    old = {name: settings.pop(name) for name in list(settings) if name in ENGINE}
+    if not old:
+        return engine or Engine()
+    if engine is not None:
+        raise TypeError(f"{', '.join(old)} given beside engine=: give engine settings in mbao.Engine(...) only")
+    warnings.warn(f"render({', '.join(f'{name}=...' for name in old)}) is deprecated and will go in the next "
+                  f"release: pass engine=mbao.Engine({', '.join(f'{name}=...' for name in old)})",
+                  DeprecationWarning, stacklevel=3)
+    return Engine(**old)
 
 
 def _hbao_settings(hbao):
@@ -150,15 +112,6 @@ def _progress(progress):
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be None or a callable (tiles_done, tiles_total), got {type(progress).__name__}")
     return progress
-
-
-def _optional_count(name, value):
-    if value is None:
-        return 0
-    value = _checks.integer(name, value)
-    if value < 1:
-        raise ValueError(f"{name} must be >= 1 or None, got {value}")
-    return value
 
 
 def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversal="auto", device=None,
@@ -195,6 +148,6 @@ def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversa
         rays,
         resolve(device),
         any_hit,
-        _checks.choice("traversal", traversal, TRAVERSALS),
+        checked(ENGINE["traversal"], traversal),
         _checks.boolean("traversal_stats", traversal_stats),
     )

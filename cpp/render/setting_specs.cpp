@@ -1,0 +1,216 @@
+#include "render/setting_specs.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace mbao {
+namespace {
+
+constexpr std::uint64_t kMaxUnsigned = std::numeric_limits<std::uint64_t>::max();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The accessors of one RenderSettings member as a setting of kind `kind`.
+template <typename Member>
+SettingSpec member(const char* name, SettingGroup group, SettingKind kind, Member RenderSettings::*field,
+                   const char* doc) {
+  SettingSpec spec;
+  spec.name = name;
+  spec.group = group;
+  spec.kind = kind;
+  spec.doc = doc;
+  spec.get = [field, kind](const RenderSettings& s) -> SettingValue {
+    switch (kind) {
+      case SettingKind::Integer: return std::int64_t(s.*field);
+      case SettingKind::Unsigned:
+      case SettingKind::AutoCount: return std::uint64_t(s.*field);
+      case SettingKind::Real: return double(s.*field);
+      default: return bool(s.*field);
+    }
+  };
+  spec.set = [field](RenderSettings& s, const SettingValue& value) {
+    std::visit(
+        [&](const auto& v) {
+          if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::string>) s.*field = Member(v);
+        },
+        value);
+  };
+  return spec;
+}
+
+SettingSpec integer(const char* name, std::int64_t RenderSettings::*field, std::int64_t lo, std::int64_t hi,
+                    const char* doc) {
+  SettingSpec spec = member(name, SettingGroup::Render, SettingKind::Integer, field, doc);
+  spec.lo = lo;
+  spec.hi = hi;
+  return spec;
+}
+
+// An unsigned 64-bit setting in [lo, 2^64).
+SettingSpec whole(const char* name, std::uint64_t RenderSettings::*field, std::uint64_t lo, const char* doc) {
+  SettingSpec spec = member(name, SettingGroup::Render, SettingKind::Unsigned, field, doc);
+  spec.lo = lo;
+  spec.hi = kMaxUnsigned;
+  return spec;
+}
+
+SettingSpec real(const char* name, float RenderSettings::*field, double lo, bool lo_open, double hi,
+                 const char* doc) {
+  SettingSpec spec = member(name, SettingGroup::Render, SettingKind::Real, field, doc);
+  spec.lo = lo;
+  spec.lo_open = lo_open;
+  spec.hi = hi;
+  return spec;
+}
+
+// An enum member, set and read by the names parse and to_string give its values.
+template <typename E>
+SettingSpec choice(const char* name, SettingGroup group, E RenderSettings::*field, E (*parse)(const std::string&),
+                   const char* doc) {
+  SettingSpec spec;
+  spec.name = name;
+  spec.group = group;
+  spec.kind = SettingKind::Choice;
+  spec.doc = doc;
+  spec.choices = names_of<E>();
+  spec.get = [field](const RenderSettings& s) -> SettingValue { return to_string(s.*field); };
+  spec.set = [field, parse](RenderSettings& s, const SettingValue& value) {
+    s.*field = parse(std::get<std::string>(value));
+  };
+  return spec;
+}
+
+std::vector<SettingSpec> make_specs() {
+  using G = SettingGroup;
+  using K = SettingKind;
+  return {
+      integer("width", &RenderSettings::width, 1, 16384, "Image width in pixels."),
+      integer("height", &RenderSettings::height, 1, 16384, "Image height in pixels."),
+      integer("bounces", &RenderSettings::bounces, 1, 1 << 16,
+              "b, the bounces of SPEC 1; the branching estimator takes at most 16."),
+      integer("samples", &RenderSettings::samples, 1, 1 << 20, "r, the directions drawn at each hit."),
+      choice("estimator", G::Render, &RenderSettings::estimator, parse_estimator,
+             "\"branching\" (the paper's: r + r^2 + ... + r^b rays per camera sample) or \"path\" (r paths of up "
+             "to b segments, r * b rays); the same expectation (SPEC 2)."),
+      real("rho", &RenderSettings::rho, 0.0, false, 1.0, "The albedo of every surface."),
+      real("max_distance", &RenderSettings::max_distance, 0.0, true, kInf,
+           "The AO radius: hits farther away count as misses; inf for none. HBAO's search radius."),
+      integer("spp", &RenderSettings::spp, 1, 1 << 16,
+              "Camera samples per pixel: 1 through the pixel centre, more jittered in the pixel (a box filter)."),
+      choice("normals", G::Render, &RenderSettings::normals, parse_normal_mode,
+             "\"shading\" (interpolated vertex normals where the mesh has them) or \"geometric\" (SPEC 3.3)."),
+      whole("seed", &RenderSettings::seed, 0,
+            "The image is a function of the seed and the render settings alone, whatever the device or engine."),
+      choice("method", G::Render, &RenderSettings::method, parse_method,
+             "\"raytraced\" (the estimators) or \"hbao\": screen-space horizon-based AO (SPEC 4) on the camera "
+             "rays' hits through the pixel centres, with radius max_distance, one bounce and spp 1."),
+      whole("max_rays", &RenderSettings::max_rays, 1,
+            "A render that could trace more rays than this, camera rays included, is refused before it starts."),
+      choice("traversal", G::Engine, &RenderSettings::traversal, parse_traversal,
+             "How rays walk the kd-tree: \"pushdown\" or \"short-stack\" (Horn et al. 2007), \"restart\" (Foley "
+             "and Sugerman 2005), \"stack\" (a full stack), \"lanes\" (the full stack, sixteen rays per work item; "
+             "the branching estimator in the wavefront only) or \"auto\": the device's choice "
+             "(docs/kernel-variants.md)."),
+      choice("organisation", G::Engine, &RenderSettings::organisation, parse_organisation,
+             "\"megakernel\" (a work item runs a pixel's estimator), \"wavefront\" (branching only: a launch per "
+             "bounce over a queue of the surfaces that bounce on) or \"auto\": the device's choice."),
+      member("tile_pixels", G::Engine, K::AutoCount, &RenderSettings::tile_pixels,
+             "Pixels per launch; automatic bounds the memory and the rays of a launch."),
+      member("work_group_size", G::Engine, K::AutoCount, &RenderSettings::work_group_size,
+             "OpenCL work-group size; automatic is 64, or the kernel's limit where lower."),
+      member("traversal_stats", G::Engine, K::Flag, &RenderSettings::count_traversal,
+             "Count nodes, leaves, triangle tests and restarts per ray into stats[\"traversal\"] (kernels "
+             "built to count, somewhat slower)."),
+  };
+}
+
+std::string number(double value) {
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+std::string value_text(const SettingValue& value) {
+  return std::visit(
+      [](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::string>) return "\"" + v + "\"";
+        else if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
+        else if constexpr (std::is_same_v<T, double>) return std::to_string(v);
+        else return std::to_string(v);
+      },
+      value);
+}
+
+}  // namespace
+
+std::string SettingSpec::range() const {
+  switch (kind) {
+    case SettingKind::Integer:
+      return "[" + std::to_string(std::get<std::int64_t>(lo)) + ", " + std::to_string(std::get<std::int64_t>(hi)) + "]";
+    case SettingKind::Unsigned: {
+      const std::uint64_t top = std::get<std::uint64_t>(hi);
+      return "[" + std::to_string(std::get<std::uint64_t>(lo)) + ", " +
+             (top == kMaxUnsigned ? "2^64)" : std::to_string(top) + "]");
+    }
+    case SettingKind::AutoCount: return ">= 1, or automatic";
+    case SettingKind::Real: {
+      const double low = std::get<double>(lo), high = std::get<double>(hi);
+      if (std::isinf(high)) return (lo_open ? "> " : ">= ") + number(low);
+      return (lo_open ? "(" : "[") + number(low) + ", " + number(high) + "]";
+    }
+    case SettingKind::Choice: {
+      std::string text;
+      for (std::size_t i = 0; i < choices.size(); ++i)
+        text += (i == 0 ? "\"" : i + 1 < choices.size() ? ", \"" : " or \"") + choices[i] + "\"";
+      return text;
+    }
+    case SettingKind::Flag: return "true or false";
+  }
+  return "";
+}
+
+void SettingSpec::check(const RenderSettings& settings) const {
+  const SettingValue value = get(settings);
+  bool inside = true;
+  switch (kind) {
+    case SettingKind::Integer: {
+      const std::int64_t v = std::get<std::int64_t>(value);
+      inside = v >= std::get<std::int64_t>(lo) && v <= std::get<std::int64_t>(hi);
+      break;
+    }
+    case SettingKind::Unsigned: {
+      const std::uint64_t v = std::get<std::uint64_t>(value);
+      inside = v >= std::get<std::uint64_t>(lo) && v <= std::get<std::uint64_t>(hi);
+      break;
+    }
+    case SettingKind::Real: {
+      const double v = std::get<double>(value), low = std::get<double>(lo);
+      inside = (lo_open ? v > low : v >= low) && v <= std::get<double>(hi);  // NaN is outside
+      break;
+    }
+    default: break;  // counts, names and flags hold only allowed values once set
+  }
+  if (inside) return;
+  const std::string where = range();
+  throw std::invalid_argument(name + " must be " + (where[0] == '[' || where[0] == '(' ? "in " : "") + where +
+                              ", got " + value_text(value));
+}
+
+const std::vector<SettingSpec>& setting_specs() {
+  static const std::vector<SettingSpec> specs = make_specs();
+  return specs;
+}
+
+const SettingSpec& setting_spec(const std::string& name) {
+  std::string names;
+  for (const SettingSpec& spec : setting_specs()) {
+    if (spec.name == name) return spec;
+    names += (names.empty() ? "" : ", ") + spec.name;
+  }
+  throw std::invalid_argument("no render setting \"" + name + "\"; the settings are " + names);
+}
+
+}  // namespace mbao
