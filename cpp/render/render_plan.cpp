@@ -5,10 +5,11 @@
 namespace mbao {
 namespace {
 
-// The device table. Each entry's measurement is in docs/kernel-variants.md.
-const DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16};
-const DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0};
-const DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0};
+// The device table. Each entry's measurement is in docs/kernel-variants.md. Constant-initialized, so
+// that other files' static objects may read it.
+constexpr DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16};
+constexpr DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0};
+constexpr DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0};
 
 bool walks_full_stack(Traversal walk) { return walk == Traversal::Stack || walk == Traversal::Lanes; }
 
@@ -32,7 +33,7 @@ Traversal plan_traversal(const RenderSettings& s, const DeviceProfile& profile, 
                              !s.origin_paths.value_or(false);
   const bool lanes = deep_enough(scene.tree_depth, profile.min_lanes_depth) && lanes_can_run;
   const Traversal walk = lanes ? Traversal::Lanes : profile.walk;
-  std::string why = "traversal " + to_string(walk) + ": the " + profile.device_class + " profile's";
+  std::string why = "traversal " + to_string(walk) + ": the " + std::string(profile.device_class) + " profile's";
   if (profile.min_lanes_depth > 0)
     why += lanes ? " lanes (" + depth_reason(scene, profile.min_lanes_depth) + ")"
                  : " walk of one ray (lanes need a tree at least " + std::to_string(profile.min_lanes_depth) +
@@ -52,10 +53,11 @@ KernelOrganisation plan_organisation(const RenderSettings& s, Traversal traversa
     why = "lanes run in the wavefront";
   } else if (profile.organisation == KernelOrganisation::Wavefront && s.wavefront_can_run()) {
     organisation = KernelOrganisation::Wavefront;
-    why = "the " + profile.device_class + " profile's";
+    why = "the " + std::string(profile.device_class) + " profile's";
   } else {
-    why = profile.organisation == KernelOrganisation::Wavefront ? "the wavefront cannot run these settings"
-                                                                : "the " + profile.device_class + " profile's";
+    why = profile.organisation == KernelOrganisation::Wavefront
+              ? "the wavefront cannot run these settings"
+              : "the " + std::string(profile.device_class) + " profile's";
   }
   reasons.push_back("organisation " + to_string(organisation) + ": " + why);
   return organisation;

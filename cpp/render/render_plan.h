@@ -21,7 +21,7 @@ namespace mbao {
 
 // What one class of device runs where the settings leave the choice to mbao.
 struct DeviceProfile {
-  std::string device_class;              // "CPU", "GPU" or "other" (accelerators: unmeasured)
+  const char* device_class;              // "CPU", "GPU" or "other" (accelerators: unmeasured)
   Traversal walk;                        // for rays walked one per work item
   int min_lanes_depth;                   // lanes for trees at least this deep (0: never)
   KernelOrganisation organisation;       // where the wavefront can run the settings
