@@ -148,12 +148,15 @@ static inline void far_stack_push_if(FarStack* stack, uint push, uint node, floa
 #endif
 }
 
-#if MBAO_STACK_SIZE > 0
+// Without a stack (restart, push-down) it is always empty, and the compiler
+// drops the pops.
 static inline int far_stack_is_empty(const FarStack* stack) {
 #if MBAO_FULL_STACK
   return stack->top == 0;
-#else
+#elif MBAO_STACK_SIZE > 0
   return stack->count == 0;
+#else
+  return 1;
 #endif
 }
 
@@ -161,7 +164,7 @@ static inline int far_stack_pop(FarStack* stack, uint* node, float* t_hi) {
   if (far_stack_is_empty(stack)) return 0;
 #if MBAO_FULL_STACK
   --stack->top;
-#else
+#elif MBAO_STACK_SIZE > 0
   stack->top = (stack->top - 1) & (MBAO_STACK_SIZE - 1);
   --stack->count;
 #endif
@@ -170,7 +173,6 @@ static inline int far_stack_pop(FarStack* stack, uint* node, float* t_hi) {
   *t_hi = as_float(entry.y);
   return 1;
 }
-#endif
 
 // What a descent carries from step to step.
 typedef struct Descent {
@@ -270,12 +272,14 @@ static inline void locate_ray_origin(const SceneView* scene, float3 point, RayOr
 #endif
 }
 
-#if MBAO_ORIGIN_PATHS
-// A walk's first descent from the root along the path, for as long as the
-// children it takes are the path's: returns the node it stands at after.
-static inline uint descend_along(const OriginPath* path, const float2* axis_ray, Descent* d, FarStack* stack,
-                                 TraversalCounts* counts) {
+// A walk's first descent from the root along the origin's path, for as long
+// as the children it takes are the path's: returns the node it stands at
+// after. Without origin paths it stands at the root.
+static inline uint descend_from_origin(const RayOrigin* origin, const float2* axis_ray, Descent* d, FarStack* stack,
+                                       TraversalCounts* counts) {
   uint index = 0;
+#if MBAO_ORIGIN_PATHS
+  const OriginPath* path = &origin->path;
   for (uint k = 0; k < path->length; ++k) {
     const KdNode node = path->steps[k];
     const uint next = descent_step(axis_ray, node, index, d, stack);
@@ -284,9 +288,9 @@ static inline uint descend_along(const OriginPath* path, const float2* axis_ray,
     index = next;
     if (next != on_path) break;
   }
+#endif
   return index;
 }
-#endif
 
 // Finds the closest hit with 0 < t <= t_max (ties go to the lower triangle id),
 // or with any_hit, any hit in that range, for the ray from origin->point along
@@ -329,27 +333,20 @@ static inline int trace_ray_from(const SceneView* scene, const RayOrigin* origin
   for (;;) {
     uint index;
     d.whole_interval_inside = 1;
-#if MBAO_STACK_SIZE > 0
     if (far_stack_pop(&stack, &index, &d.t_hi)) {
       d.whole_interval_inside = 0;
-    } else
-#endif
-    {
+    } else {
       index = d.start_node;
       d.t_hi = t_exit;
       if (resumed) MBAO_COUNT(counts, restarts, 1);
     }
     d.far_bound = resumed ? t_lo : t_lo > 0.0f ? as_float(as_uint(t_lo) - 1u) : 0.0f;
-#if MBAO_ORIGIN_PATHS
-    if (!resumed) index = descend_along(&origin->path, axis_ray, &d, &stack, counts);
-#endif
+    if (!resumed) index = descend_from_origin(origin, axis_ray, &d, &stack, counts);
 
     KdNode node = scene->nodes[index];
     MBAO_COUNT(counts, nodes, 1);
     while (!kd_is_leaf(node)) {
-#if MBAO_LOAD_BOTH_CHILDREN
-      const uint below = index + 1, above = kd_above_child(node);
-#endif
+      const uint below = index + 1, above = kd_above_child(node);  // read only with MBAO_LOAD_BOTH_CHILDREN
       index = descent_step(axis_ray, node, index, &d, &stack);
 #if MBAO_LOAD_BOTH_CHILDREN
       // volatile: otherwise the compiler turns the choice between two loaded
@@ -371,11 +368,7 @@ static inline int trace_ray_from(const SceneView* scene, const RayOrigin* origin
     if (best.triangle != MBAO_NO_TRIANGLE && best.t <= d.t_hi) break;
     t_lo = d.t_hi;
     resumed = 1;
-#if MBAO_STACK_SIZE > 0
     if (far_stack_is_empty(&stack) && t_lo >= t_exit) break;
-#else
-    if (t_lo >= t_exit) break;
-#endif
   }
 
   if (best.triangle == MBAO_NO_TRIANGLE) return 0;

@@ -1,0 +1,102 @@
+// Every build of render.cl that a plan can ask for (all_program_variants),
+// in every organisation it runs in, draws the same image bit for bit, with the
+// same rays, and the variants of one walk count the same traversal work. The
+// variants of a walk differ in where their nodes come from (origin paths,
+// both children loaded) or how rays are batched (lanes), never in a hit.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "opencl/compute_context.h"
+#include "opencl/devices.h"
+#include "random_soup.h"
+#include "render/device_scene.h"
+#include "render/frame.h"
+#include "render/render_plan.h"
+
+namespace mbao {
+namespace {
+
+struct Image {
+  std::vector<float> ao;
+  std::vector<std::uint8_t> mask;
+  std::uint64_t rays = 0;
+  TraversalTotals counts;
+};
+
+Image render(ComputeContext& compute, const ProgramVariant& variant, const DeviceScene& scene, const Camera& camera,
+             RenderSettings s) {
+  s.traversal = variant.walk;
+  const cl::Program& program = compute.programs().get(variant.file(), variant.options()).program;
+  const std::size_t pixels = std::size_t(s.width * s.height);
+  Frame frame(compute.context(), compute.device().device, program, scene, camera, s, pixels);
+  Image image;
+  image.ao.resize(pixels);
+  image.mask.resize(pixels);
+  std::vector<cl_uint> rays(pixels);
+  cl::CommandQueue& queue = compute.queue();
+  frame.enqueue_tile(queue, 0, pixels);
+  frame.enqueue_read_back(queue, image.ao.data(), image.mask.data(), rays.data());
+  queue.finish();
+  for (cl_uint r : rays) image.rays += r;
+  image.counts = frame.traversal_totals(queue);
+  return image;
+}
+
+bool same_counts(const TraversalTotals& a, const TraversalTotals& b) {
+  return a.nodes == b.nodes && a.leaves == b.leaves && a.triangles == b.triangles && a.restarts == b.restarts;
+}
+
+TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
+  ComputeContext compute(default_device());
+  const auto scene = std::make_shared<const Scene>(random_soup(3000, 5), "soup");
+  const SceneTraits traits = SceneTraits::of(*scene);
+  ASSERT_GE(traits.tree_depth, 16);  // deep enough for the short stack to run dry and paths to be long
+  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, *scene->kd_tree(), false);
+  const Camera camera = scene->default_camera(1.0f).relative_to(scene->render_origin());
+  RenderSettings s;
+  s.width = s.height = 24;
+  s.bounces = 2;
+  s.samples = 3;
+  s.seed = 17;
+  s.count_traversal = true;
+
+  std::unique_ptr<Image> first;
+  std::map<Traversal, TraversalTotals> counts_of_walk;
+  std::size_t rendered = 0;
+  for (const ProgramVariant& v : all_program_variants()) {
+    // This scene's and these settings' variants: every walk and device tuning.
+    if (v.program != Program::Render || !v.count_traversal || v.alpha_masks != traits.alpha_masks ||
+        v.shading_normals || !v.unlimited_distance)
+      continue;
+    for (const KernelOrganisation organisation : {KernelOrganisation::Megakernel, KernelOrganisation::Wavefront}) {
+      if (v.walk == Traversal::Lanes && organisation == KernelOrganisation::Megakernel) continue;
+      SCOPED_TRACE(v.options() + " " + to_string(organisation));
+      s.organisation = organisation;
+      const Image image = render(compute, v, device_scene, camera, s);
+      ++rendered;
+      if (!first) {
+        first = std::make_unique<Image>(image);
+        double sum = 0.0;
+        for (float a : image.ao) sum += a;
+        ASSERT_GT(image.rays, 0u);
+        ASSERT_LT(sum, double(image.ao.size()));  // not a vacuous agreement: light was blocked
+      }
+      EXPECT_EQ(std::memcmp(image.ao.data(), first->ao.data(), image.ao.size() * sizeof(float)), 0);
+      EXPECT_EQ(image.mask, first->mask);
+      EXPECT_EQ(image.rays, first->rays);
+      // Lanes walk the full stack: its counts, node for node.
+      const Traversal walk = v.walk == Traversal::Lanes ? Traversal::Stack : v.walk;
+      const auto [known, inserted] = counts_of_walk.emplace(walk, image.counts);
+      if (!inserted) EXPECT_TRUE(same_counts(image.counts, known->second));
+    }
+  }
+  EXPECT_EQ(rendered, 22u);  // 12 variants, lanes in the wavefront only
+}
+
+}  // namespace
+}  // namespace mbao
