@@ -128,6 +128,33 @@ def test_help_gives_every_setting_its_default_and_the_engine_options_a_group(tmp
         assert default in render_part, default
 
 
+def test_version(tmp_path):
+    proc = run_mbao("--version", cwd=tmp_path)
+    assert proc.returncode == 0 and proc.stdout.strip() == f"mbao {mbao.__version__}"
+
+
+@pytest.mark.parametrize("command", ["render", "compare"])
+def test_every_option_with_a_default_says_it_in_help(tmp_path, command):
+    from mbao.cli import _parser
+
+    subparser = _parser()._subparsers._group_actions[0].choices[command]
+    proc = run_mbao(command, "--help", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    text = " ".join(proc.stdout.split()).split(" options: ", 1)[1]  # past the usage line
+    for action in subparser._actions:
+        if action.option_strings and action.default not in (None, False, "==SUPPRESS=="):
+            entry = text.split(action.option_strings[-1], 1)[1].split(" --", 1)[0]
+            assert "default: " in entry, f"{action.option_strings[-1]} has default {action.default!r}: {entry!r}"
+
+
+def test_an_output_without_a_writer_is_refused_by_its_option_before_rendering(tmp_path):
+    proc = run_mbao("render", "--width", 4, "--height", 4, "--bounces", 16, "--samples", 8, "--max-rays", 2**62,
+                    "-o", "noext", cwd=tmp_path)  # fmt: skip
+    assert proc.returncode == 2
+    assert proc.stderr.startswith("mbao: -o 'noext'") and "(none)" in proc.stderr and ".png" in proc.stderr
+    assert "rays" not in proc.stdout  # refused before the render, which would take hours
+
+
 def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
     scene, camera, _ = gltf_scene
     proc = run_mbao("render", scene, "--camera", camera, "--width", 12, "--height", 9, "--seed", 3, "--bounces", 2,

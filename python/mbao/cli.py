@@ -9,7 +9,8 @@ import sys
 
 from . import _core
 from .devices import devices
-from .images import save_image
+from . import __version__
+from .images import check_writable, save_image
 from .render import render
 from .scene import load
 from .settings import ENGINE, RENDER, Engine
@@ -23,12 +24,14 @@ class _Parser(argparse.ArgumentParser):
 
 def _parser():
     parser = _Parser(prog="python -m mbao", description="Multi-bounce ambient occlusion with OpenCL.")
+    parser.add_argument("--version", action="version", version=f"mbao {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     r = commands.add_parser("render", help="render a scene (the built-in Cornell box by default) to an image")
     r.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
-    r.add_argument("-o", "--output", default="ao.png", help="image to write: .png (8-bit) or .exr (float); default ao.png")
-    r.add_argument("--camera", help="camera.json (SPEC 3.1.1); default: the scene's own camera, else one framing it")
+    r.add_argument("-o", "--output", default="ao.png",
+                   help="image to write: .png (8-bit) or .exr (float) (default: %(default)s)")
+    r.add_argument("--camera", help="camera.json (SPEC 3.1.1) (default: the scene's own camera, else one framing it)")
     for spec in RENDER.values():
         _add_setting(r, spec)
     hbao, defaults = r.add_argument_group("HBAO options", "for --method hbao (SPEC 4)"), _core.HBAO()
@@ -45,22 +48,24 @@ def _parser():
     for spec in ENGINE.values():
         _add_setting(engine, spec)
 
-    c = commands.add_parser("compare", help="the paper's Figure 2 (HBAO | 1 bounce | 2 bounces | difference) "
+    c = commands.add_parser("compare", formatter_class=argparse.ArgumentDefaultsHelpFormatter, help="the paper's Figure 2 (HBAO | 1 bounce | 2 bounces | difference) "
                                             "and error against time for every method")
     c.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
-    c.add_argument("-o", "--output", default="compare", help="file name prefix; default compare")
-    c.add_argument("--camera", help="camera.json; default: the scene's own camera, else one framing it")
-    c.add_argument("--width", type=int, default=256)
-    c.add_argument("--height", type=int, default=256)
+    c.add_argument("-o", "--output", default="compare", help="file name prefix")
+    c.add_argument("--camera", help="camera.json; None: the scene's own camera, else one framing it")
+    c.add_argument("--width", type=int, default=256, help="image width in pixels")
+    c.add_argument("--height", type=int, default=256, help="image height in pixels")
     c.add_argument("--samples", type=int, default=4, help="r of the Figure 2 renders")
-    c.add_argument("--rho", type=float, default=1.0)
+    c.add_argument("--rho", type=float, default=1.0, help="albedo in [0, 1]")
     c.add_argument("--max-distance", type=float,
-                   help="AO radius (HBAO's too); default camera.json's, else a quarter of the scene's diagonal")
+                   help="AO radius (HBAO's too); None: camera.json's, else a quarter of the scene's diagonal")
     c.add_argument("--target-error", type=float, default=0.01, help="the reference's standard error per pixel")
-    c.add_argument("--sample-counts", type=int, nargs="+", default=[1, 2, 4, 8, 16])
-    c.add_argument("--seed", type=int, default=0)
+    c.add_argument("--sample-counts", type=int, nargs="+", default=[1, 2, 4, 8, 16],
+                   help="r of each method's renders in the study (HBAO: its directions)")
+    c.add_argument("--seed", type=int, default=0, help="seed of the renders")
     c.add_argument("--quiet", action="store_true", help="no progress bars")
-    c.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
+    c.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, else the first GPU, "
+                   "else the first device")
 
     commands.add_parser("devices", help="list the OpenCL devices")
     return parser
@@ -87,6 +92,7 @@ def _device_argument(text):
 
 
 def _render(args):
+    check_writable(args.output, "-o")  # before the render, not after it
     scene = load(args.scene) if args.scene else _core.cornell_box()
     camera = _core.Camera.load(args.camera) if args.camera else None
     result = render(

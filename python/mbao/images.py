@@ -7,6 +7,16 @@ import numpy as np
 _FLOAT_FORMATS = (".exr", ".hdr", ".tif", ".tiff", ".pfm")
 
 
+def check_writable(path, argument="path"):
+    """Raises ValueError, naming `argument`, where OpenImageIO has no writer for the file name's extension."""
+    import OpenImageIO as oiio
+
+    if oiio.ImageOutput.create(os.fspath(path)) is None:
+        extension = os.path.splitext(path)[1] or "none"
+        raise ValueError(f"{argument} {os.fspath(path)!r}: OpenImageIO has no writer for the extension "
+                         f"({extension}); use .png (8-bit) or .exr (float)")
+
+
 def save_image(path, array):
     """Writes a (H, W) or (H, W, C) image; the format follows the file name.
 
@@ -30,9 +40,7 @@ def save_image(path, array):
     float_format = os.path.splitext(path)[1].lower() in _FLOAT_FORMATS
     if not float_format:
         pixels = np.clip(pixels, 0.0, 1.0)
-    if oiio.ImageOutput.create(path) is None:
-        extension = os.path.splitext(path)[1] or "(none)"
-        raise ValueError(f"path: OpenImageIO has no writer for the extension {extension} of {path!r}; use .png or .exr")
+    check_writable(path)
     image = oiio.ImageBuf(oiio.ImageSpec(width, height, channels, oiio.FLOAT))
     image.set_pixels(oiio.ROI(0, width, 0, height, 0, 1, 0, channels), pixels)
     if not image.write(path, oiio.FLOAT if float_format else oiio.UINT8):
