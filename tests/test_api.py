@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 import mbao
+from conftest import shared_scene
 from meshes import box, merge, plane
 
 STATS_KEYS = {
@@ -29,6 +30,9 @@ STATS_KEYS = {
     "kernel_build_ms",
     "kernel_cache",
     "kernel_options",
+    "traversal_mode",
+    "organisation",
+    "plan",
     "upload_ms",
     "frame_ms",
     "rays_primary",
@@ -238,7 +242,7 @@ BAD_ARGUMENTS = [
     (dict(seed=-1), ValueError, r"seed.*(2\*\*64|2\^64)"),
     (dict(seed=2**64), ValueError, r"seed.*(2\*\*64|2\^64)"),
     (dict(seed=1.5), TypeError, r"seed"),
-    (dict(camera="camera.json"), TypeError, r"camera"),
+    (dict(camera=5), TypeError, r"camera"),
     (dict(engine=dict(tile_pixels=0)), ValueError, r"tile_pixels"),
     (dict(engine=dict(work_group_size=0)), ValueError, r"work_group_size"),
     (dict(engine="stack"), TypeError, r"engine.*mbao.Engine"),
@@ -308,12 +312,29 @@ def test_an_engine_is_checked_when_it_is_made():
     assert "traversal='stack'" in repr(mbao.Engine(traversal="stack"))
 
 
-def test_scene_must_be_a_scene():
+def test_scene_must_be_a_scene_or_a_path():
     vertices, indices = box((0, 0, 0), (1, 1, 1))
-    with pytest.raises(TypeError, match="scene"):
+    with pytest.raises(TypeError, match="scene.*path"):
         mbao.render(vertices, width=1, height=1)
-    with pytest.raises(TypeError, match="scene"):
-        mbao.render("scene.glb", width=1, height=1)
+    with pytest.raises(mbao.LoadError, match="no_such_scene.glb"):
+        mbao.render("no_such_scene.glb", width=1, height=1)
+    with pytest.raises(mbao.LoadError, match="no_such_camera.json"):
+        mbao.render(mbao.cornell_box(), camera="no_such_camera.json", width=1, height=1)
+
+
+@pytest.mark.parametrize("as_path", [str, pathlib.Path])
+def test_paths_are_taken_where_a_scene_or_a_camera_is(as_path):
+    folder = shared_scene("cornell_box")
+    scene, camera = mbao.load(folder / "scene.glb"), mbao.Camera.load(str(folder / "camera.json"))
+    settings = dict(width=12, height=10, bounces=2, seed=5)
+    expected = mbao.render(scene, camera=camera, **settings)
+    by_path = mbao.render(as_path(folder / "scene.glb"), camera=as_path(folder / "camera.json"), **settings)
+    np.testing.assert_array_equal(by_path.ao, expected.ao)
+    reference = mbao.reference(as_path(folder / "scene.glb"), camera=as_path(folder / "camera.json"), width=6,
+                               height=5, target_error=1.0, min_passes=2, samples=4, progress=False)
+    assert reference.settings["scene"] == scene.name and reference.ao.shape == (5, 6)
+    t, triangle, _ = mbao.trace(as_path(folder / "scene.glb"), [camera.eye], [np.subtract(camera.target, camera.eye)])
+    np.testing.assert_array_equal(triangle, mbao.trace(scene, [camera.eye], [np.subtract(camera.target, camera.eye)])[1])
 
 
 def test_bad_device_index_lists_the_devices(cornell, device):

@@ -10,6 +10,7 @@ from ._progress import progress_bar
 from .gtao import gtao_multibounce
 from .reference import Reference, reference_camera
 from .render import render
+from .scene import as_scene
 
 # What each method name renders, beyond the reference's camera, size, rho and max_distance.
 # "cost" is what grows along a method's curve: samples r for the ray tracers, directions for HBAO.
@@ -32,6 +33,7 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     methods: names from mbao.convergence.METHODS ("hbao", "b1", "b2 branching",
         "b2 path", "b3 branching", "b3 path", "hbao + gtao fit", "b1 + gtao fit").
         Each renders the reference's camera, size, rho and max_distance (HBAO's radius).
+    scene: as for mbao.render, a path included (loaded once for the whole study).
     reference: an mbao.Reference (mbao.reference or Reference.load).
     sample_counts: the costs of one render: samples r for the ray tracers, directions for HBAO.
     time_budgets: instead, milliseconds: each method averages renders at its
@@ -48,6 +50,7 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     """
     if not isinstance(reference, Reference):
         raise TypeError(f"reference must be an mbao.Reference, got {type(reference).__name__}")
+    scene = as_scene(scene)
     methods = _method_names(methods)
     rows = []
     renders = len(methods) * len(time_budgets or sample_counts)

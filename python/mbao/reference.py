@@ -11,7 +11,8 @@ import numpy as np
 
 from . import _checks, _core
 from ._progress import progress_bar
-from .render import _check_scene, render
+from .render import render
+from .scene import as_camera, as_scene
 
 # Reference passes take their seeds from the top half of the 64-bit range, so
 # they share no random numbers with renders at the small seeds people use.
@@ -86,10 +87,11 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
     spread itself is estimated; at most max_passes, after which the reference
     comes back with a warning and settings["converged"] False.
 
+    scene and camera: as for mbao.render, paths included.
     progress: a tqdm progress bar over the passes (False: none).
     Returns a Reference.
     """
-    _check_scene(scene)
+    scene, camera = as_scene(scene), as_camera(camera)
     target_error = _checks.real("target_error", target_error)
     if not target_error > 0.0:
         raise ValueError(f"target_error must be > 0, got {target_error}")

@@ -9,6 +9,7 @@ import numpy as np
 
 from . import _checks, _core
 from .devices import resolve
+from .scene import as_camera, as_scene
 from .settings import ENGINE, RENDER, Engine, checked, describe, engine_values
 
 @dataclasses.dataclass(frozen=True)
@@ -33,16 +34,9 @@ class Result:
         return f"<mbao.Result {w}x{h}, frame {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
 
 
-def _check_scene(scene):
-    if not isinstance(scene, _core.Scene):
-        raise TypeError(f"scene must be an mbao.Scene or mbao.Mesh, got {type(scene).__name__}")
-
-
 def render(scene, *, camera=None, hbao=None, engine=None, device=None, progress=None, **settings):
     # The signature and the docstring are made below from the settings' table.
-    _check_scene(scene)
-    if camera is not None and not isinstance(camera, _core.Camera):
-        raise TypeError(f"camera must be an mbao.Camera or None, got {type(camera).__name__}")
+    scene, camera = as_scene(scene), as_camera(camera)
     engine = _engine(engine, settings)
     values = {}
     for name, value in settings.items():
@@ -57,9 +51,11 @@ def render(scene, *, camera=None, hbao=None, engine=None, device=None, progress=
 
 render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
 
-scene: an mbao.Scene (mbao.load, mbao.Mesh, mbao.cornell_box()).
-camera: an mbao.Camera; by default the scene's own (the Cornell box's, a glTF
-    file's first perspective camera), else one framing the scene's bounds.
+scene: an mbao.Scene (mbao.load, mbao.Mesh, mbao.cornell_box()), or the path of a
+    glTF file, loaded for this call (load it once with mbao.load to render it again).
+camera: an mbao.Camera or the path of a camera.json file; by default the scene's
+    own (the Cornell box's, a glTF file's first perspective camera), else one
+    framing the scene's bounds.
 
 {chr(10).join(describe(spec) for spec in RENDER.values())}
 
@@ -129,7 +125,7 @@ def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversa
     traversal_stats, a fourth (N, 4) uint32 array: per ray the nodes and leaves
     visited, the triangles tested and the restarts.
     """
-    _check_scene(scene)
+    scene = as_scene(scene)
     origins = _checks.rows("origins", origins, 3, "fiu", np.float32)
     directions = _checks.rows("directions", directions, 3, "fiu", np.float32)
     if len(origins) != len(directions):

@@ -55,3 +55,22 @@ def load(path, *, normals=True):
     for message in scene.warnings:
         warnings.warn(message, stacklevel=2)
     return scene
+
+
+def as_scene(scene):
+    """`scene` if it is an mbao.Scene, else the glTF file it names, loaded (mbao.load) for this call."""
+    if isinstance(scene, _core.Scene):
+        return scene
+    if isinstance(scene, (str, os.PathLike)):
+        return load(scene)
+    raise TypeError(f"scene must be an mbao.Scene, an mbao.Mesh or the path of a glTF file, got {type(scene).__name__}")
+
+
+def as_camera(camera):
+    """`camera` if it is an mbao.Camera or None, else the camera.json file it names (SPEC 3.1.1), loaded."""
+    if camera is None or isinstance(camera, _core.Camera):
+        return camera
+    if isinstance(camera, (str, os.PathLike)):
+        return _core.Camera.load(os.fspath(camera))
+    raise TypeError(f"camera must be an mbao.Camera, the path of a camera.json file or None, "
+                    f"got {type(camera).__name__}")
