@@ -22,6 +22,7 @@ One build with two traversals compares as two builds do, e.g. lanes against the 
 
 import argparse
 import hashlib
+import math
 import os
 import subprocess
 import sys
@@ -37,7 +38,8 @@ def worker(args):
     camera = mbao.Camera.load(os.path.join(args.scene, "camera.json"))
 
     # HBAO's radius as `python -m mbao compare` picks it.
-    options_for_method = {"max_distance": ao_radius(scene, camera, None)[0]} if args.method == "hbao" else {}
+    # HBAO's radius as `python -m mbao compare` picks it; the ray-traced frames unlimited, as in every build.
+    options_for_method = {"max_distance": ao_radius(scene, camera, None)[0] if args.method == "hbao" else math.inf}
 
     def render(size, traversal_stats=False):
         engine = dict(traversal=args.traversal, traversal_stats=traversal_stats)

@@ -209,7 +209,7 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
   std::vector<std::uint64_t> rays(impl_->threads, 0);
   const std::size_t block = 16;  // camera samples per job: one packet of camera rays
   std::atomic<std::size_t> next_block{0};
-  const float t_max = s.max_distance;
+  const float t_max = s.radius();
   const Impl& impl = *impl_;
 
   // A level of a camera sample's AO tree, walked depth first (as the kernel walks it).

@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "bench.h"
@@ -80,6 +81,8 @@ bench::Options parse(int argc, char** argv) {
   options.self = fs::canonical("/proc/self/exe").string();
   options.settings.samples = 4;
   options.settings.estimator = mbao::Estimator::Branching;
+  // Sections run at max_distance = inf unless they set a scene's radius, not at the camera's suggestion.
+  options.settings.max_distance = std::numeric_limits<float>::infinity();
   for (int i = 0; i < argc; ++i) options.command_line += (i ? " " : "") + std::string(argv[i]);
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];

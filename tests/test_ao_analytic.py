@@ -26,6 +26,7 @@ def test_a_plane_is_open_everywhere(bounces, estimator):
         np.testing.assert_array_equal(result.ao[result.mask], 1.0)
 
 
+@pytest.mark.filterwarnings("ignore:.*looks closed")  # closed on purpose, with an unlimited radius
 @pytest.mark.parametrize("bounces", [1, 2, 3])
 @pytest.mark.parametrize("estimator", ESTIMATORS)
 def test_a_closed_box_is_closed_everywhere(bounces, estimator):

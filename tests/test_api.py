@@ -15,6 +15,7 @@ import subprocess
 import sys
 import textwrap
 import threading
+import warnings
 import time
 
 import numpy as np
@@ -368,6 +369,43 @@ def test_seed_takes_any_value_in_0_to_2_pow_64(cornell, seed):
 def test_exploding_branching_work_points_to_the_path_estimator(cornell):
     with pytest.raises(ValueError, match="path"):
         mbao.render(cornell, width=1, height=1, samples=64, bounces=6)
+
+
+# -- the radius (SPEC 1) --------------------------------------------------------------------
+
+def test_the_radius_is_the_one_given_else_the_cameras_else_unlimited(cornell):
+    camera = mbao.Camera(eye=(0, 1, 3.5), target=(0, 1, 0), max_distance=0.5)
+    settings = dict(width=8, height=8, seed=2)
+    given = mbao.render(cornell, camera=camera, max_distance=0.25, **settings)
+    assert (given.stats["max_distance"], given.stats["max_distance_source"]) == (0.25, "settings")
+    suggested = mbao.render(cornell, camera=camera, **settings)
+    assert (suggested.stats["max_distance"], suggested.stats["max_distance_source"]) == (0.5, "camera")
+    np.testing.assert_array_equal(suggested.ao, mbao.render(cornell, camera=camera, max_distance=0.5, **settings).ao)
+    unlimited = mbao.render(cornell, camera=camera, max_distance=math.inf, **settings)
+    assert unlimited.stats["max_distance_source"] == "settings" and math.isinf(unlimited.stats["max_distance"])
+    none = mbao.render(cornell, **settings)  # the Cornell box's own camera suggests none
+    assert none.stats["max_distance_source"] == "none" and math.isinf(none.stats["max_distance"])
+
+
+def test_hbao_without_a_radius_takes_a_quarter_of_the_scenes_diagonal(cornell):
+    result = mbao.render(cornell, method="hbao", width=8, height=8)
+    lo, hi = (np.asarray(corner) for corner in cornell.bounds)
+    assert result.stats["max_distance_source"] == "scene"
+    assert result.stats["max_distance"] == pytest.approx(0.25 * np.linalg.norm(hi - lo), rel=1e-6)
+    with pytest.raises(ValueError, match="finite max_distance"):
+        mbao.render(cornell, method="hbao", width=8, height=8, max_distance=math.inf)
+
+
+def test_a_closed_scene_with_an_unlimited_radius_is_warned_about_and_an_open_one_is_not(cornell):
+    inside = mbao.Camera(eye=(0.5, 0.5, 0.5), target=(1.0, 0.6, 0.2), vfov_deg=90.0)
+    closed = mbao.Mesh(*box((0, 0, 0), (1, 1, 1)))
+    with pytest.warns(UserWarning, match=r"mesh: 100% of the covered pixels.*looks closed.*max_distance"):
+        mbao.render(closed, camera=inside, width=16, height=16)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mbao.render(closed, camera=inside, width=16, height=16, max_distance=0.3)  # a radius: no warning
+        mbao.render(closed, camera=inside, width=8, height=8)  # too few pixels to tell
+        mbao.render(cornell, width=16, height=16)  # open at the front
 
 
 # -- mbao.Mesh ------------------------------------------------------------------------

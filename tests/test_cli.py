@@ -155,6 +155,21 @@ def test_an_output_without_a_writer_is_refused_by_its_option_before_rendering(tm
     assert "rays" not in proc.stdout  # refused before the render, which would take hours
 
 
+def test_render_says_where_its_radius_came_from(tmp_path, gltf_scene):
+    scene, camera, _ = gltf_scene
+    suggesting = tmp_path / "suggesting.json"
+    suggesting.write_text(json.dumps(dict(json.loads(camera.read_text()), max_distance=0.75)))
+
+    def radius(*args):
+        proc = run_mbao("render", *args, "--width", 6, "--height", 5, "-o", "x.exr", cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr
+        return re.search(r"max_distance=(.*), spp", output_lines(proc.stdout)["settings"]).group(1)
+
+    assert radius(scene, "--camera", suggesting) == "0.75 (camera.json)"
+    assert radius(scene, "--camera", suggesting, "--max-distance", 2) == "2 (--max-distance)"
+    assert radius(scene, "--camera", camera) == "inf (no camera suggests one)"
+
+
 def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
     scene, camera, _ = gltf_scene
     proc = run_mbao("render", scene, "--camera", camera, "--width", 12, "--height", 9, "--seed", 3, "--bounces", 2,
@@ -170,7 +185,7 @@ def test_hbao_from_the_command_line_equals_the_api(tmp_path, gltf_scene):
                     "--max-distance", 0.8, "--hbao-directions", 4, "--hbao-steps", 3, "--hbao-angle-bias", 5,
                     "--hbao-falloff", 0.5, "-o", "hbao.exr", cwd=tmp_path)  # fmt: skip
     assert proc.returncode == 0, proc.stderr
-    assert "hbao radius=0.8, directions=4, steps=3" in output_lines(proc.stdout)["settings"]
+    assert "hbao radius=0.8 (--max-distance), directions=4, steps=3" in output_lines(proc.stdout)["settings"]
     expected = mbao.render(mbao.load(scene), camera=mbao.Camera.load(camera), width=12, height=9, method="hbao",
                            max_distance=0.8, hbao=mbao.HBAO(directions=4, steps=3, angle_bias_deg=5, falloff=0.5))
     np.testing.assert_array_equal(read_image(tmp_path / "hbao.exr")[1][..., 0], expected.ao)

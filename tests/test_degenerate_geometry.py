@@ -141,6 +141,7 @@ def test_coplanar_copies_of_a_tilted_plane_see_no_acne():
         np.testing.assert_array_equal(covered_access(scene, camera, bounces=2, samples=8, estimator=estimator), 1.0)
 
 
+@pytest.mark.filterwarnings("ignore:.*looks closed")  # closed on purpose, with an unlimited radius
 def test_a_closed_box_with_duplicated_faces_and_a_light_in_its_ceiling_is_closed():
     """Every face twice and, like the Cornell light, a quad lying in the ceiling:
     exactly 0 everywhere inside; of two copies rays hit the first (an exact tie)."""
@@ -188,6 +189,7 @@ def test_no_ray_slips_through_a_t_junction(rng, traversal):
             assert np.all(triangle >= 0), f"{np.sum(triangle < 0)} rays escaped"
 
 
+@pytest.mark.filterwarnings("ignore:.*looks closed")  # closed on purpose, with an unlimited radius
 def test_a_box_with_t_junctions_is_closed_everywhere():
     vertices, indices, _, _ = t_junction_box()
     scene = mbao.Mesh(vertices, indices)

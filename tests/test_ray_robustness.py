@@ -158,6 +158,7 @@ CLOSED = {
 }
 
 
+@pytest.mark.filterwarnings("ignore:.*looks closed")  # closed on purpose, with an unlimited radius
 @pytest.mark.parametrize("traversal", TRAVERSALS)
 @pytest.mark.parametrize("name", CLOSED)
 def test_closed_meshes_do_not_leak(name, traversal):
@@ -175,6 +176,7 @@ def test_closed_meshes_do_not_leak(name, traversal):
             np.testing.assert_array_equal(result.ao, 0.0, err_msg=f"{estimator}, b = {bounces}")
 
 
+@pytest.mark.filterwarnings("ignore:.*looks closed")  # closed on purpose, with an unlimited radius
 def test_a_thin_closed_slab_does_not_leak():
     """A closed box 2 x 2 and 10^-4 thick (its coordinates about 1): rays leave a
     surface 2^-15 of its largest coordinate off it (surface.h), 0.3 of this slab's

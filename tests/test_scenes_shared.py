@@ -38,3 +38,21 @@ def test_shared_scene_loads_and_renders_with_its_camera(name):
     assert result.mask.mean() > 0.2  # the camera looks at the scene
     assert 0.0 <= result.ao.min() and result.ao.max() <= 1.0
     assert result.ao[result.mask].mean() < 1.0  # something occludes something
+
+
+def test_a_closed_scene_takes_the_radius_its_camera_suggests():
+    """Sibenik is a closed cathedral: with an unlimited radius every AO ray hits
+    something and the image is 0; its camera.json suggests 5, which render
+    takes when no radius is given (SPEC 1)."""
+    folder = shared_scene("sibenik")
+    scene = mbao.load(folder / "scene.glb")
+    settings = dict(camera=folder / "camera.json", width=24, height=24, samples=4, seed=1)
+    suggested = mbao.render(scene, **settings)
+    assert suggested.stats["max_distance"] == 5.0 and suggested.stats["max_distance_source"] == "camera"
+    covered = suggested.ao[suggested.mask]
+    # Far from 0: the mean exceeds the issue's 0.3 by more than 4 standard errors of the pixels' mean.
+    assert covered.mean() - 4 * covered.std() / np.sqrt(covered.size) > 0.3
+    with pytest.warns(UserWarning, match="looks closed"):
+        unlimited = mbao.render(scene, max_distance=float("inf"), **settings)
+    assert unlimited.stats["max_distance_source"] == "settings"
+    np.testing.assert_array_equal(unlimited.ao[unlimited.mask], 0.0)

@@ -29,6 +29,8 @@ py::dict stats_dict(const RenderStats& s) {
   d["traversal_mode"] = s.traversal_mode;
   d["organisation"] = s.organisation.empty() ? py::object(py::none()) : py::str(s.organisation);
   d["plan"] = s.plan;
+  d["max_distance"] = s.max_distance;
+  d["max_distance_source"] = s.max_distance_source;
   d["upload_ms"] = s.upload_ms;
   d["frame_ms"] = s.frame_ms;
   d["rays_primary"] = s.rays_primary;
@@ -51,8 +53,14 @@ py::dict stats_dict(const RenderStats& s) {
 
 // A setting's value as Python holds it: None for an automatic count, inf for an unlimited distance.
 py::object to_python(const SettingSpec& spec, const SettingValue& value) {
+  if (std::holds_alternative<std::monostate>(value)) return py::none();
   if (spec.kind == SettingKind::AutoCount && std::get<std::uint64_t>(value) == 0) return py::none();
-  return std::visit([](const auto& v) -> py::object { return py::cast(v); }, value);
+  return std::visit(
+      [](const auto& v) -> py::object {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return py::none();
+        else return py::cast(v);
+      },
+      value);
 }
 
 SettingValue from_python(const SettingSpec& spec, const py::handle& value) {
@@ -60,7 +68,7 @@ SettingValue from_python(const SettingSpec& spec, const py::handle& value) {
     case SettingKind::Integer: return value.cast<std::int64_t>();
     case SettingKind::Unsigned: return value.cast<std::uint64_t>();
     case SettingKind::AutoCount: return value.is_none() ? std::uint64_t(0) : value.cast<std::uint64_t>();
-    case SettingKind::Real: return value.cast<double>();
+    case SettingKind::Real: return value.is_none() ? SettingValue() : value.cast<double>();
     case SettingKind::Choice: return value.cast<std::string>();
     case SettingKind::Flag: return value.cast<bool>();
   }
@@ -77,6 +85,7 @@ py::list specs_list() {
     d["kind"] = kinds[int(spec.kind)];
     d["doc"] = spec.doc;
     d["range"] = spec.range();
+    d["none_means"] = spec.none_means.empty() ? py::object(py::none()) : py::str(spec.none_means);
     const bool numeric = spec.kind == SettingKind::Integer || spec.kind == SettingKind::Unsigned ||
                          spec.kind == SettingKind::Real;
     d["lo"] = numeric ? to_python(spec, spec.lo) : py::none();
@@ -96,7 +105,6 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
     spec.set(settings, from_python(spec, value));
   }
   settings.hbao = hbao;
-  settings.validate();
   // Ctrl-C is seen between tiles: the signal handler only sets a flag while
   // the GIL is released, so the render asks Python whether it has fired.
   const auto between_tiles = [&progress](std::size_t done, std::size_t total) {

@@ -35,7 +35,7 @@ AoArgs::AoArgs(const Camera& camera, const RenderSettings& s)
       bounces(cl_uint(s.bounces)),
       samples(cl_uint(s.samples)),
       rho(s.rho),
-      max_distance(s.max_distance),
+      max_distance(s.radius()),
       seed(seed_words(s.seed)) {}
 
 void AoArgs::append_to(KernelArgs& args) const {

@@ -25,7 +25,7 @@ HbaoFrame::HbaoFrame(const cl::Context& context, const cl::Device& device, const
 
   hbao_ = cl::Kernel(program, "hbao");
   set_kernel_args(hbao_, positions_, normals_, cl_uint(s.width), cl_uint(s.height), CameraBasis(camera).tan_half_vfov,
-                  s.max_distance, float(std::sin(s.hbao.angle_bias_deg * M_PI / 180.0)), s.hbao.falloff,
+                  s.radius(), float(std::sin(s.hbao.angle_bias_deg * M_PI / 180.0)), s.hbao.falloff,
                   cl_uint(s.hbao.directions), cl_uint(s.hbao.steps), seed_words(s.seed), ao_, coverage_);
   hbao_group_ = work_group_size_for(hbao_, device, s.work_group_size);
 }

@@ -154,7 +154,7 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   p.count_traversal = !hbao && s.count_traversal;
   p.alpha_masks = scene.alpha_masks;
   p.shading_normals = s.normals == NormalMode::Shading && scene.vertex_normals;
-  p.unlimited_distance = hbao || std::isinf(s.max_distance);
+  p.unlimited_distance = hbao || std::isinf(s.radius());
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
   p.origin_paths = plan_origin_paths(s, p.walk, profile, scene, plan.reasons);
   return plan;

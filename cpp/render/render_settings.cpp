@@ -152,7 +152,7 @@ void RenderSettings::validate_hbao() const {
     bad("HBAO computes one bounce, got bounces=" + std::to_string(bounces) +
         "; mbao.gtao_multibounce approximates more from its image");
   if (spp != 1) bad("HBAO samples each pixel at its centre, got spp=" + std::to_string(spp));
-  if (!std::isfinite(max_distance))
+  if (!std::isfinite(radius()))
     bad("HBAO needs a finite max_distance: it is the radius, in world units, that it searches for occluders");
   if (organisation == KernelOrganisation::Wavefront) bad("organisation \"wavefront\" applies to the ray-traced method only");
   check_range("hbao directions", hbao.directions, 1, 64);

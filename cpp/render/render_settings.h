@@ -65,7 +65,9 @@ struct RenderSettings {
   std::int64_t samples = 4;  // r: directions per hit
   Estimator estimator = Estimator::Branching;
   float rho = 1.0f;
-  float max_distance = std::numeric_limits<float>::infinity();
+  // Unset: the camera's suggested radius where it has one, else inf (SPEC 1);
+  // Renderer::render sets it so before anything reads radius().
+  std::optional<float> max_distance;
   std::int64_t spp = 1;
   NormalMode normals = NormalMode::Shading;
   std::uint64_t seed = 0;
@@ -84,6 +86,8 @@ struct RenderSettings {
   // Renders that could trace more rays than this are refused before they start.
   std::uint64_t max_rays = kDefaultMaxRays;
 
+  // The AO radius: max_distance, inf where unset.
+  float radius() const { return max_distance.value_or(std::numeric_limits<float>::infinity()); }
   // Throws std::invalid_argument naming the first bad setting and its allowed range.
   void validate() const;
   // Upper bound on the AO rays of one camera sample: r + ... + r^b or r * b.

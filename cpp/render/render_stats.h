@@ -23,6 +23,10 @@ struct RenderStats {
   std::string traversal_mode;    // the kd traversal the kernels ran ("auto" resolved for the device)
   std::string organisation;      // the ray-traced method's kernel organisation ("auto" resolved); empty for HBAO
   std::vector<std::string> plan; // why "auto" chose as it did, a line per choice (RenderPlan::reasons)
+  float max_distance = 0.0f;     // the AO radius the render used (SPEC 1)
+  // Where it came from: "settings", "camera" (its suggestion), "scene" (HBAO's quarter diagonal) or
+  // "none" (inf, for want of any).
+  std::string max_distance_source;
   double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
   double frame_ms = 0.0;         // camera rays, AO and read-back of the image
   std::uint64_t rays_primary = 0;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include <glm/geometric.hpp>
+
 #include "core/error.h"
 #include "core/timer.h"
 #include "opencl/launch.h"
@@ -50,6 +52,25 @@ std::vector<cl_float4> relative_to(const std::vector<cl_float4>& points, const g
   return moved;
 }
 
+// SPEC 1's radius rule: a radius given wins; else the camera's suggestion; else
+// inf, and for HBAO, which needs one, a quarter of the scene's diagonal.
+RenderSettings with_radius(const RenderSettings& requested, const Camera& camera, const Scene& scene,
+                           std::string& source) {
+  RenderSettings s = requested;
+  if (s.max_distance) {
+    source = "settings";
+  } else if (camera.max_distance) {
+    s.max_distance = camera.max_distance;
+    source = "camera";
+  } else if (s.method == Method::Hbao) {
+    s.max_distance = 0.25f * glm::length(scene.bounds().hi - scene.bounds().lo);
+    source = "scene";
+  } else {
+    source = "none";
+  }
+  return s;
+}
+
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
 // Refuses, before allocating, a frame that cannot fit beside the scene: an
@@ -79,14 +100,15 @@ Renderer& Renderer::for_device(const DeviceInfo& device) {
 }
 
 RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                              const RenderSettings& settings,
-                              const TileCallback& between_tiles) {
+                              const RenderSettings& requested, const TileCallback& between_tiles) {
+  RenderResult result;
+  RenderStats& stats = result.stats;
+  const RenderSettings settings = with_radius(requested, camera, *scene, stats.max_distance_source);
+  stats.max_distance = settings.radius();
   settings.validate();
   camera.validate();
   std::lock_guard<std::mutex> lock(mutex_);
 
-  RenderResult result;
-  RenderStats& stats = result.stats;
   stats.device = device().description();
   stats.tree_reused = scene->has_kd_tree();
   stats.tree = scene->kd_tree()->stats;

@@ -46,6 +46,7 @@ class Renderer {
   // with nothing left in flight: it may report progress, or throw to stop the
   // render, leaving the renderer ready for the next one.
   using TileCallback = std::function<void(std::size_t done, std::size_t total)>;
+  // settings.max_distance, where unset, follows SPEC 1's rule (stats.max_distance_source says which part).
   RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                       const RenderSettings& settings, const TileCallback& between_tiles = {});
 

@@ -32,7 +32,8 @@ SettingSpec member(const char* name, SettingGroup group, SettingKind kind, Membe
   spec.set = [field](RenderSettings& s, const SettingValue& value) {
     std::visit(
         [&](const auto& v) {
-          if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::string>) s.*field = Member(v);
+          using T = std::decay_t<decltype(v)>;
+          if constexpr (!std::is_same_v<T, std::string> && !std::is_same_v<T, std::monostate>) s.*field = Member(v);
         },
         value);
   };
@@ -61,6 +62,31 @@ SettingSpec real(const char* name, float RenderSettings::*field, double lo, bool
   spec.lo = lo;
   spec.lo_open = lo_open;
   spec.hi = hi;
+  return spec;
+}
+
+// A setting that may be left unset, to stand for `none_means`.
+SettingSpec optional_real(const char* name, std::optional<float> RenderSettings::*field, double lo, bool lo_open,
+                          double hi, const char* none_means, const char* doc) {
+  SettingSpec spec;
+  spec.name = name;
+  spec.group = SettingGroup::Render;
+  spec.kind = SettingKind::Real;
+  spec.doc = doc;
+  spec.lo = lo;
+  spec.lo_open = lo_open;
+  spec.hi = hi;
+  spec.none_means = none_means;
+  spec.get = [field](const RenderSettings& s) -> SettingValue {
+    if (!(s.*field)) return std::monostate{};
+    return double(*(s.*field));
+  };
+  spec.set = [field](RenderSettings& s, const SettingValue& value) {
+    if (std::holds_alternative<std::monostate>(value))
+      (s.*field).reset();
+    else
+      s.*field = float(std::get<double>(value));
+  };
   return spec;
 }
 
@@ -94,8 +120,11 @@ std::vector<SettingSpec> make_specs() {
              "\"branching\" (the paper's: r + r^2 + ... + r^b rays per camera sample) or \"path\" (r paths of up "
              "to b segments, r * b rays); the same expectation (SPEC 2)."),
       real("rho", &RenderSettings::rho, 0.0, false, 1.0, "The albedo of every surface."),
-      real("max_distance", &RenderSettings::max_distance, 0.0, true, kInf,
-           "The AO radius: hits farther away count as misses; inf for none. HBAO's search radius."),
+      optional_real("max_distance", &RenderSettings::max_distance, 0.0, true, kInf,
+                    "the camera's max_distance where it suggests one (camera.json), else inf; for HBAO then a "
+                    "quarter of the scene's diagonal",
+                    "The AO radius: hits farther away count as misses; inf for none (SPEC 1). HBAO's search "
+                    "radius."),
       integer("spp", &RenderSettings::spp, 1, 1 << 16,
               "Camera samples per pixel: 1 through the pixel centre, more jittered in the pixel (a box filter)."),
       choice("normals", G::Render, &RenderSettings::normals, parse_normal_mode,
@@ -136,7 +165,8 @@ std::string value_text(const SettingValue& value) {
   return std::visit(
       [](const auto& v) -> std::string {
         using T = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<T, std::string>) return "\"" + v + "\"";
+        if constexpr (std::is_same_v<T, std::monostate>) return "unset";
+        else if constexpr (std::is_same_v<T, std::string>) return "\"" + v + "\"";
         else if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
         else if constexpr (std::is_same_v<T, double>) return std::to_string(v);
         else return std::to_string(v);
@@ -174,6 +204,7 @@ std::string SettingSpec::range() const {
 
 void SettingSpec::check(const RenderSettings& settings) const {
   const SettingValue value = get(settings);
+  if (std::holds_alternative<std::monostate>(value)) return;  // unset: stands for none_means
   bool inside = true;
   switch (kind) {
     case SettingKind::Integer: {

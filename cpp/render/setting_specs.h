@@ -21,10 +21,12 @@ enum class SettingGroup { Render, Engine };
 
 // Integer: a 64-bit integer in [lo, hi]. Unsigned: an unsigned 64-bit one in [lo, hi].
 // AutoCount: a count >= 1, or 0 for mbao's choice (None in Python). Real: a number
-// in [lo, hi], lo itself refused where lo_open. Choice: one of `choices`. Flag: a bool.
+// in [lo, hi], lo itself refused where lo_open; unset (None) where none_means says
+// what that stands for. Choice: one of `choices`. Flag: a bool.
 enum class SettingKind { Integer, Unsigned, AutoCount, Real, Choice, Flag };
 
-using SettingValue = std::variant<std::int64_t, std::uint64_t, double, std::string, bool>;
+// std::monostate: an optional setting left unset.
+using SettingValue = std::variant<std::monostate, std::int64_t, std::uint64_t, double, std::string, bool>;
 
 struct SettingSpec {
   std::string name;  // the Python keyword; the command line's option is --name with '-' for '_'
@@ -33,6 +35,7 @@ struct SettingSpec {
   std::string doc;  // what it means, a sentence or two
   SettingValue lo{}, hi{};  // Integer, Unsigned, Real
   bool lo_open = false;     // Real
+  std::string none_means;   // Real: what leaving it unset stands for; empty where it must be set
   std::vector<std::string> choices;  // Choice
   std::function<SettingValue(const RenderSettings&)> get;
   std::function<void(RenderSettings&, const SettingValue&)> set;  // Choice: throws std::invalid_argument for a bad name

@@ -78,13 +78,20 @@ def _add_setting(parser, spec):
         parser.add_argument(flag, action="store_true", help=spec["doc"])
         return
     allowed = f", allowed {spec['range']}" if kind in ("integer", "unsigned", "real") else ""
-    default = "automatic" if spec["default"] is None else "%(default)s"
+    default = spec["none_means"] or "automatic" if spec["default"] is None else "%(default)s"
     options = dict(default=spec["default"], help=f"{spec['doc']} (default: {default}{allowed})")
     if kind == "choice":
         options["choices"] = spec["choices"]
     else:
         options["type"] = float if kind == "real" else int
     parser.add_argument(flag, **options)
+
+
+def _radius(stats, args):
+    """The radius a render used, and where it came from (SPEC 1's rule)."""
+    source = {"settings": "--max-distance", "camera": "camera.json" if args.camera else "the scene's camera",
+              "scene": "a quarter of the scene's diagonal", "none": "no camera suggests one"}
+    return f"{stats['max_distance']:g} ({source[stats['max_distance_source']]})"
 
 
 def _device_argument(text):
@@ -111,13 +118,13 @@ def _render(args):
     print(f"device       {s['device']}")
     if args.method == "hbao":
         print(
-            f"settings     {args.width}x{args.height}, hbao radius={args.max_distance}, directions={args.hbao_directions}, "
+            f"settings     {args.width}x{args.height}, hbao radius={_radius(s, args)}, directions={args.hbao_directions}, "
             f"steps={args.hbao_steps}, angle_bias={args.hbao_angle_bias} deg, falloff={args.hbao_falloff}"
         )
     else:
         print(
             f"settings     {args.width}x{args.height}, bounces={args.bounces}, samples={args.samples}, "
-            f"{args.estimator}, rho={args.rho}, max_distance={args.max_distance}, spp={args.spp}"
+            f"{args.estimator}, rho={args.rho}, max_distance={_radius(s, args)}, spp={args.spp}"
         )
     print(
         f"kd-tree      {tree['build_ms']:.1f} ms: {tree['nodes']} nodes, {tree['leaves']} leaves, "

@@ -76,7 +76,7 @@ class Reference:
 _CHANNELS = ("ao", "standard_error", "mask")
 
 
-def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, max_distance=math.inf,
+def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, max_distance=None,
               target_error=2e-3, samples=64, min_passes=8, max_passes=100_000, device=None, progress=True):
     """Renders until the standard error of every covered pixel is at most target_error.
 
@@ -87,7 +87,9 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
     spread itself is estimated; at most max_passes, after which the reference
     comes back with a warning and settings["converged"] False.
 
-    scene and camera: as for mbao.render, paths included.
+    scene, camera and max_distance: as for mbao.render (paths taken; no radius
+        given: the camera's suggestion, else inf). settings["max_distance"] is
+        the radius used.
     progress: a tqdm progress bar over the passes (False: none).
     Returns a Reference.
     """
@@ -121,7 +123,8 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
     if not converged:
         warnings.warn(f"reference: after {max_passes} passes the largest standard error is {worst:.3g}, "
                       f"above target_error={target_error}", stacklevel=2)
-    settings.update(scene=scene.name, camera=_camera_dict(camera), passes=passes, target_error=target_error,
+    settings.update(scene=scene.name, camera=_camera_dict(camera), max_distance=result.stats["max_distance"],
+                    passes=passes, target_error=target_error,
                     converged=converged, seconds=time.perf_counter() - started)
     return Reference(running.mean.astype(np.float32), running.standard_error().astype(np.float32),
                      result.mask.copy(), settings)

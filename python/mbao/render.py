@@ -21,8 +21,10 @@ class Result:
     mask: (height, width) bool, True where any camera sample hit geometry.
     stats: build_ms, tree_reused, kernel_build_ms, kernel_cache ("memory", "disk"
         or "compiled"), kernel_options, traversal_mode, organisation, plan (why
-        "auto" chose the kernel variant it did, a line per choice), upload_ms,
-        frame_ms, rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
+        "auto" chose the kernel variant it did, a line per choice), max_distance
+        (the radius used) and max_distance_source ("settings", "camera", "scene":
+        HBAO's quarter diagonal, or "none": inf), upload_ms, frame_ms,
+        rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
     """
 
     ao: np.ndarray
@@ -46,7 +48,22 @@ def render(scene, *, camera=None, hbao=None, engine=None, device=None, progress=
         values[name] = checked(RENDER[name], value)
     values.update(engine_values(engine))
     ao, mask, stats = _core.render(scene, camera, resolve(device), values, _progress(progress), _hbao_settings(hbao))
+    _warn_if_closed(scene, ao, mask, stats)
     return Result(ao, mask, stats)
+
+
+def _warn_if_closed(scene, ao, mask, stats):
+    """Warns where an unlimited radius left 99% of the covered pixels below 0.01:
+    in a closed scene every AO ray hits something. Only with 100 covered pixels
+    or more, where 99% leaves room for an open one. Python's default filter
+    shows it once per scene (the message names it)."""
+    covered = ao[mask]
+    if not math.isinf(stats["max_distance"]) or covered.size < 100 or np.mean(covered < 0.01) < 0.99:
+        return
+    warnings.warn(f"{scene.name}: {np.mean(covered < 0.01):.0%} of the covered pixels are below 0.01 with "
+                  f"max_distance=inf: the scene looks closed, so every AO ray hits something. Give a radius in "
+                  f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)",
+                  stacklevel=3)
 
 
 render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.

@@ -33,7 +33,7 @@ def checked(spec, value):
             raise ValueError(f"{name} must be >= 1, or None for automatic; got {value}")
         return value
     if kind == "real":
-        return _checks.real(name, value)
+        return None if value is None and spec["none_means"] else _checks.real(name, value)
     if kind == "choice":
         return _checks.choice(name, value, spec["choices"])
     return _checks.boolean(name, value)
@@ -42,7 +42,10 @@ def checked(spec, value):
 def describe(spec):
     """One entry of a docstring: the setting, what it means, its default and range."""
     default = spec["default"]
-    default = "None (automatic)" if default is None else repr(default)
+    if default is None:
+        default = f"None: {spec['none_means']}" if spec["none_means"] else "None (automatic)"
+    else:
+        default = repr(default)
     allowed = "" if spec["kind"] in ("choice", "flag", "auto count") else f", allowed {spec['range']}"
     return textwrap.fill(f"{spec['name']}: {spec['doc']} Default {default}{allowed}.", width=100,
                          subsequent_indent="    ")

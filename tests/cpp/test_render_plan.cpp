@@ -157,7 +157,7 @@ TEST(RenderPlan, EveryPlannedProgramIsAListedVariant) {
           RenderSettings s = two_bounces();
           s.traversal = t;
           s.count_traversal = bits & 1;
-          s.max_distance = bits & 2 ? 1.0f : s.max_distance;
+          if (bits & 2) s.max_distance = 1.0f;
           s.normals = bits & 4 ? NormalMode::Geometric : NormalMode::Shading;
           s.method = bits & 8 ? Method::Hbao : Method::RayTraced;
           if (bits & 16 && t != Traversal::Lanes) s.origin_paths = !(bits & 1);

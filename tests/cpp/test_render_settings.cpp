@@ -28,7 +28,8 @@ TEST(RenderSettings, DefaultsAreTheSeedPapersConfiguration) {
   EXPECT_EQ(s.estimator, Estimator::Branching);
   EXPECT_EQ(s.organisation, KernelOrganisation::Auto);
   EXPECT_EQ(s.rho, 1.0f);
-  EXPECT_TRUE(std::isinf(s.max_distance));
+  EXPECT_FALSE(s.max_distance.has_value());  // the camera's, else inf
+  EXPECT_TRUE(std::isinf(s.radius()));
 }
 
 TEST(RenderSettings, EachBadValueIsNamedWithItsRange) {
