@@ -51,9 +51,8 @@ py::dict stats_dict(const RenderStats& s) {
   return d;
 }
 
-// A setting's value as Python holds it: None for an automatic count, inf for an unlimited distance.
+// A setting's value as Python holds it: None for one left unset and for an automatic count.
 py::object to_python(const SettingSpec& spec, const SettingValue& value) {
-  if (std::holds_alternative<std::monostate>(value)) return py::none();
   if (spec.kind == SettingKind::AutoCount && std::get<std::uint64_t>(value) == 0) return py::none();
   return std::visit(
       [](const auto& v) -> py::object {

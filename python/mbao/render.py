@@ -12,6 +12,7 @@ from .devices import resolve
 from .scene import as_camera, as_scene
 from .settings import ENGINE, RENDER, Engine, checked, describe, engine_values
 
+
 @dataclasses.dataclass(frozen=True)
 class Result:
     """A rendered image.
