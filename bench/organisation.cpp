@@ -14,7 +14,7 @@ namespace {
 
 bool same_render(const mbao::RenderResult& a, const mbao::RenderResult& b) {
   return a.ao.size() == b.ao.size() && std::memcmp(a.ao.data(), b.ao.data(), a.ao.size() * sizeof(float)) == 0 &&
-         a.mask == b.mask && a.stats.rays_secondary == b.stats.rays_secondary;
+         a.coverage == b.coverage && a.stats.rays_secondary == b.stats.rays_secondary;
 }
 
 // One untimed render of each (kernel compiles, scene upload, the image check),

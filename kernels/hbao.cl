@@ -73,7 +73,7 @@ static inline float march_direction(__global const float4* positions, uint width
   return occlusion;
 }
 
-// Access (1 = open) per pixel; 1 and not covered where the camera ray missed.
+// Access (1 = open) per pixel; 1 and coverage 0 where the camera ray missed.
 // Directions and the first step are jittered per pixel by the seed.
 __kernel void hbao(__global const float4* positions, __global const float4* normals, uint width, uint height,
                    float film_scale_y, float radius, float sin_bias, float falloff, uint directions, uint steps,
@@ -82,7 +82,7 @@ __kernel void hbao(__global const float4* positions, __global const float4* norm
   if (position >= width * height) return;
   const uint pixel = pixel_at_position(position, width, height);
   const float4 here = positions[pixel];
-  coverage[pixel] = here.w != 0.0f;
+  coverage[pixel] = here.w != 0.0f ? 255 : 0;
   if (here.w == 0.0f) {
     ao[pixel] = 1.0f;
     return;

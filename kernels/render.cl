@@ -276,12 +276,13 @@ static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 ey
   return make_surface(scene, hit, hit_point - eye.xyz);
 }
 
-// A pixel from the sum of its camera samples' values (1 for each that missed).
+// A pixel from the sum of its camera samples' values (1 for each that missed)
+// and the number of them that hit: its coverage in 255ths, rounded up (SPEC 2).
 static inline void store_pixel(uint pixel, float sum, uint spp, uint covered, uint rays,
                                __global float* ao, __global uchar* coverage,
                                __global uint* secondary_rays) {
   ao[pixel] = sum / (float)spp;
-  coverage[pixel] = (uchar)covered;
+  coverage[pixel] = (uchar)((covered * 255u + spp - 1u) / spp);
   secondary_rays[pixel] = rays;
 }
 
@@ -289,7 +290,7 @@ static inline void store_pixel(uint pixel, float sum, uint spp, uint covered, ui
 #define MBAO_ESTIMATOR_PATH 1
 
 // One pixel: the mean over its camera samples of L_b, 1 where the camera ray
-// missed; the coverage flag says whether any camera sample hit.
+// missed, and its coverage.
 static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye, uint spp,
                                const AoSettings* s, uint first_position, uint pixel_index,
                                __global const uint4* camera_hits, __global float* ao,
@@ -305,7 +306,7 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
       sum += 1.0f;
       continue;
     }
-    covered = 1;
+    ++covered;
     const Surface primary = primary_surface(scene, hit, eye);
     sum += estimator == MBAO_ESTIMATOR_BRANCHING
                ? branching_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts)
@@ -482,7 +483,7 @@ __kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_position, uint pixel_c
       sum += 1.0f;
       continue;
     }
-    covered = 1;
+    ++covered;
     uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
     for (uint k = 0; k < bounces; ++k) escapes[k] = escape_counts[sample * bounces + k];
     sum += branching_value(escapes, &s);

@@ -371,6 +371,47 @@ def test_exploding_branching_work_points_to_the_path_estimator(cornell):
         mbao.render(cornell, width=1, height=1, samples=64, bounces=6)
 
 
+# -- backgrounds (SPEC 2) --------------------------------------------------------------------
+
+def test_coverage_is_the_fraction_of_camera_samples_that_hit():
+    """A plane's edge across the image: pixels on it are hit by some of their 16
+    jittered camera samples. Coverage is that fraction in 255ths, rounded up;
+    the mask is where it is above 0, and the AO of a miss is 1, as an open
+    surface's."""
+    scene = mbao.Mesh(*plane(1.0))
+    camera = mbao.Camera(eye=(0.0, 2.0, 0.0), target=(0.0, 0.0, 0.0), up=(0, 0, 1), vfov_deg=60.0)
+    spp = 16
+    result = mbao.render(scene, camera=camera, width=24, height=24, spp=spp, seed=3)
+    steps = {int(np.ceil(255 * hits / spp)) for hits in range(spp + 1)}
+    assert set(np.unique(np.rint(result.coverage * 255)).astype(int)) <= steps
+    assert 0 < np.mean((result.coverage > 0) & (result.coverage < 1))  # some pixels on the edge
+    np.testing.assert_array_equal(result.mask, result.coverage > 0)
+    assert np.all(result.ao[~result.mask] == 1.0) and (~result.mask).any()
+    hbao = mbao.render(scene, camera=camera, width=24, height=24, method="hbao")
+    np.testing.assert_array_equal(hbao.coverage, hbao.mask.astype(np.float32))
+
+
+def test_save_image_writes_a_straight_alpha_in_png_and_a_coverage_channel_in_exr(tmp_path):
+    import OpenImageIO as oiio
+
+    ao = np.full((3, 4), 0.8, np.float32)
+    alpha = np.array([[0.0, 1.0, 0.25, 0.5]] * 3, np.float32)
+    mbao.save_image(tmp_path / "a.png", ao, alpha=alpha)
+    mbao.save_image(tmp_path / "a.exr", ao, alpha=alpha)
+    as_stored = oiio.ImageSpec()
+    as_stored.attribute("oiio:UnassociatedAlpha", 1)  # OpenImageIO premultiplies a PNG's values on reading
+    png, exr = oiio.ImageBuf(str(tmp_path / "a.png"), 0, 0, as_stored), oiio.ImageBuf(str(tmp_path / "a.exr"))
+    assert png.spec().channelnames == ("Y", "A") and exr.spec().channelnames == ("Y", "coverage")
+    # Straight: the value under a transparent pixel is kept, not multiplied by its alpha.
+    np.testing.assert_allclose(png.get_pixels(oiio.FLOAT)[..., 0], np.rint(0.8 * 255) / 255, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(png.get_pixels(oiio.FLOAT)[..., 1], np.rint(alpha * 255) / 255, atol=1e-6)
+    np.testing.assert_array_equal(exr.get_pixels(oiio.FLOAT)[..., 1], alpha)
+    with pytest.raises(ValueError, match=r"alpha must have the image's shape \(3, 4\)"):
+        mbao.save_image(tmp_path / "b.png", ao, alpha=alpha[:2])
+    with pytest.raises(ValueError, match=r"alpha must be in \[0, 1\]"):
+        mbao.save_image(tmp_path / "b.png", ao, alpha=alpha * 2)
+
+
 # -- the radius (SPEC 1) --------------------------------------------------------------------
 
 def test_the_radius_is_the_one_given_else_the_cameras_else_unlimited(cornell):

@@ -63,9 +63,14 @@ def test_render_cornell_box_to_png(tmp_path, device):
     proc = run_mbao("render", "--width", 32, "--height", 24, "--bounces", 2, "-o", "out.png", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     spec, pixels = read_image(tmp_path / "out.png")
-    assert (spec.width, spec.height, spec.nchannels) == (32, 24, 1)
+    assert (spec.width, spec.height, spec.nchannels) == (32, 24, 2) and spec.channelnames == ("Y", "A")
     assert spec.format == "uint8"
-    assert (pixels < 1.0).any() and (pixels > 0.0).any()  # the box, with some occlusion
+    ao = pixels[..., 0]
+    assert (ao < 1.0).any() and (ao > 0.0).any()  # the box, with some occlusion
+    # The alpha is the mask: one camera sample per pixel.
+    expected = mbao.render(mbao.cornell_box(), width=32, height=24, bounces=2)
+    np.testing.assert_array_equal(pixels[..., 1], expected.mask.astype(np.float32))
+    assert not expected.mask.all()  # the box's open front shows background
     report = output_lines(proc.stdout)
     for key in ("scene", "device", "settings", "kd-tree", "kernels", "frame", "rays", "memory", "wrote"):
         assert key in report, f"no {key!r} line in:\n{proc.stdout}"
@@ -84,17 +89,22 @@ def test_render_gltf_with_camera_to_exr(tmp_path, gltf_scene):
     proc = run_mbao("render", scene, "--camera", camera, "--width", 20, "--height", 16, "-o", "out.exr", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     spec, pixels = read_image(tmp_path / "out.exr")
-    assert (spec.width, spec.height, spec.nchannels) == (20, 16, 1)
+    assert (spec.width, spec.height, spec.nchannels) == (20, 16, 2) and spec.channelnames == ("Y", "coverage")
     assert spec.format == "float"
     assert pixels.min() >= 0.0 and pixels.max() <= 1.0
-    assert pixels.min() < 0.9  # the floor by the box is occluded
+    assert pixels[..., 0].min() < 0.9  # the floor by the box is occluded
     assert "(14 triangles)" in output_lines(proc.stdout)["scene"]
 
     # The camera file is what decides the view: looking away, every pixel is open sky.
     proc = run_mbao("render", scene, "--camera", away, "--width", 20, "--height", 16, "-o", "away.exr", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     _, pixels = read_image(tmp_path / "away.exr")
-    assert np.all(pixels == 1.0)
+    assert np.all(pixels[..., 0] == 1.0) and np.all(pixels[..., 1] == 0.0)  # open sky, and no geometry
+
+    proc = run_mbao("render", scene, "--camera", away, "--width", 20, "--height", 16, "--no-alpha", "-o", "ao.png",
+                    cwd=tmp_path)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert read_image(tmp_path / "ao.png")[0].nchannels == 1
     assert re.match(r"320 primary \+ 0 secondary", output_lines(proc.stdout)["rays"])
 
 

@@ -118,8 +118,8 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
     result = Renderer::for_device(device).render(scene, view, settings, between_tiles);
   }
   const py::ssize_t h = result.height, w = result.width;
-  py::array_t<std::uint8_t> mask = adopt(std::move(result.mask), {h, w});
-  return py::make_tuple(adopt(std::move(result.ao), {h, w}), mask.attr("view")("bool"), stats_dict(result.stats));
+  return py::make_tuple(adopt(std::move(result.ao), {h, w}), adopt(std::move(result.coverage), {h, w}),
+                        stats_dict(result.stats));
 }
 
 py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py::array::c_style>& origins,
@@ -182,8 +182,8 @@ The radius, in world units, is the render's max_distance.)doc")
       });
   m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("settings"),
         py::arg("progress"), py::arg("hbao"),
-        "Renders; returns (ao, mask, stats). settings: {name: value} of setting_specs(). Use mbao.render, which "
-        "checks and documents the arguments.");
+        "Renders; returns (ao, coverage in 255ths, stats). settings: {name: value} of setting_specs(). "
+        "Use mbao.render, which checks and documents the arguments.");
   m.def("setting_specs", &specs_list,
         "The render settings, each as a dict: name, group (\"render\" or \"engine\"), kind, doc, range, lo, hi, "
         "choices and default (render/setting_specs.h).");

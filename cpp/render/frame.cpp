@@ -94,9 +94,9 @@ void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
     launch_empty(queue, ao_kernel_, tile_pixels_, ao_group_);
 }
 
-void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask, cl_uint* secondary_rays) {
+void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* coverage, cl_uint* secondary_rays) {
   queue.enqueueReadBuffer(buffers_.ao, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao);
-  queue.enqueueReadBuffer(buffers_.coverage, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), mask);
+  queue.enqueueReadBuffer(buffers_.coverage, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), coverage);
   queue.enqueueReadBuffer(buffers_.secondary_rays, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
 }
 

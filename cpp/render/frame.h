@@ -32,7 +32,7 @@ class Frame {
   // launch, it builds here rather than in a tile.
   void enqueue_empty_tiles(cl::CommandQueue& queue);
   // Copies the image and the per-pixel secondary ray counts back (non-blocking).
-  void enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask, cl_uint* secondary_rays);
+  void enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* coverage, cl_uint* secondary_rays);
   // The frame's traversal counts (programs built with MBAO_COUNT_TRAVERSAL), once it has finished.
   TraversalTotals traversal_totals(cl::CommandQueue& queue) const;
 

@@ -35,9 +35,9 @@ void HbaoFrame::enqueue(cl::CommandQueue& queue) {
   launch(queue, hbao_, pixels_, hbao_group_);
 }
 
-void HbaoFrame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask) {
+void HbaoFrame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* coverage) {
   queue.enqueueReadBuffer(ao_, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao);
-  queue.enqueueReadBuffer(coverage_, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), mask);
+  queue.enqueueReadBuffer(coverage_, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), coverage);
 }
 
 }  // namespace mbao

@@ -19,7 +19,7 @@ class HbaoFrame {
 
   void enqueue(cl::CommandQueue& queue);
   // Copies the image back (non-blocking).
-  void enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* mask);
+  void enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* coverage);
 
   std::size_t bytes() const { return device_bytes(pixels_); }
   // What a frame of this many pixels allocates: known before it does.

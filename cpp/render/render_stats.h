@@ -41,7 +41,8 @@ struct RenderStats {
 struct RenderResult {
   int width = 0, height = 0;
   std::vector<float> ao;              // row-major, row 0 at the top; 1 = open
-  std::vector<std::uint8_t> mask;     // 1 where any camera sample hit geometry
+  // Per pixel, 255 x the fraction of camera samples that hit geometry, rounded up: 0 only where all missed.
+  std::vector<std::uint8_t> coverage;
   RenderStats stats;
 };
 

@@ -131,7 +131,7 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
   result.width = int(settings.width);
   result.height = int(settings.height);
   result.ao.resize(pixels);
-  result.mask.resize(pixels);
+  result.coverage.resize(pixels);
   const Camera local_camera = camera.relative_to(scene->render_origin());
   try {
     if (settings.method == Method::Hbao) {
@@ -178,7 +178,7 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
       between_tiles(stats.tiles, tiles);
     }
   }
-  frame.enqueue_read_back(queue, result.ao.data(), result.mask.data(), secondary_rays.data());
+  frame.enqueue_read_back(queue, result.ao.data(), result.coverage.data(), secondary_rays.data());
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
   if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
@@ -205,7 +205,7 @@ void Renderer::run_hbao(const DeviceScene& scene, const cl::Program& program, co
   }
   Stopwatch clock;
   frame.enqueue(queue);
-  frame.enqueue_read_back(queue, result.ao.data(), result.mask.data());
+  frame.enqueue_read_back(queue, result.ao.data(), result.coverage.data());
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
   stats.tiles = 1;

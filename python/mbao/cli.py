@@ -31,6 +31,9 @@ def _parser():
     r.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
     r.add_argument("-o", "--output", default="ao.png",
                    help="image to write: .png (8-bit) or .exr (float) (default: %(default)s)")
+    r.add_argument("--no-alpha", action="store_true",
+                   help="write the AO alone, without the coverage that tells the background apart (SPEC 2): a PNG's "
+                        "alpha, an EXR's channel 'coverage'")
     r.add_argument("--camera", help="camera.json (SPEC 3.1.1) (default: the scene's own camera, else one framing it)")
     for spec in RENDER.values():
         _add_setting(r, spec)
@@ -110,7 +113,7 @@ def _render(args):
         device=_device_argument(args.device),
         **{name: getattr(args, name) for name in RENDER},
     )
-    save_image(args.output, result.ao)
+    save_image(args.output, result.ao, alpha=None if args.no_alpha else result.coverage)
     s = result.stats
     rays = s["rays_primary"] + s["rays_secondary"]
     tree = s["tree"]

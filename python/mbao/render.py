@@ -18,8 +18,11 @@ class Result:
     """A rendered image.
 
     ao: (height, width) float32, the b-bounce access (1 = open), row 0 at the top;
-        pixels whose camera rays all missed are 1.
+        pixels whose camera rays all missed are 1, like open surfaces.
     mask: (height, width) bool, True where any camera sample hit geometry.
+    coverage: (height, width) float32, the fraction of each pixel's camera samples
+        that hit geometry, in 255ths rounded up (0 only where all missed): the
+        alpha that tells the background apart (SPEC 2; save_image(..., alpha=)).
     stats: build_ms, tree_reused, kernel_build_ms, kernel_cache ("memory", "disk"
         or "compiled"), kernel_options, traversal_mode, organisation, plan (why
         "auto" chose the kernel variant it did, a line per choice), max_distance
@@ -31,6 +34,7 @@ class Result:
     ao: np.ndarray
     mask: np.ndarray
     stats: dict
+    coverage: np.ndarray
 
     def __repr__(self):
         h, w = self.ao.shape
@@ -48,9 +52,11 @@ def render(scene, *, camera=None, hbao=None, engine=None, device=None, progress=
                             f"{', '.join(RENDER)}, and engine=mbao.Engine(...) takes {', '.join(ENGINE)}")
         values[name] = checked(RENDER[name], value)
     values.update(engine_values(engine))
-    ao, mask, stats = _core.render(scene, camera, resolve(device), values, _progress(progress), _hbao_settings(hbao))
+    ao, coverage, stats = _core.render(scene, camera, resolve(device), values, _progress(progress),
+                                       _hbao_settings(hbao))
+    mask = coverage > 0
     _warn_if_closed(scene, ao, mask, stats)
-    return Result(ao, mask, stats)
+    return Result(ao, mask, stats, coverage.astype(np.float32) / 255)
 
 
 def _warn_if_closed(scene, ao, mask, stats):

@@ -23,7 +23,7 @@ namespace {
 
 struct Image {
   std::vector<float> ao;
-  std::vector<std::uint8_t> mask;
+  std::vector<std::uint8_t> coverage;
   std::uint64_t rays = 0;
   TraversalTotals counts;
 };
@@ -36,11 +36,11 @@ Image render(ComputeContext& compute, const ProgramVariant& variant, const Devic
   Frame frame(compute.context(), compute.device().device, program, scene, camera, s, pixels);
   Image image;
   image.ao.resize(pixels);
-  image.mask.resize(pixels);
+  image.coverage.resize(pixels);
   std::vector<cl_uint> rays(pixels);
   cl::CommandQueue& queue = compute.queue();
   frame.enqueue_tile(queue, 0, pixels);
-  frame.enqueue_read_back(queue, image.ao.data(), image.mask.data(), rays.data());
+  frame.enqueue_read_back(queue, image.ao.data(), image.coverage.data(), rays.data());
   queue.finish();
   for (cl_uint r : rays) image.rays += r;
   image.counts = frame.traversal_totals(queue);
@@ -87,7 +87,7 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
         ASSERT_LT(sum, double(image.ao.size()));  // not a vacuous agreement: light was blocked
       }
       EXPECT_EQ(std::memcmp(image.ao.data(), first->ao.data(), image.ao.size() * sizeof(float)), 0);
-      EXPECT_EQ(image.mask, first->mask);
+      EXPECT_EQ(image.coverage, first->coverage);
       EXPECT_EQ(image.rays, first->rays);
       // Lanes walk the full stack: its counts, node for node.
       const Traversal walk = v.walk == Traversal::Lanes ? Traversal::Stack : v.walk;

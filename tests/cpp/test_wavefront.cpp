@@ -48,7 +48,7 @@ void expect_same_render(const std::shared_ptr<const Scene>& scene, const Camera&
     EXPECT_EQ(wave.stats.traversal_mode, to_string(walk));
     ASSERT_EQ(mega.ao.size(), wave.ao.size());
     EXPECT_EQ(differing_pixels(mega.ao, wave.ao), 0u);
-    EXPECT_EQ(mega.mask, wave.mask);
+    EXPECT_EQ(mega.coverage, wave.coverage);
     EXPECT_EQ(mega.stats.rays_secondary, wave.stats.rays_secondary);
     // Not a vacuous agreement: rays were traced and some light was blocked.
     EXPECT_GT(wave.stats.rays_secondary, 0u);
