@@ -217,6 +217,28 @@ def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_sce
                        for _ in (1, 2)]
 
 
+def test_compares_figures_name_the_scene_and_keep_their_panels_one_size():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mbao import compare
+
+    class Named:
+        def __init__(self, name):
+            self.name = name
+
+    assert compare.short_name(Named("../shared/scenes/sibenik/scene.glb")) == "sibenik"
+    assert compare.short_name(Named("/data/bunny.ply.glb")) == "bunny.ply"
+    assert compare.short_name(Named("cornell_box")) == "cornell_box"
+    figure = compare.figure2(mbao.cornell_box(), None, 0.5, width=16, height=12, samples=2, rho=1.0, seed=0,
+                             device=None)
+    panels = figure.axes[:4]
+    widths = {round(ax.get_position().width, 6) for ax in panels}
+    heights = {round(ax.get_position().height, 6) for ax in panels}
+    assert len(widths) == 1 and len(heights) == 1, (widths, heights)
+    assert figure._suptitle.get_text().startswith("cornell_box, 16x12")
+
+
 def test_compare_takes_the_radius_from_camera_json(tmp_path, gltf_scene):
     scene, camera, _ = gltf_scene
     with_radius = tmp_path / "camera.json"

@@ -2,6 +2,7 @@
 
 import csv
 import math
+import pathlib
 
 import numpy as np
 
@@ -22,6 +23,13 @@ def ao_radius(scene, camera, max_distance):
     return float(0.25 * np.linalg.norm(hi - lo)), "a quarter of the scene's diagonal"
 
 
+def short_name(scene):
+    """The scene's name for a title: a loaded file's name without its folders, or the folder's name where the
+    file is a generic scene.glb (the shared scenes' layout)."""
+    path = pathlib.PurePath(scene.name)
+    return path.parent.name if path.stem == "scene" and path.parent.name else path.stem
+
+
 def figure2(scene, camera, radius, *, width, height, samples, rho, seed, device):
     """HBAO | 1 bounce | 2 bounces | 2 bounces minus 1 bounce, as one matplotlib figure."""
     import matplotlib.pyplot as plt
@@ -32,7 +40,9 @@ def figure2(scene, camera, radius, *, width, height, samples, rho, seed, device)
         ("1 bounce", render(scene, bounces=1, samples=samples, rho=rho, **common)),
         ("2 bounces", render(scene, bounces=2, samples=samples, rho=rho, **common)),
     ]
-    figure, axes = plt.subplots(1, 4, figsize=(16, 4.4 * height / width))
+    # Four panels of one size, the difference's colour bar in a narrow fifth column.
+    figure, axes = plt.subplots(1, 5, figsize=(16.6, 4.4 * height / width + 0.4),
+                                gridspec_kw=dict(width_ratios=[1, 1, 1, 1, 0.06]))
     for ax, (title, result) in zip(axes, images):
         ax.imshow(result.ao, cmap="gray", vmin=0.0, vmax=1.0)
         ax.set_title(f"{title} ({result.stats['frame_ms']:.1f} ms)")
@@ -40,9 +50,10 @@ def figure2(scene, camera, radius, *, width, height, samples, rho, seed, device)
     limit = max(float(np.abs(difference).max()), 1e-6)
     shown = axes[3].imshow(difference, cmap="coolwarm", vmin=-limit, vmax=limit)
     axes[3].set_title("2 bounces - 1 bounce")
-    figure.colorbar(shown, ax=axes[3], fraction=0.046)
-    for ax in axes:
+    figure.colorbar(shown, cax=axes[4])
+    for ax in axes[:4]:
         ax.set_axis_off()
+    figure.suptitle(f"{short_name(scene)}, {width}x{height}, r = {samples}, radius {radius:g}")
     figure.tight_layout()
     return figure
 
@@ -72,7 +83,7 @@ def run(scene, camera, args, device):
                           target_error=args.target_error, device=device, progress=not args.quiet, **size)
     table = convergence(scene, STUDY_METHODS, converged, sample_counts=args.sample_counts, seed=args.seed,
                         device=device, progress=not args.quiet, plot=False)
-    figure = plot_convergence(table, title=f"{scene.name}, {args.width}x{args.height}, 2-bounce reference")
+    figure = plot_convergence(table, title=f"{short_name(scene)}, {args.width}x{args.height}, 2-bounce reference")
     figure.savefig(f"{args.output}_error_vs_time.png", dpi=100)
     rows = write_table(f"{args.output}_error_vs_time.csv", table)
     print(f"reference    {converged.settings['passes']} passes of {converged.settings['samples']} paths, "
