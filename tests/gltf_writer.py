@@ -247,13 +247,16 @@ class GltfBuilder:
             self.doc["scene"] = index
         return index
 
-    def add_perspective_camera(self, yfov, znear=0.01, zfar=None, aspect_ratio=None):
+    def add_perspective_camera(self, yfov, znear=0.01, zfar=None, aspect_ratio=None, extras=None):
         perspective = {"yfov": float(yfov), "znear": float(znear)}
         if zfar is not None:
             perspective["zfar"] = float(zfar)
         if aspect_ratio is not None:
             perspective["aspectRatio"] = float(aspect_ratio)
-        return self._append("cameras", {"type": "perspective", "perspective": perspective})
+        camera = {"type": "perspective", "perspective": perspective}
+        if extras is not None:
+            camera["extras"] = extras
+        return self._append("cameras", camera)
 
     def add_orthographic_camera(self, xmag=1.0, ymag=1.0, znear=0.01, zfar=100.0):
         orthographic = {"xmag": xmag, "ymag": ymag, "znear": znear, "zfar": zfar}

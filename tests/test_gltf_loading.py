@@ -656,6 +656,24 @@ def test_camera_is_the_first_perspective_one_of_the_default_scene(tmp_path):
     assert camera.vfov_deg == pytest.approx(math.degrees(1.5), rel=1e-6)
 
 
+@pytest.mark.parametrize("extras, radius", [({"max_distance": 2.5}, 2.5), ({"max_distance": 0}, None),
+                                            ({"max_distance": "far"}, None), ({"other": 1}, None), (None, None)])
+def test_a_cameras_extras_may_suggest_the_radius(tmp_path, extras, radius):
+    b = GltfBuilder()
+    mesh = b.add_mesh([b.primitive(QUAD, QUAD_INDICES)])
+    b.add_scene([b.add_node(mesh=mesh), b.add_node(camera=b.add_perspective_camera(0.9, extras=extras),
+                                                   translation=(0, 0, 3))])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scene = mbao.load(b.write(tmp_path / "radius.gltf"))
+    assert scene.camera.max_distance == radius
+    bad = extras is not None and "max_distance" in extras and radius is None
+    assert any("extras.max_distance ignored" in str(w.message) for w in caught) == bad
+    if radius is not None:  # render takes it as it takes camera.json's (SPEC 1)
+        result = mbao.render(scene, width=4, height=4)
+        assert (result.stats["max_distance"], result.stats["max_distance_source"]) == (radius, "camera")
+
+
 def test_no_camera_when_the_default_scene_has_none(tmp_path):
     b = GltfBuilder()
     mesh = b.add_mesh([b.primitive(TRIANGLE)])

@@ -121,8 +121,8 @@ std::vector<SettingSpec> make_specs() {
              "to b segments, r * b rays); the same expectation (SPEC 2)."),
       real("rho", &RenderSettings::rho, 0.0, false, 1.0, "The albedo of every surface."),
       optional_real("max_distance", &RenderSettings::max_distance, 0.0, true, kInf,
-                    "the camera's max_distance where it suggests one (camera.json), else inf; for HBAO then a "
-                    "quarter of the scene's diagonal",
+                    "the camera's max_distance where it suggests one (camera.json, a glTF camera's extras), else "
+                    "inf; for HBAO then a quarter of the scene's diagonal",
                     "The AO radius: hits farther away count as misses; inf for none (SPEC 1). HBAO's search "
                     "radius."),
       integer("spp", &RenderSettings::spp, 1, 1 << 16,

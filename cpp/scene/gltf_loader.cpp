@@ -127,12 +127,25 @@ class SceneAssembler {
     camera.target = camera.eye + glm::normalize(glm::vec3(world * glm::dvec4(0, 0, -1, 0)));
     camera.up = glm::normalize(glm::vec3(world * glm::dvec4(0, 1, 0, 0)));
     camera.vfov_deg = float(glm::degrees(source.perspective.yfov));
+    camera.max_distance = suggested_radius(source, index);
     try {
       camera.validate();
       camera_ = camera;
     } catch (const std::invalid_argument& e) {
       warnings_.push_back(path_ + ": camera " + std::to_string(index) + " ignored (" + e.what() + ")");
     }
+  }
+
+  // The AO radius a camera's extras suggest ({"max_distance": d}, world units; SPEC 1), as camera.json's.
+  // A value that is not a positive finite number is left out, with a warning.
+  std::optional<float> suggested_radius(const tinygltf::Camera& source, int index) {
+    if (!source.extras.IsObject() || !source.extras.Has("max_distance")) return std::nullopt;
+    const tinygltf::Value& value = source.extras.Get("max_distance");
+    const double radius = value.IsNumber() ? value.GetNumberAsDouble() : std::nan("");
+    if (radius > 0.0 && radius <= double(std::numeric_limits<float>::max())) return float(radius);
+    warnings_.push_back(path_ + ": camera " + std::to_string(index) +
+                        " extras.max_distance ignored (a radius must be a number > 0)");
+    return std::nullopt;
   }
 
   void add_mesh(int index, const glm::dmat4& world, const std::string& node) {
