@@ -1,7 +1,8 @@
-"""Every Python example in README.md and docs/ runs as written, within a minute on 2 cores.
+"""Every example in README.md and docs/ runs as written, within a minute on 2 cores.
 
 A document's ```python blocks run in order as one script (a later block may use
 an earlier one's names), in an empty folder, with matplotlib drawing off screen.
+README's command lines (`.venv/bin/python -m mbao ...`) run there too.
 """
 
 import os
@@ -32,3 +33,14 @@ def test_the_examples_run_as_written(tmp_path, document):
     proc = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env, capture_output=True, text=True,
                           timeout=60)
     assert proc.returncode == 0, f"{document.name}'s examples failed:\n{proc.stderr[-3000:]}"
+
+
+COMMANDS = re.findall(r"^    \.venv/bin/python -m mbao(.*?)$", (REPO / "README.md").read_text(), re.M)
+
+
+@pytest.mark.parametrize("arguments", COMMANDS)
+def test_the_readmes_command_lines_run_as_written(tmp_path, arguments):
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=PACKAGE_ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    command = [sys.executable, "-m", "mbao", *arguments.split()]
+    proc = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, f"{' '.join(command)}:\n{proc.stderr[-3000:]}"
