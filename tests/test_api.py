@@ -334,6 +334,9 @@ def test_paths_are_taken_where_a_scene_or_a_camera_is(as_path):
     reference = mbao.reference(as_path(folder / "scene.glb"), camera=as_path(folder / "camera.json"), width=6,
                                height=5, target_error=1.0, min_passes=2, samples=4, progress=False)
     assert reference.settings["scene"] == scene.name and reference.ao.shape == (5, 6)
+    rows = mbao.convergence(as_path(folder / "scene.glb"), ["b1"], reference, sample_counts=(1,), progress=False,
+                            plot=False)
+    assert len(rows) == 1
     t, triangle, _ = mbao.trace(as_path(folder / "scene.glb"), [camera.eye], [np.subtract(camera.target, camera.eye)])
     np.testing.assert_array_equal(triangle, mbao.trace(scene, [camera.eye], [np.subtract(camera.target, camera.eye)])[1])
 
