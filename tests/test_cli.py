@@ -180,6 +180,19 @@ def test_render_says_where_its_radius_came_from(tmp_path, gltf_scene):
     assert radius(scene, "--camera", camera) == "inf (no camera suggests one)"
 
 
+def test_a_closed_scene_is_warned_about_in_one_line(tmp_path):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(*box((0, 0, 0), (1, 1, 1)))]))], default=True)
+    scene = b.write(tmp_path / "closed.gltf")
+    inside = tmp_path / "inside.json"
+    inside.write_text(json.dumps({"eye": [0.5, 0.5, 0.5], "target": [1.0, 0.6, 0.2], "up": [0, 1, 0],
+                                  "vfov_deg": 90}))
+    proc = run_mbao("render", scene, "--camera", inside, "--width", 16, "--height", 16, "-o", "x.png", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mbao: warning: ") and "looks closed" in lines[0], proc.stderr
+
+
 def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
     scene, camera, _ = gltf_scene
     proc = run_mbao("render", scene, "--camera", camera, "--width", 12, "--height", 9, "--seed", 3, "--bounces", 2,

@@ -6,6 +6,7 @@
 
 import argparse
 import sys
+import warnings
 
 from . import _core
 from .devices import devices
@@ -159,16 +160,23 @@ def _compare(args):
     return 0
 
 
+def _print_warning(message, category, filename, lineno, file=None, line=None):
+    """A warning as one line, like the command's errors: no source line."""
+    print(f"mbao: warning: {message}", file=sys.stderr)
+
+
 def main(argv=None):
     args = _parser().parse_args(argv)
     try:
-        if args.command == "devices":
-            for d in devices():
-                print(f"{d.index}: {d.platform}: {d.name} ({d.type}, {d.version})")
-            return 0
-        if args.command == "compare":
-            return _compare(args)
-        return _render(args)
+        with warnings.catch_warnings():  # restores the caller's showwarning after
+            warnings.showwarning = _print_warning
+            if args.command == "devices":
+                for d in devices():
+                    print(f"{d.index}: {d.platform}: {d.name} ({d.type}, {d.version})")
+                return 0
+            if args.command == "compare":
+                return _compare(args)
+            return _render(args)
     except (ValueError, TypeError, OSError, _core.Error) as error:
         print(f"mbao: {error}", file=sys.stderr)
         return 2
