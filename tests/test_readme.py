@@ -22,16 +22,18 @@ DOCUMENTS = [path for path in [REPO / "README.md", *sorted((REPO / "docs").glob(
 PACKAGE_ROOT = str(pathlib.Path(mbao.__file__).resolve().parents[1])
 
 
+def run(command, cwd):
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=PACKAGE_ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    return subprocess.run(command, cwd=cwd, env=env, capture_output=True, text=True, timeout=60)
+
+
 def test_the_readme_has_examples():
     assert REPO / "README.md" in DOCUMENTS
 
 
 @pytest.mark.parametrize("document", DOCUMENTS, ids=[path.name for path in DOCUMENTS])
 def test_the_examples_run_as_written(tmp_path, document):
-    script = "\n".join(BLOCK.findall(document.read_text()))
-    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=PACKAGE_ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    proc = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env, capture_output=True, text=True,
-                          timeout=60)
+    proc = run([sys.executable, "-c", "\n".join(BLOCK.findall(document.read_text()))], tmp_path)
     assert proc.returncode == 0, f"{document.name}'s examples failed:\n{proc.stderr[-3000:]}"
 
 
@@ -40,7 +42,6 @@ COMMANDS = re.findall(r"^    \.venv/bin/python -m mbao(.*?)$", (REPO / "README.m
 
 @pytest.mark.parametrize("arguments", COMMANDS)
 def test_the_readmes_command_lines_run_as_written(tmp_path, arguments):
-    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=PACKAGE_ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
     command = [sys.executable, "-m", "mbao", *arguments.split()]
-    proc = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=60)
+    proc = run(command, tmp_path)
     assert proc.returncode == 0, f"{' '.join(command)}:\n{proc.stderr[-3000:]}"

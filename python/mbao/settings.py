@@ -2,7 +2,7 @@
 
 mbao.render takes its signature and docstring from RENDER, mbao.Engine its
 fields from ENGINE, and `python -m mbao render` its options from both. Each
-spec is a dict: name, group, kind, doc, range, lo, hi, choices, default.
+spec is a dict: name, group, kind, doc, range, lo, hi, none_means, choices, default.
 """
 
 import dataclasses
