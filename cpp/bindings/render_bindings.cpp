@@ -195,6 +195,18 @@ The radius, in world units, is the render's max_distance.)doc")
         return variants;
       },
       "Every (program file, build options) a render plan can ask for (render/render_plan.h).");
+  m.def(
+      "ao_radius",
+      [](const std::shared_ptr<Scene>& scene, const Camera& camera, std::optional<float> max_distance,
+         const std::string& method) {
+        RenderSettings settings;
+        settings.max_distance = max_distance;
+        settings.method = parse_method(method);
+        const AoRadius radius = radius_for(settings, camera, *scene);
+        return py::make_tuple(radius.value, radius.source);
+      },
+      py::arg("scene"), py::arg("camera"), py::arg("max_distance"), py::arg("method"),
+      "(radius, source): the AO radius a render takes by SPEC 1's rule (render/renderer.h's radius_for).");
   m.def("trace", &trace, py::arg("scene"), py::arg("origins"), py::arg("directions"), py::arg("device"),
         py::arg("any_hit"), py::arg("traversal"), py::arg("traversal_stats"),
         "Traces (N, 3) origins along (N, 4) direction + t_max rows; returns (t, triangle, barycentrics).");

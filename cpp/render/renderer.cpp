@@ -1,7 +1,6 @@
 #include "render/renderer.h"
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 
 #include <glm/geometric.hpp>
@@ -52,25 +51,6 @@ std::vector<cl_float4> relative_to(const std::vector<cl_float4>& points, const g
   return moved;
 }
 
-// SPEC 1's radius rule: a radius given wins; else the camera's suggestion; else
-// inf, and for HBAO, which needs one, a quarter of the scene's diagonal.
-RenderSettings with_radius(const RenderSettings& requested, const Camera& camera, const Scene& scene,
-                           std::string& source) {
-  RenderSettings s = requested;
-  if (s.max_distance) {
-    source = "settings";
-  } else if (camera.max_distance) {
-    s.max_distance = camera.max_distance;
-    source = "camera";
-  } else if (s.method == Method::Hbao) {
-    s.max_distance = 0.25f * glm::length(scene.bounds().hi - scene.bounds().lo);
-    source = "scene";
-  } else {
-    source = "none";
-  }
-  return s;
-}
-
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
 // Refuses, before allocating, a frame that cannot fit beside the scene: an
@@ -88,6 +68,13 @@ void check_device_memory(const DeviceInfo& device, const DeviceScene& scene, std
 
 }  // namespace
 
+AoRadius radius_for(const RenderSettings& settings, const Camera& camera, const Scene& scene) {
+  if (settings.max_distance) return {*settings.max_distance, "settings"};
+  if (camera.max_distance) return {*camera.max_distance, "camera"};
+  if (settings.method == Method::Hbao) return {0.25f * glm::length(scene.bounds().hi - scene.bounds().lo), "scene"};
+  return {settings.radius(), "none"};
+}
+
 Renderer& Renderer::for_device(const DeviceInfo& device) {
   static std::mutex mutex;
   // Never destroyed: releasing OpenCL objects during static destruction can run
@@ -103,8 +90,11 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
                               const RenderSettings& requested, const TileCallback& between_tiles) {
   RenderResult result;
   RenderStats& stats = result.stats;
-  const RenderSettings settings = with_radius(requested, camera, *scene, stats.max_distance_source);
-  stats.max_distance = settings.radius();
+  const AoRadius radius = radius_for(requested, camera, *scene);
+  RenderSettings settings = requested;
+  settings.max_distance = radius.value;
+  stats.max_distance = radius.value;
+  stats.max_distance_source = radius.source;
   settings.validate();
   camera.validate();
   std::lock_guard<std::mutex> lock(mutex_);

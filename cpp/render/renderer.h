@@ -32,6 +32,16 @@ struct TraceResult {
   std::vector<cl_uint4> counts;  // per ray: nodes, leaves, triangle tests, restarts (when counted)
 };
 
+// The AO radius of a render with `settings`, by SPEC 1's rule: the radius given
+// wins; else the camera's suggestion; else inf, and for HBAO, which needs a
+// finite one, a quarter of the scene's diagonal. `source` says which: "settings",
+// "camera", "scene" or "none".
+struct AoRadius {
+  float value;
+  std::string source;
+};
+AoRadius radius_for(const RenderSettings& settings, const Camera& camera, const Scene& scene);
+
 // Renders and traces on one OpenCL device, keeping its built programs and the
 // scenes uploaded to it. One per device for the life of the process (for_device);
 // calls are serialized.

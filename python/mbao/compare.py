@@ -6,6 +6,7 @@ import pathlib
 
 import numpy as np
 
+from . import _core
 from .convergence import convergence, format_convergence, plot_convergence
 from .reference import reference
 from .render import render
@@ -13,14 +14,13 @@ from .render import render
 STUDY_METHODS = ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit"]
 
 
+_RADIUS_SOURCES = {"settings": "--max-distance", "camera": "camera.json", "scene": "a quarter of the scene's diagonal"}
+
+
 def ao_radius(scene, camera, max_distance):
-    """(radius, where it came from): HBAO needs a finite one."""
-    if max_distance is not None:
-        return max_distance, "--max-distance"
-    if camera.max_distance is not None:
-        return camera.max_distance, "camera.json"
-    lo, hi = (np.asarray(corner) for corner in scene.bounds)
-    return float(0.25 * np.linalg.norm(hi - lo)), "a quarter of the scene's diagonal"
+    """(radius, where it came from): HBAO's radius by SPEC 1's rule, which every method of the comparison takes."""
+    radius, source = _core.ao_radius(scene, camera, max_distance, "hbao")
+    return radius, _RADIUS_SOURCES[source]
 
 
 def short_name(scene):
