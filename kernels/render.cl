@@ -268,20 +268,26 @@ static inline Hit stored_hit(__global const uint4* hits, uint index) {
   return hit;
 }
 
+// A camera hit, seen from the eye; with eye.w = 1 a bake's point, given
+// instead of traced, on its triangle's front side (SPEC 6.1).
 static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 eye) {
   const float3 p0 = triangle_corner(scene, hit.triangle, 0);
   const float3 p1 = triangle_corner(scene, hit.triangle, 1);
   const float3 p2 = triangle_corner(scene, hit.triangle, 2);
+  if (eye.w != 0.0f) return make_surface(scene, hit, cross(p2 - p0, p1 - p0));
   const float3 hit_point = (1.0f - hit.b1 - hit.b2) * p0 + hit.b1 * p1 + hit.b2 * p2;
   return make_surface(scene, hit, hit_point - eye.xyz);
 }
 
 // A pixel from the sum of its camera samples' values (1 for each that missed)
 // and the number of them that hit: its coverage in 255ths, rounded up (SPEC 2).
-static inline void store_pixel(uint pixel, float sum, uint spp, uint covered, uint rays,
-                               __global float* ao, __global uchar* coverage,
+// Where ao_second_moment is given, the mean of the values' squares too: a
+// bake's standard errors come from it (SPEC 6.4).
+static inline void store_pixel(uint pixel, float sum, float sum_of_squares, uint spp, uint covered, uint rays,
+                               __global float* ao, __global float* ao_second_moment, __global uchar* coverage,
                                __global uint* secondary_rays) {
   ao[pixel] = sum / (float)spp;
+  if (ao_second_moment) ao_second_moment[pixel] = sum_of_squares / (float)spp;
   coverage[pixel] = (uchar)((covered * 255u + spp - 1u) / spp);
   secondary_rays[pixel] = rays;
 }
@@ -294,25 +300,26 @@ static inline void store_pixel(uint pixel, float sum, uint spp, uint covered, ui
 static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye, uint spp,
                                const AoSettings* s, uint first_position, uint pixel_index,
                                __global const uint4* camera_hits, __global float* ao,
-                               __global uchar* coverage, __global uint* secondary_rays,
-                               __global ulong* traversal_totals) {
+                               __global float* ao_second_moment, __global uchar* coverage,
+                               __global uint* secondary_rays, __global ulong* traversal_totals) {
   const uint pixel = tile_pixel(s, first_position, pixel_index);
-  float sum = 0.0f;
+  float sum = 0.0f, sum_of_squares = 0.0f;
   uint covered = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
   for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
     const Hit hit = stored_hit(camera_hits, pixel_index * spp + camera_sample);
-    if (hit.triangle == MBAO_NO_TRIANGLE) {
-      sum += 1.0f;
-      continue;
+    float value = 1.0f;
+    if (hit.triangle != MBAO_NO_TRIANGLE) {
+      ++covered;
+      const Surface primary = primary_surface(scene, hit, eye);
+      value = estimator == MBAO_ESTIMATOR_BRANCHING
+                  ? branching_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts)
+                  : path_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts);
     }
-    ++covered;
-    const Surface primary = primary_surface(scene, hit, eye);
-    sum += estimator == MBAO_ESTIMATOR_BRANCHING
-               ? branching_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts)
-               : path_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts);
+    sum += value;
+    sum_of_squares += value * value;
   }
-  store_pixel(pixel, sum, spp, covered, rays, ao, coverage, secondary_rays);
+  store_pixel(pixel, sum, sum_of_squares, spp, covered, rays, ao, ao_second_moment, coverage, secondary_rays);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
@@ -327,14 +334,14 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
 #define MBAO_AO_KERNEL(name, estimator)                                                            \
   __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position, uint pixel_count,     \
                      __global const uint4 *camera_hits, __global float *ao,                        \
-                     __global uchar *coverage, __global uint *secondary_rays,                      \
-                     __global ulong *traversal_totals) {                                           \
+                     __global float *ao_second_moment, __global uchar *coverage,                   \
+                     __global uint *secondary_rays, __global ulong *traversal_totals) {            \
     const uint pixel_index = get_global_id(0);                                                     \
     if (pixel_index >= pixel_count) return;                                                        \
     const SceneView scene = MBAO_SCENE_VIEW();                                                     \
     const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);       \
     shade_pixel(&scene, estimator, eye, spp, &s, first_position, pixel_index, camera_hits, ao,     \
-                coverage, secondary_rays, traversal_totals);                                       \
+                ao_second_moment, coverage, secondary_rays, traversal_totals);                     \
   }
 
 MBAO_AO_KERNEL(ao_branching, MBAO_ESTIMATOR_BRANCHING)
@@ -470,26 +477,28 @@ __kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_position, uint pixel_c
                                __global const uint4* camera_hits,
                                __global const uint* escape_counts,
                                __global const uint* sample_rays, __global float* ao,
-                               __global uchar* coverage, __global uint* secondary_rays) {
+                               __global float* ao_second_moment, __global uchar* coverage,
+                               __global uint* secondary_rays) {
   const uint pixel_index = get_global_id(0);
   if (pixel_index >= pixel_count) return;
   const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
-  float sum = 0.0f;
+  float sum = 0.0f, sum_of_squares = 0.0f;
   uint covered = 0, rays = 0;
   for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
     const uint sample = pixel_index * spp + camera_sample;
     rays += sample_rays[sample];
-    if (camera_hits[sample].y == MBAO_NO_TRIANGLE) {
-      sum += 1.0f;
-      continue;
+    float value = 1.0f;
+    if (camera_hits[sample].y != MBAO_NO_TRIANGLE) {
+      ++covered;
+      uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
+      for (uint k = 0; k < bounces; ++k) escapes[k] = escape_counts[sample * bounces + k];
+      value = branching_value(escapes, &s);
     }
-    ++covered;
-    uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
-    for (uint k = 0; k < bounces; ++k) escapes[k] = escape_counts[sample * bounces + k];
-    sum += branching_value(escapes, &s);
+    sum += value;
+    sum_of_squares += value * value;
   }
-  store_pixel(tile_pixel(&s, first_position, pixel_index), sum, spp, covered, rays, ao, coverage,
-              secondary_rays);
+  store_pixel(tile_pixel(&s, first_position, pixel_index), sum, sum_of_squares, spp, covered, rays, ao,
+              ao_second_moment, coverage, secondary_rays);
 }
 
 // The wavefront with traversal "lanes": a bounce in three launches over a

@@ -2,7 +2,8 @@
 
 import numpy as np
 
-# The 6 faces of the unit cube as quads, counter-clockwise seen from outside.
+# The 6 faces of the unit cube as quads, counter-clockwise seen from inside: the
+# triangles face in (SPEC 6.1), which only a bake tells apart.
 _CUBE_FACES = [
     [0, 2, 3, 1], [4, 5, 7, 6],  # x = 0, x = 1
     [0, 1, 5, 4], [2, 6, 7, 3],  # y = 0, y = 1
@@ -16,7 +17,7 @@ def quads_to_triangles(quads):
 
 
 def box(lo, hi):
-    """A closed axis-aligned box: 8 vertices, 12 triangles facing out."""
+    """A closed axis-aligned box: 8 vertices, 12 triangles facing in."""
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     corners = np.array([[(i >> 2) & 1, (i >> 1) & 1, i & 1] for i in range(8)], float)
     return lo + corners * (hi - lo), quads_to_triangles(_CUBE_FACES)

@@ -13,4 +13,5 @@ PYBIND11_MODULE(_core, m) {
   mbao::bindings::bind_scene(m);
   mbao::bindings::bind_devices(m);
   mbao::bindings::bind_render(m);
+  mbao::bindings::bind_bake(m);
 }

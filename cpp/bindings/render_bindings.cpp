@@ -11,12 +11,48 @@ namespace py = pybind11;
 namespace mbao::bindings {
 namespace {
 
-// Hands a vector to numpy without copying: the array owns it.
-template <typename T>
-py::array_t<T> adopt(std::vector<T>&& data, std::vector<py::ssize_t> shape) {
-  auto* owned = new std::vector<T>(std::move(data));
-  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
-  return py::array_t<T>(shape, owned->data(), free_when_done);
+// A setting's value as Python holds it: None for one left unset and for an automatic count.
+py::object to_python(const SettingSpec& spec, const SettingValue& value) {
+  if (spec.kind == SettingKind::AutoCount && std::get<std::uint64_t>(value) == 0) return py::none();
+  return std::visit(
+      [](const auto& v) -> py::object {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return py::none();
+        else return py::cast(v);
+      },
+      value);
+}
+
+SettingValue from_python(const SettingSpec& spec, const py::handle& value) {
+  switch (spec.kind) {
+    case SettingKind::Integer: return value.cast<std::int64_t>();
+    case SettingKind::Unsigned: return value.cast<std::uint64_t>();
+    case SettingKind::AutoCount: return value.is_none() ? std::uint64_t(0) : value.cast<std::uint64_t>();
+    case SettingKind::Real: return value.is_none() ? SettingValue() : value.cast<double>();
+    case SettingKind::Choice: return value.cast<std::string>();
+    case SettingKind::Flag: return value.cast<bool>();
+  }
+  throw std::logic_error("unknown setting kind");
+}
+
+}  // namespace
+
+RenderSettings settings_from(const py::dict& values) {
+  RenderSettings settings;
+  for (const auto& [name, value] : values) {
+    const SettingSpec& spec = setting_spec(name.cast<std::string>());
+    spec.set(settings, from_python(spec, value));
+  }
+  return settings;
+}
+
+Renderer::TileCallback tile_callback(const py::object& progress) {
+  // Ctrl-C is seen between tiles: the signal handler only sets a flag while
+  // the GIL is released, so the render asks Python whether it has fired.
+  return [progress](std::size_t done, std::size_t total) {
+    py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (!progress.is_none()) progress(done, total);
+  };
 }
 
 py::dict stats_dict(const RenderStats& s) {
@@ -51,28 +87,7 @@ py::dict stats_dict(const RenderStats& s) {
   return d;
 }
 
-// A setting's value as Python holds it: None for one left unset and for an automatic count.
-py::object to_python(const SettingSpec& spec, const SettingValue& value) {
-  if (spec.kind == SettingKind::AutoCount && std::get<std::uint64_t>(value) == 0) return py::none();
-  return std::visit(
-      [](const auto& v) -> py::object {
-        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return py::none();
-        else return py::cast(v);
-      },
-      value);
-}
-
-SettingValue from_python(const SettingSpec& spec, const py::handle& value) {
-  switch (spec.kind) {
-    case SettingKind::Integer: return value.cast<std::int64_t>();
-    case SettingKind::Unsigned: return value.cast<std::uint64_t>();
-    case SettingKind::AutoCount: return value.is_none() ? std::uint64_t(0) : value.cast<std::uint64_t>();
-    case SettingKind::Real: return value.is_none() ? SettingValue() : value.cast<double>();
-    case SettingKind::Choice: return value.cast<std::string>();
-    case SettingKind::Flag: return value.cast<bool>();
-  }
-  throw std::logic_error("unknown setting kind");
-}
+namespace {
 
 py::list specs_list() {
   static const char* const kinds[] = {"integer", "unsigned", "auto count", "real", "choice", "flag"};
@@ -98,19 +113,9 @@ py::list specs_list() {
 
 py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera>& camera, const DeviceInfo& device,
                  const py::dict& values, const py::object& progress, const HbaoSettings& hbao) {
-  RenderSettings settings;
-  for (const auto& [name, value] : values) {
-    const SettingSpec& spec = setting_spec(name.cast<std::string>());
-    spec.set(settings, from_python(spec, value));
-  }
+  RenderSettings settings = settings_from(values);
   settings.hbao = hbao;
-  // Ctrl-C is seen between tiles: the signal handler only sets a flag while
-  // the GIL is released, so the render asks Python whether it has fired.
-  const auto between_tiles = [&progress](std::size_t done, std::size_t total) {
-    py::gil_scoped_acquire acquire;
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-    if (!progress.is_none()) progress(done, total);
-  };
+  const Renderer::TileCallback between_tiles = tile_callback(progress);
   RenderResult result;
   {
     py::gil_scoped_release release;

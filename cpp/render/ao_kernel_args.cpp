@@ -28,7 +28,7 @@ void CameraArgs::append_to(KernelArgs& args) const {
   args.append(height);
 }
 
-AoArgs::AoArgs(const Camera& camera, const RenderSettings& s)
+AoArgs::AoArgs(const Camera& camera, const RenderSettings& s, PrimarySurfaces primaries)
     : eye(to_float4(camera.eye)),
       image_size{{cl_uint(s.width), cl_uint(s.height)}},
       spp(cl_uint(s.spp)),
@@ -36,7 +36,9 @@ AoArgs::AoArgs(const Camera& camera, const RenderSettings& s)
       samples(cl_uint(s.samples)),
       rho(s.rho),
       max_distance(s.radius()),
-      seed(seed_words(s.seed)) {}
+      seed(seed_words(s.seed)) {
+  eye.s[3] = primaries == PrimarySurfaces::GivenPoints ? 1.0f : 0.0f;
+}
 
 void AoArgs::append_to(KernelArgs& args) const {
   args.append(eye);

@@ -14,8 +14,13 @@ namespace mbao {
 struct FrameBuffers {
   cl::Buffer camera_hits;       // per camera sample of the tile
   cl::Buffer ao, coverage, secondary_rays;  // per pixel of the frame
+  cl::Buffer ao_second_moment;  // per pixel, the mean of its samples' squares: bakes only (SPEC 6.4)
   cl::Buffer traversal_totals;  // 4 x ulong, only when counting
 };
+
+// What a frame's AO starts from: the hits of the camera rays it traces, or
+// surface points a bake gives tile by tile, shaded on their front sides (SPEC 6.1).
+enum class PrimarySurfaces { CameraHits, GivenPoints };
 
 cl_float4 to_float4(const glm::vec3& v);
 cl_uint2 seed_words(std::uint64_t seed);
@@ -30,9 +35,9 @@ struct CameraArgs {
   cl_uint width, height;
 };
 
-// render.cl's MBAO_AO_PARAMS, in their order.
+// render.cl's MBAO_AO_PARAMS, in their order. eye.w tells the kernels which primary surfaces they shade.
 struct AoArgs {
-  AoArgs(const Camera& camera, const RenderSettings& s);
+  AoArgs(const Camera& camera, const RenderSettings& s, PrimarySurfaces primaries = PrimarySurfaces::CameraHits);
   void append_to(KernelArgs& args) const;
 
   cl_float4 eye;

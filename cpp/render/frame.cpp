@@ -1,5 +1,7 @@
 #include "render/frame.h"
 
+#include <stdexcept>
+
 #include "mbao/limits.h"
 #include "opencl/launch.h"
 
@@ -19,9 +21,11 @@ std::size_t camera_rays_per_item(const RenderSettings& s) {
 
 }  // namespace
 
-std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels) {
+std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries) {
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
-  const std::size_t image = pixels * (sizeof(cl_float) + sizeof(cl_uchar) + sizeof(cl_uint));  // ao, coverage, rays
+  const std::size_t second_moment = primaries == PrimarySurfaces::GivenPoints ? sizeof(cl_float) : 0;
+  const std::size_t image =
+      pixels * (sizeof(cl_float) + second_moment + sizeof(cl_uchar) + sizeof(cl_uint));  // ao, coverage, rays
   const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
   const std::size_t wavefront =
       s.organisation == KernelOrganisation::Wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
@@ -29,10 +33,11 @@ std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels
 }
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-             const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels)
+             const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels,
+             PrimarySurfaces primaries)
     : scene_(scene),
       camera_args_(camera, s),
-      ao_args_(camera, s),
+      ao_args_(camera, s, primaries),
       seed_(seed_words(s.seed)),
       pixels_(std::size_t(s.width) * std::size_t(s.height)),
       tile_pixels_(tile_pixels),
@@ -42,7 +47,9 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
   buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
-  bytes_ = device_bytes(s, tile_pixels);
+  if (primaries == PrimarySurfaces::GivenPoints)
+    buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
+  bytes_ = device_bytes(s, tile_pixels, primaries);
   if (s.count_traversal) {
     const cl_ulong zeros[4] = {0, 0, 0, 0};
     buffers_.traversal_totals =
@@ -69,12 +76,26 @@ void Frame::set_tile(std::size_t first, std::size_t count) {
                   buffers_.camera_hits, buffers_.traversal_totals);
   if (wavefront_) return;  // it sets its own kernels' tile
   set_kernel_args(ao_kernel_, scene_, ao_args_, cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.ao,
-                  buffers_.coverage, buffers_.secondary_rays, buffers_.traversal_totals);
+                  buffers_.ao_second_moment, buffers_.coverage, buffers_.secondary_rays, buffers_.traversal_totals);
 }
 
 void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   set_tile(first, count);
   launch(queue, camera_rays_, camera_items(count), camera_group_);
+  enqueue_ao(queue, first, count);
+}
+
+void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count,
+                         const std::vector<cl_uint4>& points) {
+  if (points.size() != count * spp_)
+    throw std::logic_error("Frame: " + std::to_string(points.size()) + " points for " + std::to_string(count) +
+                           " pixels of " + std::to_string(spp_) + " samples");
+  set_tile(first, count);
+  queue.enqueueWriteBuffer(buffers_.camera_hits, CL_TRUE, 0, points.size() * sizeof(cl_uint4), points.data());
+  enqueue_ao(queue, first, count);
+}
+
+void Frame::enqueue_ao(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   if (wavefront_)
     wavefront_->enqueue_tile(queue, first, count);
   else
@@ -94,8 +115,11 @@ void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
     launch_empty(queue, ao_kernel_, tile_pixels_, ao_group_);
 }
 
-void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* coverage, cl_uint* secondary_rays) {
+void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, float* ao_second_moment, std::uint8_t* coverage,
+                              cl_uint* secondary_rays) {
   queue.enqueueReadBuffer(buffers_.ao, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao);
+  if (ao_second_moment)
+    queue.enqueueReadBuffer(buffers_.ao_second_moment, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao_second_moment);
   queue.enqueueReadBuffer(buffers_.coverage, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), coverage);
   queue.enqueueReadBuffer(buffers_.secondary_rays, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
 }

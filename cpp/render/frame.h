@@ -23,23 +23,31 @@ namespace mbao {
 class Frame {
  public:
   Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
-        const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels);
+        const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels,
+        PrimarySurfaces primaries = PrimarySurfaces::CameraHits);
 
   // Camera rays and AO for the pixels at positions [first, first + count) of that order, count <= the tile size.
   void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
+  // A frame of given points: AO from `points`, a surface point (t, triangle, b1, b2 bits; triangle ~0u for
+  // none) per camera sample of those positions, in the camera hits' order. Copies them before it returns.
+  void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count,
+                    const std::vector<cl_uint4>& points);
   // Launches every kernel of a tile over no pixels, on the smallest grid and on
   // a whole tile's (launch_empty): what a driver builds at a kernel's first
   // launch, it builds here rather than in a tile.
   void enqueue_empty_tiles(cl::CommandQueue& queue);
-  // Copies the image and the per-pixel secondary ray counts back (non-blocking).
-  void enqueue_read_back(cl::CommandQueue& queue, float* ao, std::uint8_t* coverage, cl_uint* secondary_rays);
+  // Copies the image and the per-pixel secondary ray counts back (non-blocking); a frame of given
+  // points also the second moments (ao_second_moment: their room, else null).
+  void enqueue_read_back(cl::CommandQueue& queue, float* ao, float* ao_second_moment, std::uint8_t* coverage,
+                         cl_uint* secondary_rays);
   // The frame's traversal counts (programs built with MBAO_COUNT_TRAVERSAL), once it has finished.
   TraversalTotals traversal_totals(cl::CommandQueue& queue) const;
 
   // Device memory of the frame's own buffers.
   std::size_t bytes() const { return bytes_; }
   // What a frame with these settings and tile size allocates: known before it does.
-  static std::size_t device_bytes(const RenderSettings& settings, std::size_t tile_pixels);
+  static std::size_t device_bytes(const RenderSettings& settings, std::size_t tile_pixels,
+                                  PrimarySurfaces primaries = PrimarySurfaces::CameraHits);
   // What decides whether the kernels have been launched before: program, AO kernels, work-group sizes
   // and the tile size (the largest grid).
   std::string launch_signature() const;
@@ -47,6 +55,7 @@ class Frame {
  private:
   void set_up_megakernel(const cl::Device& device, const cl::Program& program, const RenderSettings& s);
   void set_tile(std::size_t first, std::size_t count);
+  void enqueue_ao(cl::CommandQueue& queue, std::size_t first, std::size_t count);
   // The camera kernel's work items for `pixels` pixels.
   std::size_t camera_items(std::size_t pixels) const;
 

@@ -43,6 +43,8 @@ struct RenderResult {
   std::vector<float> ao;              // row-major, row 0 at the top; 1 = open
   // Per pixel, 255 x the fraction of camera samples that hit geometry, rounded up: 0 only where all missed.
   std::vector<std::uint8_t> coverage;
+  // Bakes only: per pixel, the mean of its estimates' squares (SPEC 6.4).
+  std::vector<float> ao_second_moment;
   RenderStats stats;
 };
 

@@ -87,7 +87,19 @@ Renderer& Renderer::for_device(const DeviceInfo& device) {
 }
 
 RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                              const RenderSettings& requested, const TileCallback& between_tiles) {
+                              const RenderSettings& settings, const TileCallback& between_tiles) {
+  return run(scene, camera, settings, between_tiles, nullptr);
+}
+
+RenderResult Renderer::bake(const std::shared_ptr<const Scene>& scene, const RenderSettings& settings,
+                            const TilePoints& points_of_tile, const TileCallback& between_tiles) {
+  if (settings.method != Method::RayTraced) throw std::invalid_argument("a bake traces rays: method must be \"raytraced\"");
+  return run(scene, Camera{}, settings, between_tiles, &points_of_tile);
+}
+
+RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Camera& camera,
+                           const RenderSettings& requested, const TileCallback& between_tiles,
+                           const TilePoints* points_of_tile) {
   RenderResult result;
   RenderStats& stats = result.stats;
   const AoRadius radius = radius_for(requested, camera, *scene);
@@ -130,25 +142,28 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
       RenderSettings planned = settings;
       planned.traversal = plan.traversal;
       planned.organisation = plan.organisation;
-      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, result);
+      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, points_of_tile, result);
     }
   } catch (const cl::Error& e) {
-    throw_device_error("rendering " + scene->name() + " on " + device().description(), e);
+    throw_device_error((points_of_tile ? "baking " : "rendering ") + scene->name() + " on " + device().description(),
+                       e);
   }
-  stats.rays_primary = std::uint64_t(pixels) * std::uint64_t(settings.spp);
+  if (!points_of_tile) stats.rays_primary = std::uint64_t(pixels) * std::uint64_t(settings.spp);
   return result;
 }
 
 void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                          const RenderSettings& settings, const TileCallback& between_tiles, RenderResult& result) {
+                          const RenderSettings& settings, const TileCallback& between_tiles,
+                          const TilePoints* points_of_tile, RenderResult& result) {
   RenderStats& stats = result.stats;
   stats.organisation = to_string(settings.organisation);
   const std::size_t pixels = result.ao.size();
   const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
   std::vector<cl_uint> secondary_rays(pixels);
   cl::CommandQueue& queue = compute_.queue();
-  check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels), settings);
-  Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels);
+  const PrimarySurfaces primaries = points_of_tile ? PrimarySurfaces::GivenPoints : PrimarySurfaces::CameraHits;
+  check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels, primaries), settings);
+  Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels, primaries);
   stats.memory_bytes = scene.bytes() + frame.bytes();
   // Some drivers (PoCL) build a kernel at its first launch, for its work-group
   // size and its grid's size: launched empty first, counted as kernel build time.
@@ -160,15 +175,26 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   }
   Stopwatch clock;
   const std::size_t tiles = (pixels + tile_pixels - 1) / tile_pixels;
+  std::vector<cl_uint4> points;
   for (std::size_t first = 0; first < pixels; first += tile_pixels) {
-    frame.enqueue_tile(queue, first, std::min(tile_pixels, pixels - first));
+    const std::size_t count = std::min(tile_pixels, pixels - first);
+    if (points_of_tile) {
+      // Drawn while the device works on the tile before, which the copy then waits for.
+      points.resize(count * std::size_t(settings.spp));
+      (*points_of_tile)(first, count, points);
+      frame.enqueue_tile(queue, first, count, points);
+    } else {
+      frame.enqueue_tile(queue, first, count);
+    }
     ++stats.tiles;
     if (between_tiles) {
       queue.finish();
       between_tiles(stats.tiles, tiles);
     }
   }
-  frame.enqueue_read_back(queue, result.ao.data(), result.coverage.data(), secondary_rays.data());
+  if (points_of_tile) result.ao_second_moment.resize(pixels);
+  frame.enqueue_read_back(queue, result.ao.data(), points_of_tile ? result.ao_second_moment.data() : nullptr,
+                          result.coverage.data(), secondary_rays.data());
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
   if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);

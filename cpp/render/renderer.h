@@ -60,6 +60,15 @@ class Renderer {
   RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                       const RenderSettings& settings, const TileCallback& between_tiles = {});
 
+  // A bake's estimates (SPEC 6): settings.width x height pixels, each the mean (result.ao) and the mean
+  // square (result.ao_second_moment) of settings.spp estimates, one path each, from the surface points
+  // that points_of_tile gives for a tile (Frame::enqueue_tile's `points`) as the tiles go. The radius is
+  // settings.max_distance, else inf: a bake has no camera to suggest one.
+  using TilePoints =
+      std::function<void(std::size_t first_position, std::size_t count, std::vector<cl_uint4>& points)>;
+  RenderResult bake(const std::shared_ptr<const Scene>& scene, const RenderSettings& settings,
+                    const TilePoints& points_of_tile, const TileCallback& between_tiles = {});
+
   // Traces rays given as origins and direction + t_max in .w; closest hits, or
   // with any_hit the first hit found.
   TraceResult trace(const std::shared_ptr<const Scene>& scene, const std::vector<cl_float4>& origins,
@@ -67,10 +76,14 @@ class Renderer {
                     bool count_traversal = false);
 
  private:
+  // render and bake: points_of_tile, where given, stands for the camera rays.
+  RenderResult run(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& requested,
+                   const TileCallback& between_tiles, const TilePoints* points_of_tile);
   // The two kinds of frame, given the scene on the device and the camera in its frame; run_traced's
   // settings carry the plan's traversal and organisation.
   void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                  const RenderSettings& settings, const TileCallback& between_tiles, RenderResult& result);
+                  const RenderSettings& settings, const TileCallback& between_tiles,
+                  const TilePoints* points_of_tile, RenderResult& result);
   void run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                 const RenderSettings& settings, RenderResult& result);
 

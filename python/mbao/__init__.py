@@ -9,6 +9,7 @@ What is computed, and every convention, is defined in docs/spec.md (section numb
 in the docstrings refer to it).
 """
 
+from .bake import Bake, bake
 from ._core import DEFAULT_MAX_RAYS, HBAO, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
 from .convergence import convergence, format_convergence, plot_convergence
 from .devices import devices
@@ -21,6 +22,7 @@ from .settings import Engine
 
 __all__ = [
     "DEFAULT_MAX_RAYS",
+    "Bake",
     "Camera",
     "Device",
     "DeviceError",
@@ -32,6 +34,7 @@ __all__ = [
     "Reference",
     "Result",
     "Scene",
+    "bake",
     "convergence",
     "cornell_box",
     "devices",

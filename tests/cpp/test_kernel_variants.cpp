@@ -40,7 +40,7 @@ Image render(ComputeContext& compute, const ProgramVariant& variant, const Devic
   std::vector<cl_uint> rays(pixels);
   cl::CommandQueue& queue = compute.queue();
   frame.enqueue_tile(queue, 0, pixels);
-  frame.enqueue_read_back(queue, image.ao.data(), image.coverage.data(), rays.data());
+  frame.enqueue_read_back(queue, image.ao.data(), nullptr, image.coverage.data(), rays.data());
   queue.finish();
   for (cl_uint r : rays) image.rays += r;
   image.counts = frame.traversal_totals(queue);

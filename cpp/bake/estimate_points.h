@@ -1,0 +1,41 @@
+// Where a bake's estimates are taken (SPEC 6): for each target (a vertex, a
+// texel) and each of its estimates, one point on the surface.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "mbao/philox.h"
+
+namespace mbao {
+
+// A point on triangle `triangle` with barycentric weights b1, b2 of its second and third corners.
+struct SurfacePoint {
+  std::uint32_t triangle;
+  float b1, b2;
+};
+
+// The four uniform numbers in [0, 1) of estimate `sample` of `target`: a pure
+// function of the two and the seed (SPEC 6.5). The kernels key a camera
+// sample's jitter the same way (bounce 0, node 0), which a bake has no use
+// for, so an estimate's point and its path share no random numbers.
+inline std::array<double, 4> estimate_random(std::uint32_t target, std::uint32_t sample, std::uint64_t seed) {
+  const Philox4x32 bits =
+      philox4x32_10(Philox4x32{{target, sample, 0u, 0u}}, std::uint32_t(seed), std::uint32_t(seed >> 32));
+  constexpr double kScale = 1.0 / 4294967296.0;
+  return {bits.v[0] * kScale, bits.v[1] * kScale, bits.v[2] * kScale, bits.v[3] * kScale};
+}
+
+// The points of one kind of bake.
+class EstimatePoints {
+ public:
+  virtual ~EstimatePoints() = default;
+  // How many targets there are.
+  virtual std::size_t targets() const = 0;
+  // The point of one estimate of `target` from its four uniform numbers, or
+  // none where the target holds no surface.
+  virtual std::optional<SurfacePoint> point(std::size_t target, const std::array<double, 4>& random) const = 0;
+};
+
+}  // namespace mbao

@@ -1,0 +1,176 @@
+"""Baking per vertex (SPEC 6): closed-form answers, the front side, honest
+standard errors and determinism. Statistical checks allow 4 standard errors of
+the estimator, computed from its own variance."""
+
+import math
+
+import numpy as np
+import pytest
+
+import mbao
+from analytic import assert_within_standard_errors, polygon_occlusion
+from meshes import box, box_grid, disk, icosphere, merge, plane
+
+
+def bake(vertices, indices, **settings):
+    settings.setdefault("progress", False)
+    return mbao.bake(mbao.Mesh(vertices, indices), **settings)
+
+
+@pytest.mark.parametrize("bounces", [1, 2, 3])
+def test_a_plane_bakes_to_one(bounces):
+    """Nothing occludes a lone plane: every vertex is exactly 1 with no spread."""
+    result = bake(*plane(3.0, divisions=4), bounces=bounces, samples=32)
+    np.testing.assert_array_equal(result.values, 1.0)
+    np.testing.assert_array_equal(result.standard_error, 0.0)
+
+
+@pytest.mark.filterwarnings("ignore:.*looks closed")
+@pytest.mark.parametrize("bounces, rho", [(1, 1.0), (2, 1.0), (3, 0.5)])
+def test_the_inside_of_a_closed_box_bakes_to_zero(bounces, rho):
+    """Triangles that face into a closed box are baked on that side: every ray
+    hits a wall, so every vertex is exactly 0, whatever the bounces."""
+    result = bake(*box((-1.0, -1.5, -2.0), (1.0, 1.5, 2.0)), bounces=bounces, rho=rho, samples=64)
+    np.testing.assert_array_equal(result.values, 0.0)
+    np.testing.assert_array_equal(result.standard_error, 0.0)
+
+
+@pytest.mark.parametrize("bounces", [1, 2])
+def test_the_front_side_is_the_windings(bounces):
+    """The same closed surfaces wound the other way face out, where every ray
+    escapes: 1 exactly (SPEC 6.1). Shading normals that point in are turned
+    to the front side too."""
+    vertices, indices = box((-1.0, -1.5, -2.0), (1.0, 1.5, 2.0))
+    np.testing.assert_array_equal(bake(vertices, indices[:, ::-1], bounces=bounces, samples=64).values, 1.0)
+    vertices, indices = icosphere(2.0, (1.0, -1.0, 0.5), subdivisions=2)
+    inward_normals = -(vertices - (1.0, -1.0, 0.5))
+    scene = mbao.Mesh(vertices, indices, inward_normals)
+    outside = mbao.bake(scene, bounces=bounces, samples=64, normals="geometric", progress=False)
+    np.testing.assert_array_equal(outside.values, 1.0)
+    inside = bake(vertices, indices[:, ::-1], bounces=bounces, samples=64)
+    np.testing.assert_array_equal(inside.values, 0.0)
+
+
+def hat_weighted_mean(function, centre, rim):
+    """Integral of phi * f over the fan of triangles (centre, rim[k], rim[k+1]),
+    divided by the integral of phi, phi the centre's hat function: a 2-D
+    Gauss-Legendre rule on each triangle (collapsed square), exact to far
+    below the tolerances here for a smooth f."""
+    nodes, weights = np.polynomial.legendre.leggauss(12)
+    s, w = (nodes + 1) / 2, weights / 2
+    total = weight = 0.0
+    for a, b in zip(rim, np.roll(rim, -1, axis=0)):
+        area = 0.5 * np.linalg.norm(np.cross(a - centre, b - centre))
+        for si, wi in zip(s, w):
+            for tj, wj in zip(s, w):
+                # (u, v) = (si, (1 - si) tj) covers the triangle with Jacobian (1 - si).
+                u, v = si, (1.0 - si) * tj
+                phi = 1.0 - u - v
+                point = centre + u * (a - centre) + v * (b - centre)
+                dw = wi * wj * (1.0 - si) * 2.0 * area
+                total += dw * phi * function(point)
+                weight += dw * phi
+    return total / weight
+
+
+def test_a_floor_under_a_parallel_disk():
+    """A floor vertex under a parallel disk (b = 1): its value is the hat-weighted
+    mean over its one-ring of 1 - F, F the disk's form factor (Lambert's
+    polygon formula), which at the ring's centre is h^2 / (h^2 + R^2)."""
+    height, radius, ring = 1.0, 0.8, 0.05
+    angles = np.linspace(0.0, 2.0 * np.pi, 12, endpoint=False)
+    circle = np.column_stack([np.cos(angles), np.zeros(12), np.sin(angles)])
+    floor = np.vstack([[0.0, 0.0, 0.0], ring * circle, 10.0 * circle])
+    fan = [[0, 1 + (k + 1) % 12, 1 + k] for k in range(12)]  # facing up
+    band = [[1 + k, 1 + (k + 1) % 12, 13 + (k + 1) % 12] for k in range(12)]
+    band += [[1 + k, 13 + (k + 1) % 12, 13 + k] for k in range(12)]
+    disk_vertices, disk_indices = disk(radius, height, 64)
+    vertices, indices = merge((floor, fan + band), (disk_vertices, disk_indices))
+    samples = 20000
+    result = bake(vertices, indices, bounces=1, samples=samples)
+
+    polygon = disk_vertices[1:]
+    expected = hat_weighted_mean(lambda p: 1.0 - polygon_occlusion(p, (0.0, 1.0, 0.0), polygon),
+                                 floor[0], floor[1:13])
+    at_centre = 1.0 - polygon_occlusion(np.zeros(3), (0.0, 1.0, 0.0), polygon)
+    assert abs(at_centre - height**2 / (height**2 + radius**2)) < 2e-3  # the 64-gon is nearly the circle
+    # Each estimate is 0 or 1 with mean `expected`: a Bernoulli variable.
+    assert_within_standard_errors(float(result.values[0]), expected, samples)
+    assert result.standard_error[0] == pytest.approx(math.sqrt(expected * (1 - expected) / samples), rel=0.05)
+
+
+def outward_box_grid():
+    vertices, indices = box_grid(3)
+    return vertices, indices[:, ::-1]
+
+
+def test_standard_errors_are_honest():
+    """Two bakes under different seeds differ by about their standard errors:
+    the mean of z^2 = (a - b)^2 / (se_a^2 + se_b^2) over the vertices is 1
+    within 4 of its own standard errors, sqrt(2 / n) for n vertices."""
+    vertices, indices = outward_box_grid()
+    a = bake(vertices, indices, bounces=2, samples=128, seed=1)
+    b = bake(vertices, indices, bounces=2, samples=128, seed=2)
+    spread = a.standard_error.astype(float) ** 2 + b.standard_error.astype(float) ** 2
+    varied = spread > 0
+    assert varied.sum() > 150
+    z2 = (a.values[varied].astype(float) - b.values[varied]) ** 2 / spread[varied]
+    assert abs(z2.mean() - 1.0) <= 4.0 * math.sqrt(2.0 / varied.sum()), z2.mean()
+
+
+ENGINES = [
+    mbao.Engine(traversal="stack", organisation="megakernel"),
+    mbao.Engine(traversal="lanes"),
+    mbao.Engine(traversal="short-stack", organisation="wavefront", tile_pixels=7),
+]
+
+
+@pytest.mark.parametrize("engine", ENGINES, ids=["megakernel", "lanes", "short-stack-tiles"])
+def test_a_bake_is_a_function_of_the_seed_and_settings(engine):
+    """The same seed gives the same bits whatever the walk, the organisation or
+    the tiles; another seed gives other values (SPEC 6.5)."""
+    vertices, indices = outward_box_grid()
+    reference = bake(vertices, indices, bounces=2, samples=16, seed=5)
+    again = bake(vertices, indices, bounces=2, samples=16, seed=5, engine=engine)
+    np.testing.assert_array_equal(again.values, reference.values)
+    np.testing.assert_array_equal(again.standard_error, reference.standard_error)
+    assert not np.array_equal(bake(vertices, indices, bounces=2, samples=16, seed=6).values, reference.values)
+
+
+def test_vertices_without_surface_are_open():
+    """A vertex that no triangle uses, or only a triangle of zero area, has no
+    surface to average over: 1, with standard error 0."""
+    vertices, indices = box((-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
+    vertices = np.vstack([vertices, [[5.0, 5.0, 5.0], [0.0, 0.0, 0.0], [0.5, 0.0, 0.0]]])
+    indices = np.vstack([indices, [[9, 10, 9]]])  # a degenerate triangle
+    result = bake(vertices, indices, bounces=1, samples=16)
+    np.testing.assert_array_equal(result.values[:8], 0.0)
+    np.testing.assert_array_equal(result.values[8:], 1.0)
+    np.testing.assert_array_equal(result.standard_error[8:], 0.0)
+
+
+def test_a_bake_counts_its_rays_and_refuses_too_many():
+    vertices, indices = outward_box_grid()
+    result = bake(vertices, indices, bounces=2, samples=16)
+    assert result.stats["rays_primary"] == 0
+    assert 0 < result.stats["rays_secondary"] <= len(vertices) * 16 * 2
+    with pytest.raises(ValueError, match="max_rays"):
+        bake(vertices, indices, bounces=2, samples=16, max_rays=1000)
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (dict(samples=1), r"samples must be in \[2, 65536\]"),
+    (dict(samples=1 << 17), r"samples must be in \[2, 65536\]"),
+    (dict(target="faces"), "target must be one of 'vertices'"),
+    (dict(bounces=0), "bounces"),
+    (dict(rho=1.5), "rho"),
+    (dict(max_distance=-1.0), "max_distance"),
+])
+def test_bad_arguments_name_themselves(arguments, message):
+    with pytest.raises(ValueError, match=message):
+        bake(*plane(1.0), **arguments)
+
+
+def test_a_bake_takes_a_scene_path(tmp_path):
+    with pytest.raises(mbao.LoadError, match="missing.glb"):
+        mbao.bake(tmp_path / "missing.glb", progress=False)
