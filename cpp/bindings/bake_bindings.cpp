@@ -3,6 +3,8 @@
 #include <pybind11/stl.h>
 
 #include "bake/bake_estimates.h"
+#include "bake/dilation.h"
+#include "bake/texel_layout.h"
 #include "bake/vertex_points.h"
 #include "bindings/bindings.h"
 
@@ -30,9 +32,71 @@ py::tuple bake_vertices(const std::shared_ptr<Scene>& scene, const DeviceInfo& d
                         stats_dict(bake.stats));
 }
 
+// A texel layout with the scene whose triangles it maps.
+struct SceneTexels {
+  std::shared_ptr<Scene> scene;
+  TexelLayout layout;
+};
+
+std::vector<glm::vec2> texcoords_from(const py::array_t<float, py::array::c_style | py::array::forcecast>& uvs) {
+  if (uvs.ndim() != 2 || uvs.shape(1) != 2) throw std::invalid_argument("texcoords must have shape (N, 2)");
+  std::vector<glm::vec2> out(std::size_t(uvs.shape(0)));
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {uvs.at(py::ssize_t(i), 0), uvs.at(py::ssize_t(i), 1)};
+  return out;
+}
+
+SceneTexels make_texels(const std::shared_ptr<Scene>& scene,
+                        const py::array_t<float, py::array::c_style | py::array::forcecast>& uvs,
+                        const std::vector<std::uint32_t>& triangles, int width, int height,
+                        const std::string& wrap_s, const std::string& wrap_t) {
+  const std::vector<glm::vec2> texcoords = texcoords_from(uvs);
+  py::gil_scoped_release release;
+  return SceneTexels{scene, TexelLayout(scene->mesh(), triangles, texcoords, width, height, parse_wrap_mode(wrap_s),
+                                        parse_wrap_mode(wrap_t))};
+}
+
+py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const py::dict& values,
+                      std::int64_t samples, int padding, const py::object& progress) {
+  if (padding < 0 || padding > 64) throw std::invalid_argument("padding must be in [0, 64], got " + std::to_string(padding));
+  const RenderSettings settings = settings_from(values);
+  const Renderer::TileCallback between_tiles = tile_callback(progress);
+  const TexelLayout& layout = texels.layout;
+  BakeEstimates bake;
+  std::vector<std::uint8_t> filled;
+  {
+    py::gil_scoped_release release;
+    bake = bake_estimates(Renderer::for_device(device), texels.scene, settings, samples, layout,
+                          std::size_t(layout.width()), between_tiles);
+    filled = dilate(layout.covered(), layout.width(), layout.height(), padding, {&bake.values, &bake.standard_error});
+  }
+  const py::ssize_t h = layout.height(), w = layout.width();
+  return py::make_tuple(adopt(std::move(bake.values), {h, w}), adopt(std::move(bake.standard_error), {h, w}),
+                        adopt(std::move(filled), {h, w}), stats_dict(bake.stats));
+}
+
 }  // namespace
 
 void bind_bake(py::module_& m) {
+  py::class_<SceneTexels>(m, "TexelLayout",
+                          "Where a UV set puts triangles of a scene in a texture (SPEC 6.3; bake/texel_layout.h).")
+      .def(py::init(&make_texels), py::arg("scene"), py::arg("texcoords"), py::arg("triangles"), py::arg("width"),
+           py::arg("height"), py::arg("wrap_s"), py::arg("wrap_t"))
+      .def_property_readonly("width", [](const SceneTexels& t) { return t.layout.width(); })
+      .def_property_readonly("height", [](const SceneTexels& t) { return t.layout.height(); })
+      .def_property_readonly("covered",
+                             [](const SceneTexels& t) {
+                               std::vector<std::uint8_t> covered = t.layout.covered();
+                               return adopt(std::move(covered), {t.layout.height(), t.layout.width()});
+                             })
+      .def_property_readonly("covered_count", [](const SceneTexels& t) { return t.layout.covered_count(); })
+      .def_property_readonly("claimed_twice", [](const SceneTexels& t) { return t.layout.claimed_twice(); },
+                             "Covered texels one of whose 4 x 4 sample points two triangles claim.")
+      .def_property_readonly("unmapped_triangles", [](const SceneTexels& t) { return t.layout.unmapped_triangles(); },
+                             "Triangles of zero UV area, which fall in no texel.");
+  m.def("bake_texels", &bake_texels, py::arg("texels"), py::arg("device"), py::arg("settings"), py::arg("samples"),
+        py::arg("padding"), py::arg("progress"),
+        "Bakes L_b per texel of a TexelLayout (SPEC 6.3) and dilates by `padding`; returns (image, standard_error, "
+        "filled, stats). Use mbao.bake.");
   m.attr("BAKE_SAMPLES_RANGE") = py::make_tuple(kMinBakeSamples, kMaxBakeSamples);
   m.def("bake_vertices", &bake_vertices, py::arg("scene"), py::arg("device"), py::arg("settings"),
         py::arg("samples"), py::arg("progress"),

@@ -1,4 +1,4 @@
-"""Baking multi-bounce AO into assets: a value per vertex (SPEC 6)."""
+"""Baking multi-bounce AO into assets: a value per vertex or per texel (SPEC 6)."""
 
 import dataclasses
 import math
@@ -11,21 +11,47 @@ from .devices import resolve
 from .scene import as_scene
 from .settings import RENDER, Engine, checked, engine_values
 
-TARGETS = ("vertices",)
+TARGETS = ("vertices", "texture")
+WRAP_MODES = ("repeat", "mirrored-repeat", "clamp-to-edge")
+
+
+@dataclasses.dataclass(frozen=True)
+class BakedTexture:
+    """One material's baked texture (SPEC 6.3), row 0 at v = 0 (glTF's top row).
+
+    image: (H, W) float32, each texel the mean of L_b over the surface whose UVs
+        fall in it; texels near a covered one hold its value (dilation), farther
+        ones 1.
+    standard_error: (H, W) float32, the standard error of each texel (its
+        source's where dilated, 0 where 1 was filled in).
+    coverage: (H, W) bool, the texels that hold surface.
+    texcoord: the UV set used.
+    stats: covered, claimed_twice, dilated (texel counts) and unmapped_triangles
+        (triangles of zero UV area, which no texel holds).
+    """
+
+    image: np.ndarray
+    standard_error: np.ndarray
+    coverage: np.ndarray
+    texcoord: object
+    stats: dict
 
 
 @dataclasses.dataclass(frozen=True)
 class Bake:
     """What mbao.bake made (SPEC 6).
 
-    target: "vertices".
-    values: (N,) float32, per vertex of scene.vertices: the mean of L_b over its
-        one-ring weighted by its hat function (1 = open; 1 where no triangle of
-        positive area uses it).
-    standard_error: (N,) float32, the standard error of each value, from the
-        spread of its estimates (0 where a vertex has no surface).
+    target: "vertices" or "texture".
+    values: vertices only: (N,) float32, per vertex of scene.vertices, the mean
+        of L_b over its one-ring weighted by its hat function (1 = open; 1 where
+        no triangle of positive area uses it). None for textures.
+    standard_error: vertices only: (N,) float32, the standard error of each
+        value, from the spread of its estimates (0 where a vertex has no surface).
+    textures: texture only: {material index: BakedTexture}; empty for vertices.
     settings: what it was baked with.
-    stats: the renderer's statistics of the bake (rays_secondary, frame_ms, plan, ...).
+    stats: the renderer's statistics of the bake (rays_secondary, frame_ms, plan,
+        ...); for textures, of the last material's, with frame_ms and
+        rays_secondary summed over all.
     """
 
     target: str
@@ -33,21 +59,35 @@ class Bake:
     standard_error: np.ndarray
     settings: dict
     stats: dict
+    textures: dict = dataclasses.field(default_factory=dict)
 
     def __repr__(self):
-        return (f"<mbao.Bake {self.target}: {len(self.values)} values, mean {float(np.mean(self.values)):.3f}, "
-                f"{self.stats['frame_ms'] / 1e3:.1f} s on {self.stats['device']}>")
+        what = (f"{len(self.values)} values, mean {float(np.mean(self.values)):.3f}" if self.values is not None
+                else f"{len(self.textures)} textures")
+        return f"<mbao.Bake {self.target}: {what}, {self.stats['frame_ms'] / 1e3:.1f} s on {self.stats['device']}>"
 
 
 def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_distance=math.inf, normals="shading",
-         seed=0, max_rays=_core.DEFAULT_MAX_RAYS, engine=None, device=None, progress=True):
-    """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2).
+         texcoord=None, resolution=1024, padding=4, wrap=None, seed=0, max_rays=_core.DEFAULT_MAX_RAYS, engine=None,
+         device=None, progress=True):
+    """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
+    or per texel (SPEC 6.3).
 
     scene: an mbao.Scene (mbao.load, mbao.Mesh) or the path of a glTF file.
-    target: "vertices": a value per vertex of scene.vertices.
+    target: "vertices": a value per vertex of scene.vertices; "texture": a
+        texture per material, into a UV set (an mbao.Mesh's texcoords).
     bounces, rho, normals, seed, max_rays: as for mbao.render.
-    samples: estimates per vertex, each at its own point of the vertex's
-        one-ring with one path of `bounces` segments; in [2, 65536].
+    samples: estimates per vertex or texel, each at its own point of the
+        vertex's one-ring or the texel's surface with one path of `bounces`
+        segments; in [2, 65536].
+    texcoord: texture only: the UV set; None takes the mesh's texcoords (the
+        one set an mbao.Mesh has).
+    resolution: texture only: the texture's size, an int or (width, height), each in [1, 16384].
+    padding: texture only: empty texels within this many texels of a covered
+        one take its value (dilation); in [0, 64].
+    wrap: texture only: how UVs outside [0, 1] map, "repeat", "mirrored-repeat"
+        or "clamp-to-edge", or a pair of them (along u, along v); None: "repeat",
+        glTF's default sampler.
     max_distance: the AO radius in world units; inf by default (a bake has no
         camera to suggest one).
     engine: an mbao.Engine, as for render.
@@ -56,7 +96,9 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
         callable progress(tiles_done, tiles_total).
 
     A surface is baked on its front side, the side its triangles' corners run
-    counter-clockwise seen from (SPEC 6.1). The result is a function of the
+    counter-clockwise seen from (SPEC 6.1). A UV set in which two surfaces
+    claim one texel (mirrored halves, tiles, overlapping islands) is refused
+    with an mbao.Error before any ray is traced. The result is a function of the
     scene, the settings and the seed. The GIL is released while baking; Ctrl-C
     stops after the tile in flight. Returns an mbao.Bake.
     """
@@ -69,10 +111,70 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
     if engine is not None and not isinstance(engine, Engine):
         raise TypeError(f"engine must be None or an mbao.Engine, got {type(engine).__name__}")
     values.update(engine_values(engine or Engine()))
-    with _tile_progress(progress) as on_tile:
-        ao, standard_error, stats = _core.bake_vertices(scene, resolve(device), values, samples, on_tile)
     settings = dict(given, target=target, samples=samples)
-    return Bake(target, ao, standard_error, settings, stats)
+    if target == "vertices":
+        with _tile_progress(progress) as on_tile:
+            ao, standard_error, stats = _core.bake_vertices(scene, resolve(device), values, samples, on_tile)
+        return Bake(target, ao, standard_error, settings, stats)
+
+    width, height = _resolution(resolution)
+    padding = _checks.integer("padding", padding, 0, 64, "[0, 64]")
+    wrap_s, wrap_t = _wrap(wrap)
+    texcoords, texcoord = _texcoords(scene, texcoord)
+    layout = _core.TexelLayout(scene, texcoords, np.arange(scene.triangle_count, dtype=np.uint32), width, height,
+                               wrap_s, wrap_t)
+    _refuse_claimed_twice(layout, "the mesh", texcoord)
+    with _tile_progress(progress) as on_tile:
+        image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples, padding,
+                                                                 on_tile)
+    coverage = layout.covered.astype(bool)
+    texture_stats = dict(covered=layout.covered_count, claimed_twice=layout.claimed_twice,
+                         dilated=int(filled.sum()), unmapped_triangles=layout.unmapped_triangles)
+    texture = BakedTexture(image, standard_error, coverage, texcoord, texture_stats)
+    settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=(wrap_s, wrap_t))
+    return Bake(target, None, None, settings, stats, {0: texture})
+
+
+def _resolution(resolution):
+    if isinstance(resolution, (tuple, list)):
+        if len(resolution) != 2:
+            raise ValueError(f"resolution must be an int or (width, height), got {resolution!r}")
+        sides = resolution
+    else:
+        sides = (resolution, resolution)
+    return tuple(_checks.integer("resolution", side, 1, 16384, "[1, 16384] on each side") for side in sides)
+
+
+def _wrap(wrap):
+    if wrap is None:
+        return "repeat", "repeat"
+    if isinstance(wrap, str):
+        wrap = (wrap, wrap)
+    if not isinstance(wrap, (tuple, list)) or len(wrap) != 2:
+        raise TypeError(f"wrap must be None, a wrap mode or a pair of them, got {wrap!r}")
+    return tuple(_checks.choice("wrap", mode, WRAP_MODES) for mode in wrap)
+
+
+def _texcoords(scene, texcoord):
+    """The (N, 2) UVs a texture bake of `scene` uses, and the name of their set."""
+    texcoords = getattr(scene, "texcoords", None)
+    if texcoord is not None:
+        raise ValueError(f"texcoord must be None for an mbao.Mesh (its one set of texcoords), got {texcoord!r}")
+    if texcoords is None:
+        raise ValueError(f"{scene.name}: a texture bake needs UVs, and this scene has none: give mbao.Mesh "
+                         f"texcoords=, or bake target=\"vertices\"")
+    return texcoords, 0
+
+
+def _refuse_claimed_twice(layout, what, texcoord):
+    """SPEC 6.3: a UV set in which any covered texel is claimed twice cannot hold one value per texel."""
+    if layout.claimed_twice == 0:
+        return
+    fraction = layout.claimed_twice / layout.covered_count
+    raise _core.Error(f"{what}, UV set {texcoord}: {fraction:.1%} of its {layout.covered_count} covered texels "
+                      f"are claimed by more than one surface (overlap: mirrored halves, tiled UVs or overlapping "
+                      f"islands), so one value per texel cannot serve them; bake target=\"vertices\", or into a UV "
+                      f"set without overlaps")
 
 
 class _tile_progress:

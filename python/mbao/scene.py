@@ -9,14 +9,15 @@ from . import _checks, _core
 
 
 class Mesh(_core._Mesh):
-    """A scene made from arrays: Mesh(vertices, indices, normals=None).
+    """A scene made from arrays: Mesh(vertices, indices, normals=None, texcoords=None).
 
     vertices: (N, 3) numbers, world space; indices: (M, 3) integers into vertices,
     one row per triangle; normals: optional (N, 3) vertex normals (zero rows mean
-    "no normal here": the geometric normal is used). Arrays are copied.
+    "no normal here": the geometric normal is used); texcoords: optional (N, 2)
+    UVs, one set, which mbao.bake(target="texture") bakes into. Arrays are copied.
     """
 
-    def __init__(self, vertices, indices, normals=None):
+    def __init__(self, vertices, indices, normals=None, texcoords=None):
         vertices = _checks.rows("vertices", vertices, 3, "fiu", np.float32)
         indices = _checks.rows("indices", indices, 3, "iu", np.int64)
         if indices.size and (indices.min() < 0 or indices.max() >= len(vertices)):
@@ -29,7 +30,13 @@ class Mesh(_core._Mesh):
             normals = _checks.rows("normals", normals, 3, "fiu", np.float32)
             if len(normals) != len(vertices):
                 raise ValueError(f"normals has {len(normals)} rows for {len(vertices)} vertices")
+        if texcoords is not None:
+            texcoords = _checks.rows("texcoords", texcoords, 2, "fiu", np.float32)
+            if len(texcoords) != len(vertices):
+                raise ValueError(f"texcoords has {len(texcoords)} rows for {len(vertices)} vertices")
+            texcoords.flags.writeable = False
         super().__init__(vertices, indices.astype(np.uint32), normals)
+        self.texcoords = texcoords
         for message in self.warnings:
             warnings.warn(message, stacklevel=2)
 

@@ -1,0 +1,115 @@
+// Where a bake's estimates land (SPEC 6.2, 6.3): the distributions the
+// estimators assume, checked by their moments within 4 standard errors, and
+// the layout's pieces, coverage and claims, exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bake/dilation.h"
+#include "bake/texel_layout.h"
+#include "bake/vertex_points.h"
+
+namespace mbao {
+namespace {
+
+// Two triangles of a unit square in y = 0: (0,0,0) (1,0,0) (1,0,1) and (0,0,0) (1,0,1) (0,0,1).
+TriangleMesh unit_square() {
+  TriangleMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return mesh;
+}
+
+double weight_of_vertex(const TriangleMesh& mesh, const SurfacePoint& p, std::uint32_t vertex) {
+  const glm::uvec3 t = mesh.triangles[p.triangle];
+  const double b[3] = {1.0 - p.b1 - p.b2, p.b1, p.b2};
+  for (int k = 0; k < 3; ++k)
+    if (t[k] == vertex) return b[k];
+  return 0.0;
+}
+
+TEST(VertexPoints, DrawsTheRingWithDensityProportionalToTheHatFunction) {
+  // phi_v at a point drawn with density proportional to phi_v is Beta(2, 2):
+  // mean 1/2, variance 1/20. Vertex 0 has both triangles, vertex 1 one.
+  const TriangleMesh mesh = unit_square();
+  const VertexPoints points(mesh);
+  ASSERT_EQ(points.targets(), 4u);
+  constexpr int n = 200000;
+  for (std::uint32_t vertex : {0u, 1u}) {
+    double sum = 0.0, sum_of_squares = 0.0;
+    int in_first = 0;
+    for (int i = 0; i < n; ++i) {
+      const SurfacePoint p = *points.point(vertex, estimate_random(vertex, std::uint32_t(i), 7));
+      const double phi = weight_of_vertex(mesh, p, vertex);
+      sum += phi;
+      sum_of_squares += phi * phi;
+      in_first += p.triangle == 0;
+    }
+    EXPECT_NEAR(sum / n, 0.5, 4.0 * std::sqrt(0.05 / n)) << vertex;
+    // E[phi^2] = 3/10 with Var[phi^2] = E[phi^4] - 0.09 = 1/7 - 0.09.
+    EXPECT_NEAR(sum_of_squares / n, 0.3, 4.0 * std::sqrt((1.0 / 7.0 - 0.09) / n)) << vertex;
+    if (vertex == 0) {
+      EXPECT_NEAR(double(in_first) / n, 0.5, 4.0 * std::sqrt(0.25 / n));  // equal areas
+    } else {
+      EXPECT_EQ(in_first, n);
+    }
+  }
+}
+
+TEST(VertexPoints, AVertexWithoutAreaHasNoPoints) {
+  TriangleMesh mesh = unit_square();
+  mesh.positions.push_back({5, 5, 5});
+  mesh.triangles.push_back({4, 4, 0});
+  const VertexPoints points(mesh);
+  EXPECT_FALSE(points.point(4, estimate_random(4, 0, 0)));
+}
+
+TEST(TexelLayout, DrawsEachTexelsSurfaceUniformly) {
+  // UVs (x, z) / 2 put the square into the lower-left quarter of a 4 x 4
+  // texture: texel (1, 1) holds [0.25, 0.5]^2 of UV, i.e. [0.5, 1]^2 of the
+  // square, cut by the diagonal. Points there are uniform: mean (0.75, 0.75).
+  const TriangleMesh mesh = unit_square();
+  std::vector<glm::vec2> uvs;
+  for (const glm::vec3& p : mesh.positions) uvs.push_back({p.x / 2, p.z / 2});
+  const TexelLayout layout(mesh, {0, 1}, uvs, 4, 4, WrapMode::Repeat, WrapMode::Repeat);
+  EXPECT_EQ(layout.covered_count(), 4u);
+  EXPECT_EQ(layout.claimed_twice(), 0u);
+  const std::size_t texel = 1 * 4 + 1;
+  ASSERT_TRUE(layout.covered()[texel]);
+  constexpr int n = 100000;
+  double x = 0.0, z = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const SurfacePoint p = *layout.point(texel, estimate_random(std::uint32_t(texel), std::uint32_t(i), 3));
+    const glm::uvec3 t = mesh.triangles[p.triangle];
+    const glm::vec3 q = (1.0f - p.b1 - p.b2) * mesh.positions[t.x] + p.b1 * mesh.positions[t.y] +
+                        p.b2 * mesh.positions[t.z];
+    ASSERT_GE(q.x, 0.5f - 1e-6f);
+    ASSERT_GE(q.z, 0.5f - 1e-6f);
+    x += q.x;
+    z += q.z;
+  }
+  const double tolerance = 4.0 * std::sqrt(0.25 * 0.25 / 12.0 / n);  // uniform on [0.5, 1]
+  EXPECT_NEAR(x / n, 0.75, tolerance);
+  EXPECT_NEAR(z / n, 0.75, tolerance);
+  EXPECT_FALSE(layout.point(3 * 4 + 3, estimate_random(15, 0, 0)));
+}
+
+TEST(TexelLayout, RefusesUvsThatAreNotFinite) {
+  const TriangleMesh mesh = unit_square();
+  std::vector<glm::vec2> uvs(4, {0.5f, 0.5f});
+  uvs[2].x = std::nanf("");
+  EXPECT_THROW(TexelLayout(mesh, {0, 1}, uvs, 4, 4, WrapMode::Repeat, WrapMode::Repeat), std::invalid_argument);
+}
+
+TEST(Dilation, TakesTheNearestCoveredTexelWithinThePadding) {
+  // One row: covered texels 2 (value 0.2) and 6 (0.6); padding 2.
+  const std::vector<std::uint8_t> covered = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+  std::vector<float> values = {1, 1, 0.2f, 1, 1, 1, 0.6f, 1, 1, 1};
+  const std::vector<std::uint8_t> filled = dilate(covered, 10, 1, 2, {&values});
+  const std::vector<float> expected = {0.2f, 0.2f, 0.2f, 0.2f, 0.2f, 0.6f, 0.6f, 0.6f, 0.6f, 1};
+  EXPECT_EQ(values, expected);  // texel 4 is 2 from both: the first in row order wins
+  EXPECT_EQ(filled, (std::vector<std::uint8_t>{1, 1, 0, 1, 1, 1, 0, 1, 1, 0}));
+}
+
+}  // namespace
+}  // namespace mbao

@@ -1,0 +1,162 @@
+"""Baking per texel (SPEC 6.3): closed-form answers, agreement with the vertex
+bake, wrap modes, coverage, dilation and the refusal of UVs that claim a texel
+twice. Statistical checks allow 4 standard errors of the estimator."""
+
+import math
+
+import numpy as np
+import pytest
+
+import mbao
+from analytic import assert_within_standard_errors, polygon_occlusion
+from meshes import box, disk, merge, plane
+
+
+def bake(vertices, indices, texcoords, **settings):
+    settings.setdefault("progress", False)
+    return mbao.bake(mbao.Mesh(vertices, indices, texcoords=texcoords), target="texture", **settings)
+
+
+def floor_uvs(vertices, half_size, lo=0.0, hi=1.0):
+    """The floor's (x, z) mapped onto [lo, hi]^2 of the texture."""
+    return lo + (vertices[:, [0, 2]] + half_size) / (2.0 * half_size) * (hi - lo)
+
+
+def floor_with_a_box(lo=0.0, hi=1.0):
+    """A floor of 2 x 2 (y = 0, facing up) with UVs, and a unit box on it whose triangles have no UV area."""
+    floor, floor_indices = plane(2.0, divisions=16)
+    block, block_indices = box((-0.5, 0.0, -0.5), (0.5, 1.0, 0.5))
+    vertices, indices = merge((floor, floor_indices), (block, block_indices[:, ::-1]))
+    texcoords = np.full((len(vertices), 2), 0.5)
+    texcoords[:len(floor)] = floor_uvs(floor, 2.0, lo, hi)
+    return vertices, indices, texcoords
+
+
+def test_a_plane_bakes_to_one_in_every_texel():
+    """A lone plane whose UVs cover the texture: every texel covered, exactly 1, no spread."""
+    vertices, indices = plane(1.0, divisions=8)
+    result = bake(vertices, indices, floor_uvs(vertices, 1.0), resolution=(32, 16), samples=16, bounces=2)
+    texture = result.textures[0]
+    assert texture.image.shape == (16, 32)
+    assert texture.coverage.all()
+    np.testing.assert_array_equal(texture.image, 1.0)
+    np.testing.assert_array_equal(texture.standard_error, 0.0)
+    assert texture.stats["claimed_twice"] == 0
+
+
+def test_the_texel_under_a_parallel_disk():
+    """The texel under the centre of a parallel disk (b = 1) holds the mean over
+    its square of 1 - F, F the disk's form factor; at the centre that is h^2 / (h^2 + R^2)."""
+    height, radius, half_size, resolution = 1.0, 0.8, 1.5, 15  # the middle texel is centred on the axis
+    floor, floor_indices = plane(half_size, divisions=6)
+    disk_vertices, disk_indices = disk(radius, height, 64)
+    vertices, indices = merge((floor, floor_indices), (disk_vertices, disk_indices))
+    texcoords = np.zeros((len(vertices), 2))
+    texcoords[:len(floor)] = floor_uvs(floor, half_size)
+    samples = 20000
+    texture = bake(vertices, indices, texcoords, resolution=resolution, samples=samples, bounces=1).textures[0]
+
+    texel = 2.0 * half_size / resolution
+    nodes, weights = np.polynomial.legendre.leggauss(8)
+    expected = sum(wi * wj * (1.0 - polygon_occlusion(np.array([xi * texel / 2, 0.0, zj * texel / 2]), (0, 1, 0),
+                                                        disk_vertices[1:]))
+                   for xi, wi in zip(nodes, weights) for zj, wj in zip(nodes, weights)) / 4.0
+    middle = resolution // 2
+    assert abs(expected - height**2 / (height**2 + radius**2)) < 5e-3
+    assert_within_standard_errors(float(texture.image[middle, middle]), expected, samples)
+
+
+def test_texels_and_vertices_agree_on_the_surfaces_mean():
+    """Both bakes estimate the floor's mean of L_b: the texels' mean (texels of
+    equal area) and the vertices' mean weighted by their hat functions'
+    integrals (they sum to 1 everywhere) agree within 4 standard errors."""
+    vertices, indices, texcoords = floor_with_a_box()
+    texture = bake(vertices, indices, texcoords, resolution=32, samples=64, bounces=2).textures[0]
+    per_vertex = mbao.bake(mbao.Mesh(vertices, indices), samples=256, bounces=2, progress=False)
+    texel_mean = texture.image.mean()
+    texel_error = math.sqrt(np.sum(texture.standard_error.astype(float) ** 2)) / texture.image.size
+
+    floor_vertices = len(plane(2.0, divisions=16)[0])
+    floor_triangles = indices[:2 * 16 * 16]
+    corners = vertices[floor_triangles]
+    areas = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+    weights = np.zeros(floor_vertices)
+    np.add.at(weights, floor_triangles.ravel(), np.repeat(areas / 3.0, 3))
+    values = per_vertex.values[:floor_vertices].astype(float)
+    vertex_mean = np.sum(weights * values) / weights.sum()
+    vertex_error = math.sqrt(np.sum((weights * per_vertex.standard_error[:floor_vertices]) ** 2)) / weights.sum()
+    assert 0.3 < texel_mean < 0.95
+    assert abs(texel_mean - vertex_mean) <= 4.0 * math.hypot(texel_error, vertex_error)
+
+
+def one_quad(u0, v0, u1, v1):
+    """A unit quad facing up whose UVs span [u0, u1] x [v0, v1]."""
+    vertices, indices = plane(0.5, divisions=1)
+    texcoords = np.column_stack([np.where(vertices[:, 0] < 0, u0, u1), np.where(vertices[:, 2] < 0, v0, v1)])
+    return vertices, indices, texcoords
+
+
+def coverage(u0, v0, u1, v1, wrap, resolution=16):
+    return bake(*one_quad(u0, v0, u1, v1), resolution=resolution, samples=2, wrap=wrap).textures[0].coverage
+
+
+def test_uvs_beyond_the_unit_square_follow_the_wrap_mode():
+    """REPEAT takes the fractional part, MIRRORED_REPEAT mirrors odd periods,
+    CLAMP_TO_EDGE gives the edge texel everything beyond it (SPEC 6.3)."""
+    inside = coverage(0.0, 0.0, 0.5, 0.25, "repeat")
+    assert inside.sum() == 8 * 4 and inside[:4, :8].all()
+    np.testing.assert_array_equal(coverage(1.0, -2.0, 1.5, -1.75, "repeat"), inside)
+    np.testing.assert_array_equal(coverage(1.0, 0.0, 1.5, 0.25, "mirrored-repeat"), np.fliplr(inside))
+    np.testing.assert_array_equal(coverage(1.0, 0.0, 1.5, 0.25, ("mirrored-repeat", "repeat")), np.fliplr(inside))
+    np.testing.assert_array_equal(coverage(0.0, -1.0, 0.5, -0.75, ("repeat", "mirrored-repeat")), np.flipud(inside))
+    clamped = coverage(-0.5, 0.0, 0.25, 0.25, "clamp-to-edge")
+    assert clamped[:4, :4].all() and clamped.sum() == 16
+
+
+@pytest.mark.parametrize("texcoords, fraction", [
+    (lambda v: np.abs(v[:, [0, 2]]), "100.0%"),  # mirrored halves: both halves of the plane share one quarter
+    (lambda v: (v[:, [0, 2]] + 1.0), "100.0%"),  # tiled: the UVs span [0, 2]^2, each texel four times
+])
+def test_uvs_that_claim_a_texel_twice_are_refused(texcoords, fraction):
+    vertices, indices = plane(1.0, divisions=8)
+    with pytest.raises(mbao.Error, match=f"UV set 0: {fraction} of its .* covered texels are claimed by more than one"):
+        bake(vertices, indices, texcoords(vertices), resolution=16, samples=2)
+
+
+def test_an_edge_through_sample_points_claims_each_once():
+    """The diagonal of a quad whose UVs fill the texture passes through the
+    sample points of the diagonal texels: the fill rule gives each to one triangle."""
+    vertices, indices = plane(1.0, divisions=1)
+    texture = bake(vertices, indices, floor_uvs(vertices, 1.0), resolution=8, samples=2).textures[0]
+    assert texture.stats["claimed_twice"] == 0 and texture.coverage.all()
+
+
+def test_dilation_fills_padding_texels_from_the_nearest_covered():
+    """The floor's UVs fill the middle 8 x 8 of 16 x 16: with padding 2 the ring
+    of 2 texels around takes the nearest covered texel's value; beyond it, 1 (SPEC 6.3)."""
+    vertices, indices, texcoords = floor_with_a_box(0.25, 0.75)
+    texture = bake(vertices, indices, texcoords, resolution=16, samples=16, padding=2).textures[0]
+    image, error = texture.image, texture.standard_error
+    assert texture.coverage[4:12, 4:12].all() and texture.coverage.sum() == 64
+    assert texture.stats["dilated"] == 12 * 12 - 8 * 8
+    assert image[5, 2] == image[5, 4] and image[2, 2] == image[4, 4] and image[13, 9] == image[11, 9]
+    assert error[5, 2] == error[5, 4]
+    assert image[5, 1] == 1.0 and error[5, 1] == 0.0 and image[0, 0] == 1.0
+
+
+@pytest.mark.parametrize("arguments, error, message", [
+    (dict(resolution=0), ValueError, r"resolution must be in \[1, 16384\]"),
+    (dict(resolution=(8, 8, 8)), ValueError, "resolution must be an int or"),
+    (dict(padding=65), ValueError, r"padding must be in \[0, 64\]"),
+    (dict(wrap="wrap"), ValueError, "wrap must be one of"),
+    (dict(texcoord=1), ValueError, "texcoord must be None for an mbao.Mesh"),
+])
+def test_bad_texture_arguments_name_themselves(arguments, error, message):
+    vertices, indices = plane(1.0)
+    with pytest.raises(error, match=message):
+        bake(vertices, indices, floor_uvs(vertices, 1.0), samples=2, **arguments)
+
+
+def test_a_texture_bake_needs_uvs():
+    with pytest.raises(ValueError, match="a texture bake needs UVs"):
+        mbao.bake(mbao.Mesh(*plane(1.0)), target="texture", progress=False)
