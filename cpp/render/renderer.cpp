@@ -179,7 +179,7 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   for (std::size_t first = 0; first < pixels; first += tile_pixels) {
     const std::size_t count = std::min(tile_pixels, pixels - first);
     if (points_of_tile) {
-      // Drawn while the device works on the tile before, which the copy then waits for.
+      // Where nothing waits between tiles, drawn while the device works on the tile before.
       points.resize(count * std::size_t(settings.spp));
       (*points_of_tile)(first, count, points);
       frame.enqueue_tile(queue, first, count, points);
