@@ -49,9 +49,7 @@ class Bake:
         value, from the spread of its estimates (0 where a vertex has no surface).
     textures: texture only: {material index: BakedTexture}; empty for vertices.
     settings: what it was baked with.
-    stats: the renderer's statistics of the bake (rays_secondary, frame_ms, plan,
-        ...); for textures, of the last material's, with frame_ms and
-        rays_secondary summed over all.
+    stats: the renderer's statistics of the bake (rays_secondary, frame_ms, plan, ...).
     """
 
     target: str
