@@ -2,7 +2,9 @@
 // texel) and each of its estimates, one point on the surface.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <utility>
 #include <cstdint>
 #include <optional>
 
@@ -25,6 +27,20 @@ inline std::array<double, 4> estimate_random(std::uint32_t target, std::uint32_t
       philox4x32_10(Philox4x32{{target, sample, 0u, 0u}}, std::uint32_t(seed), std::uint32_t(seed >> 32));
   constexpr double kScale = 1.0 / 4294967296.0;
   return {bits.v[0] * kScale, bits.v[1] * kScale, bits.v[2] * kScale, bits.v[3] * kScale};
+}
+
+// The entry of [first, last) that u in [0, 1) picks with probability
+// proportional to its part of the running total `area_so_far` (entries of zero
+// part are never picked), and what is left of u within that part: uniform in
+// [0, 1) too, so it can make the next choice.
+template <typename Iterator>
+std::pair<Iterator, double> pick_by_area(Iterator first, Iterator last, double u) {
+  const double pick = u * (last - 1)->area_so_far;
+  Iterator chosen =
+      std::upper_bound(first, last, pick, [](double x, const auto& entry) { return x < entry.area_so_far; });
+  if (chosen == last) --chosen;  // pick rounded up to the total
+  const double before = chosen == first ? 0.0 : (chosen - 1)->area_so_far;
+  return {chosen, std::clamp((pick - before) / (chosen->area_so_far - before), 0.0, 1.0)};
 }
 
 // The points of one kind of bake.

@@ -211,11 +211,7 @@ std::optional<SurfacePoint> TexelLayout::point(std::size_t texel, const std::arr
   if (first == last) return std::nullopt;
   // A piece with probability proportional to its surface's area; what is left
   // of random[0] within it picks a triangle of its fan the same way.
-  const double pick = random[0] * (last - 1)->area_so_far;
-  auto chosen = std::upper_bound(first, last, pick, [](double x, const Piece& p) { return x < p.area_so_far; });
-  if (chosen == last) --chosen;
-  const double before = chosen == first ? 0.0 : (chosen - 1)->area_so_far;
-  double rest = std::clamp((pick - before) / (chosen->area_so_far - before), 0.0, 1.0);
+  const auto [chosen, rest] = pick_by_area(first, last, random[0]);
 
   const Corners& c = corners_[chosen->triangle];
   Polygon triangle;

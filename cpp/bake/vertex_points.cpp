@@ -42,15 +42,8 @@ std::optional<SurfacePoint> VertexPoints::point(std::size_t vertex, const std::a
   const auto last = rings_.begin() + std::ptrdiff_t(ring_start_[vertex + 1]);
   if (first == last) return std::nullopt;
   // A triangle with probability proportional to its area: each holds a third
-  // of its area under the hat function.
-  const double total = (last - 1)->area_so_far;
-  const double pick = random[0] * total;
-  auto chosen = std::upper_bound(first, last, pick,
-                                 [](double x, const RingTriangle& r) { return x < r.area_so_far; });
-  if (chosen == last) --chosen;  // pick rounded up to the total
-  // What is left of random[0] within the chosen triangle is uniform too: it shares the rest.
-  const double before = chosen == first ? 0.0 : (chosen - 1)->area_so_far;
-  const double split = std::clamp((pick - before) / (chosen->area_so_far - before), 0.0, 1.0);
+  // of its area under the hat function. What is left of random[0] shares the rest.
+  const auto [chosen, split] = pick_by_area(first, last, random[0]);
   double b[3];
   const std::uint32_t c = chosen->corner;
   b[c] = median(random[1], random[2], random[3]);
