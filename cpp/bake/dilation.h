@@ -7,6 +7,9 @@
 
 namespace mbao {
 
+// The widest padding a bake takes, in texels.
+constexpr int kMaxPadding = 64;
+
 // Each texel of a width x height image (row by row) that is not covered takes
 // the value of the nearest covered texel (by the distance between centres; the
 // first in row order among equals) within `padding` texels along both axes, in

@@ -73,9 +73,9 @@ WrapMode parse_wrap_mode(const std::string& name) {
 TexelLayout::TexelLayout(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
                          const std::vector<glm::vec2>& uvs, int width, int height, WrapMode wrap_s, WrapMode wrap_t)
     : width_(width), height_(height), wrap_s_(wrap_s), wrap_t_(wrap_t) {
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw std::invalid_argument("resolution must be in [1, 16384] on each side, got " + std::to_string(width) + " x " +
-                                std::to_string(height));
+  if (width < 1 || height < 1 || width > kMaxTextureSide || height > kMaxTextureSide)
+    throw std::invalid_argument("resolution must be in [1, " + std::to_string(kMaxTextureSide) + "] on each side, got " +
+                                std::to_string(width) + " x " + std::to_string(height));
   if (uvs.size() != mesh.positions.size())
     throw std::invalid_argument("texcoords: " + std::to_string(uvs.size()) + " for " +
                                 std::to_string(mesh.positions.size()) + " vertices");

@@ -22,6 +22,9 @@ enum class WrapMode { Repeat, MirroredRepeat, ClampToEdge };
 // "repeat", "mirrored-repeat" or "clamp-to-edge"; throws std::invalid_argument otherwise.
 WrapMode parse_wrap_mode(const std::string& name);
 
+// A texture's sides: it is baked as an image of its own size, which a render's bounds.
+constexpr int kMaxTextureSide = 16384;
+
 class TexelLayout : public EstimatePoints {
  public:
   // The triangles `triangles` of `mesh` with texture coordinates `uvs` (one

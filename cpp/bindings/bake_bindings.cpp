@@ -57,7 +57,9 @@ SceneTexels make_texels(const std::shared_ptr<Scene>& scene,
 
 py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const py::dict& values,
                       std::int64_t samples, int padding, const py::object& progress) {
-  if (padding < 0 || padding > 64) throw std::invalid_argument("padding must be in [0, 64], got " + std::to_string(padding));
+  if (padding < 0 || padding > kMaxPadding)
+    throw std::invalid_argument("padding must be in [0, " + std::to_string(kMaxPadding) + "], got " +
+                                std::to_string(padding));
   const RenderSettings settings = settings_from(values);
   const Renderer::TileCallback between_tiles = tile_callback(progress);
   const TexelLayout& layout = texels.layout;
@@ -98,6 +100,8 @@ void bind_bake(py::module_& m) {
         "Bakes L_b per texel of a TexelLayout (SPEC 6.3) and dilates by `padding`; returns (image, standard_error, "
         "filled, stats). Use mbao.bake.");
   m.attr("BAKE_SAMPLES_RANGE") = py::make_tuple(kMinBakeSamples, kMaxBakeSamples);
+  m.attr("BAKE_RESOLUTION_RANGE") = py::make_tuple(1, kMaxTextureSide);
+  m.attr("BAKE_PADDING_RANGE") = py::make_tuple(0, kMaxPadding);
   m.def("bake_vertices", &bake_vertices, py::arg("scene"), py::arg("device"), py::arg("settings"),
         py::arg("samples"), py::arg("progress"),
         "Bakes L_b per vertex (SPEC 6.2); returns (values, standard_error, stats). settings: {name: value} of "

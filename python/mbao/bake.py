@@ -116,7 +116,8 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
         return Bake(target, ao, standard_error, settings, stats)
 
     width, height = _resolution(resolution)
-    padding = _checks.integer("padding", padding, 0, 64, "[0, 64]")
+    lo, hi = _core.BAKE_PADDING_RANGE
+    padding = _checks.integer("padding", padding, lo, hi, f"[{lo}, {hi}]")
     wrap_s, wrap_t = _wrap(wrap)
     texcoords, texcoord = _texcoords(scene, texcoord)
     layout = _core.TexelLayout(scene, texcoords, np.arange(scene.triangle_count, dtype=np.uint32), width, height,
@@ -140,7 +141,8 @@ def _resolution(resolution):
         sides = resolution
     else:
         sides = (resolution, resolution)
-    return tuple(_checks.integer("resolution", side, 1, 16384, "[1, 16384] on each side") for side in sides)
+    lo, hi = _core.BAKE_RESOLUTION_RANGE
+    return tuple(_checks.integer("resolution", side, lo, hi, f"[{lo}, {hi}] on each side") for side in sides)
 
 
 def _wrap(wrap):
