@@ -11,8 +11,12 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
-    // External buffers and images are looked up beside the seed corpus, which holds some.
-    mbao::load_gltf_from_memory(data, size, "fuzz-input", MBAO_FUZZ_BASE_DIR);
+    // External buffers and images are looked up beside the seed corpus, which
+    // holds some. UV sets are read too: what a texture bake loads is all a
+    // render loads and more.
+    mbao::LoadOptions options;
+    options.texcoords = true;
+    mbao::load_gltf_from_memory(data, size, "fuzz-input", MBAO_FUZZ_BASE_DIR, options);
   } catch (const mbao::Error&) {
   } catch (const std::invalid_argument&) {
   }

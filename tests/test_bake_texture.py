@@ -119,7 +119,7 @@ def test_uvs_beyond_the_unit_square_follow_the_wrap_mode():
 ])
 def test_uvs_that_claim_a_texel_twice_are_refused(texcoords, fraction):
     vertices, indices = plane(1.0, divisions=8)
-    with pytest.raises(mbao.Error, match=f"UV set 0: {fraction} of its .* covered texels are claimed by more than one"):
+    with pytest.raises(mbao.Error, match=f"the mesh, UV set TEXCOORD_0: {fraction} of its .* covered texels are claimed by more than one"):
         bake(vertices, indices, texcoords(vertices), resolution=16, samples=2)
 
 
@@ -149,7 +149,7 @@ def test_dilation_fills_padding_texels_from_the_nearest_covered():
     (dict(resolution=(8, 8, 8)), ValueError, "resolution must be an int or"),
     (dict(padding=65), ValueError, r"padding must be in \[0, 64\]"),
     (dict(wrap="wrap"), ValueError, "wrap must be one of"),
-    (dict(texcoord=1), ValueError, "texcoord must be None for an mbao.Mesh"),
+    (dict(texcoord=1), ValueError, "texcoord must be None or 0 for an mbao.Mesh"),
 ])
 def test_bad_texture_arguments_name_themselves(arguments, error, message):
     vertices, indices = plane(1.0)

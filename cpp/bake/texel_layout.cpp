@@ -62,14 +62,6 @@ double claim_offset(int i) { return (i + 0.5 + 1e-3) / kClaimPoints; }
 
 }  // namespace
 
-WrapMode parse_wrap_mode(const std::string& name) {
-  if (name == "repeat") return WrapMode::Repeat;
-  if (name == "mirrored-repeat") return WrapMode::MirroredRepeat;
-  if (name == "clamp-to-edge") return WrapMode::ClampToEdge;
-  throw std::invalid_argument("wrap mode must be \"repeat\", \"mirrored-repeat\" or \"clamp-to-edge\", got \"" +
-                              name + "\"");
-}
-
 TexelLayout::TexelLayout(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
                          const std::vector<glm::vec2>& uvs, int width, int height, WrapMode wrap_s, WrapMode wrap_t)
     : width_(width), height_(height), wrap_s_(wrap_s), wrap_t_(wrap_t) {

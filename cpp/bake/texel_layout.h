@@ -14,13 +14,9 @@
 
 #include "bake/estimate_points.h"
 #include "scene/triangle_mesh.h"
+#include "scene/wrap_mode.h"
 
 namespace mbao {
-
-// glTF's sampler wrap modes, for UVs outside [0, 1].
-enum class WrapMode { Repeat, MirroredRepeat, ClampToEdge };
-// "repeat", "mirrored-repeat" or "clamp-to-edge"; throws std::invalid_argument otherwise.
-WrapMode parse_wrap_mode(const std::string& name);
 
 // A texture's sides: it is baked as an image of its own size, which a render's bounds.
 constexpr int kMaxTextureSide = 16384;

@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cstring>
 #include <filesystem>
 
 #include "bindings/bindings.h"
@@ -188,6 +189,35 @@ so later renders of the same scene do not rebuild it.)doc")
 "origin": the tree (its bounds and split planes) is in coordinates relative to this point,
 a corner of the scene where it lies far from the world origin (Scene::render_origin), so that
 rounding scales with the scene's size wherever it lies.)doc")
+      .def_property_readonly(
+          "uv_sets",
+          [](const Scene& s) -> py::object {
+            const UvSets& uv = s.uv_sets();
+            if (!uv.loaded) return py::none();
+            py::list sets;
+            for (const std::vector<glm::vec2>& set : uv.sets) {
+              py::array_t<float> array({py::ssize_t(set.size()), py::ssize_t(2)});
+              std::memcpy(array.mutable_data(), set.data(), set.size() * sizeof(glm::vec2));
+              sets.append(array);
+            }
+            py::list materials;
+            for (const MaterialUvs& m : uv.materials) {
+              py::dict d;
+              d["name"] = m.name;
+              d["occlusion_texcoord"] = m.occlusion_texcoord < 0 ? py::object(py::none()) : py::int_(m.occlusion_texcoord);
+              d["wrap"] = py::make_tuple(to_string(m.wrap_s), to_string(m.wrap_t));
+              materials.append(d);
+            }
+            py::dict d;
+            d["sets"] = sets;
+            d["triangle_materials"] = py::array_t<std::int32_t>(py::ssize_t(uv.triangle_materials.size()),
+                                                                 uv.triangle_materials.data());
+            d["materials"] = materials;
+            return std::move(d);
+          },
+          "None unless loaded with texcoords=True; else \"sets\": per TEXCOORD_n an (N, 2) array (NaN for "
+          "vertices whose primitive lacks it), \"triangle_materials\" (-1: none) and \"materials\": per "
+          "material its name, occlusion_texcoord (None without an occlusion texture) and wrap (s, t).")
       .def("__repr__", [](const Scene& s) {
         return "<mbao.Scene '" + s.name() + "': " + std::to_string(s.mesh().triangles.size()) + " triangles>";
       });
@@ -202,12 +232,14 @@ rounding scales with the scene's size wherever it lies.)doc")
 
   m.def(
       "load",
-      [](const std::filesystem::path& path, bool normals) -> std::shared_ptr<Scene> {
+      [](const std::filesystem::path& path, bool normals, bool texcoords) -> std::shared_ptr<Scene> {
         LoadOptions options;
         options.normals = normals;
+        options.texcoords = texcoords;
         return load_gltf(path.string(), options);
       },
-      py::arg("path"), py::arg("normals") = true, py::call_guard<py::gil_scoped_release>());
+      py::arg("path"), py::arg("normals") = true, py::arg("texcoords") = false,
+      py::call_guard<py::gil_scoped_release>());
   m.def("cornell_box", []() -> std::shared_ptr<Scene> { return cornell_box(); },
         "The measured Cornell box (SPEC 3.4), in millimetres, with its own camera.");
 }

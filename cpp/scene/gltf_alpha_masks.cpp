@@ -6,15 +6,10 @@
 #include "core/error.h"
 #include "scene/gltf_files.h"
 #include "scene/image_alpha.h"
+#include "scene/wrap_mode.h"
 
 namespace mbao {
 namespace {
-
-std::uint32_t wrap_mode(int gltf_wrap) {
-  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return MBAO_WRAP_CLAMP_TO_EDGE;
-  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return MBAO_WRAP_MIRRORED_REPEAT;
-  return MBAO_WRAP_REPEAT;
-}
 
 // A URI's %XX escapes decoded (glTF URIs are percent-encoded).
 std::string percent_decoded(const std::string& uri) {
@@ -87,7 +82,7 @@ std::uint32_t GltfAlphaMasks::mask_texture(int texture_index, float alpha_factor
       throw LoadError(path_ + ": " + texture_name + " uses sampler " + std::to_string(texture.sampler) +
                       ", which does not exist");
     const tinygltf::Sampler& sampler = model_.samplers[std::size_t(texture.sampler)];
-    wrap = wrap_mode(sampler.wrapS) | (wrap_mode(sampler.wrapT) << 2);
+    wrap = std::uint32_t(wrap_mode_of_gltf(sampler.wrapS)) | (std::uint32_t(wrap_mode_of_gltf(sampler.wrapT)) << 2);
   }
   const auto key = std::make_tuple(texture.source, wrap, alpha_factor, cutoff);
   if (const auto found = textures_.find(key); found != textures_.end()) return found->second;

@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <glm/geometric.hpp>
@@ -25,6 +26,9 @@ namespace mbao {
 namespace {
 
 constexpr std::size_t kMaxVertices = std::size_t(std::numeric_limits<std::uint32_t>::max()) + 1;
+// TEXCOORD_0 .. TEXCOORD_7: more than any exporter writes, few enough that a
+// file cannot make the loader keep hundreds of empty sets.
+constexpr int kMaxUvSets = 8;
 
 glm::dmat4 local_transform(const tinygltf::Node& node) {
   if (node.matrix.size() == 16) return glm::make_mat4(node.matrix.data());
@@ -52,10 +56,12 @@ class SceneAssembler {
     const int scene_index = pick_scene();
     place_nodes(model_.scenes[std::size_t(scene_index)].nodes);
     reserve();
+    if (options_.texcoords) read_materials();
     for (const Instance& instance : instances_) add_primitive(*instance.primitive, instance.world, instance.what);
     if (mesh_.triangles.empty())
       throw LoadError(path_ + ": the default scene has no triangles");
-    return std::make_shared<Scene>(std::move(mesh_), path_, camera_, std::move(warnings_), masks_.take());
+    return std::make_shared<Scene>(std::move(mesh_), path_, camera_, std::move(warnings_), masks_.take(),
+                                   std::move(uv_sets_));
   }
 
  private:
@@ -214,6 +220,7 @@ class SceneAssembler {
     for (std::size_t t = 0; t < indices.size(); t += 3)
       mesh_.triangles.push_back({base + indices[t], base + indices[t + 1], base + indices[t + 2]});
     if (options_.normals) add_normals(primitive, world, what, vertex_count);
+    if (options_.texcoords) add_uv_sets(primitive, what, vertex_count, indices.size() / 3);
     if (material.coverage == GltfAlphaMasks::Coverage::Masked)
       masks_.add_masked(indices, texcoords(primitive, material.texcoord_set, vertex_count, what), material.texture);
     else
@@ -250,6 +257,74 @@ class SceneAssembler {
       throw LoadError(path_ + ": " + what + " has " + std::to_string(uv.size() / 2) + " " + name + " values for " +
                       std::to_string(vertex_count) + " positions");
     return uv;
+  }
+
+  // Each material's name and occlusion texture: the UV set and wrap modes a texture bake takes by default.
+  void read_materials() {
+    uv_sets_.loaded = true;
+    for (std::size_t m = 0; m < model_.materials.size(); ++m) {
+      const tinygltf::Material& material = model_.materials[m];
+      MaterialUvs uvs;
+      uvs.name = material.name;
+      const tinygltf::OcclusionTextureInfo& occlusion = material.occlusionTexture;
+      if (occlusion.index >= 0) {
+        const std::string what = "material " + std::to_string(m) + " occlusionTexture";
+        if (std::size_t(occlusion.index) >= model_.textures.size())
+          throw LoadError(path_ + ": " + what + " uses texture " + std::to_string(occlusion.index) +
+                          ", which does not exist");
+        if (occlusion.texCoord < 0 || occlusion.texCoord >= kMaxUvSets)
+          throw LoadError(path_ + ": " + what + " has texCoord " + std::to_string(occlusion.texCoord) +
+                          "; mbao reads TEXCOORD_0 to TEXCOORD_" + std::to_string(kMaxUvSets - 1));
+        uvs.occlusion_texcoord = occlusion.texCoord;
+        const int sampler = model_.textures[std::size_t(occlusion.index)].sampler;
+        if (sampler >= 0 && std::size_t(sampler) >= model_.samplers.size())
+          throw LoadError(path_ + ": texture " + std::to_string(occlusion.index) + " uses sampler " +
+                          std::to_string(sampler) + ", which does not exist");
+        if (sampler >= 0) {
+          uvs.wrap_s = wrap_mode_of_gltf(model_.samplers[std::size_t(sampler)].wrapS);
+          uvs.wrap_t = wrap_mode_of_gltf(model_.samplers[std::size_t(sampler)].wrapT);
+        }
+      }
+      uv_sets_.materials.push_back(uvs);
+    }
+  }
+
+  // The primitive's UV sets, NaN for the sets it does not have (and each set
+  // NaN for the vertices of primitives without it), and its triangles' material.
+  void add_uv_sets(const tinygltf::Primitive& primitive, const std::string& what, std::size_t vertex_count,
+                   std::size_t triangle_count) {
+    const std::size_t first = mesh_.positions.size() - vertex_count;
+    constexpr float kNone = std::numeric_limits<float>::quiet_NaN();
+    for (const auto& [name, accessor] : primitive.attributes) {
+      const int set = uv_set_number(name);
+      if (set < 0) continue;
+      if (set >= kMaxUvSets) {
+        warnings_.push_back(path_ + ": " + what + " " + name + " skipped: mbao reads TEXCOORD_0 to TEXCOORD_" +
+                            std::to_string(kMaxUvSets - 1));
+        continue;
+      }
+      const std::vector<float> uv = texcoords(primitive, set, vertex_count, what);
+      if (std::size_t(set) >= uv_sets_.sets.size()) uv_sets_.sets.resize(std::size_t(set) + 1);
+      std::vector<glm::vec2>& values = uv_sets_.sets[std::size_t(set)];
+      values.resize(first, glm::vec2(kNone));
+      for (std::size_t v = 0; v < vertex_count; ++v) values.emplace_back(uv[2 * v], uv[2 * v + 1]);
+    }
+    for (std::vector<glm::vec2>& values : uv_sets_.sets) values.resize(mesh_.positions.size(), glm::vec2(kNone));
+    uv_sets_.triangle_materials.insert(uv_sets_.triangle_materials.end(), triangle_count,
+                                       primitive.material >= 0 ? primitive.material : -1);
+  }
+
+  // n of an attribute named TEXCOORD_n, else -1.
+  static int uv_set_number(const std::string& name) {
+    const std::string prefix = "TEXCOORD_";
+    if (name.rfind(prefix, 0) != 0 || name.size() == prefix.size() || name.size() > prefix.size() + 4) return -1;
+    if (name[prefix.size()] == '0' && name.size() > prefix.size() + 1) return -1;  // TEXCOORD_01 is not set 1
+    int n = 0;
+    for (std::size_t i = prefix.size(); i < name.size(); ++i) {
+      if (!std::isdigit(static_cast<unsigned char>(name[i]))) return -1;
+      n = 10 * n + (name[i] - '0');
+    }
+    return n;
   }
 
   // Normals are kept per vertex; vertices of primitives without normals get
@@ -291,6 +366,7 @@ class SceneAssembler {
   TriangleMesh mesh_;
   std::optional<Camera> camera_;
   std::vector<std::string> warnings_;
+  UvSets uv_sets_;
   std::unordered_map<int, int> parents_;  // node -> its parent, -1 for a scene root
 };
 

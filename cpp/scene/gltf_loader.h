@@ -9,7 +9,8 @@
 namespace mbao {
 
 struct LoadOptions {
-  bool normals = true;  // read vertex normals (what normals="shading" uses)
+  bool normals = true;     // read vertex normals (what normals="shading" uses)
+  bool texcoords = false;  // read every UV set, the triangles' materials and their occlusion textures (Scene::uv_sets)
 };
 
 // Loads a glTF 2.0 file (.gltf or .glb) per SPEC 3.2: every triangle mesh of

@@ -92,9 +92,10 @@ void validate_masks(const AlphaMasks& masks, std::size_t triangle_count, const s
 }  // namespace
 
 Scene::Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera, std::vector<std::string> warnings,
-             AlphaMasks masks)
+             AlphaMasks masks, UvSets uv_sets)
     : mesh_(std::move(mesh)),
       masks_(std::move(masks)),
+      uv_sets_(std::move(uv_sets)),
       name_(std::move(name)),
       camera_(std::move(camera)),
       id_(next_scene_id()) {

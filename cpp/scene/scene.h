@@ -12,6 +12,7 @@
 #include "scene/alpha_masks.h"
 #include "scene/camera.h"
 #include "scene/triangle_mesh.h"
+#include "scene/uv_sets.h"
 
 namespace mbao {
 
@@ -21,13 +22,15 @@ class Scene {
  public:
   // Throws std::invalid_argument (naming `name`) for a mesh or masks that cannot be rendered.
   Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera = std::nullopt,
-        std::vector<std::string> warnings = {}, AlphaMasks masks = {});
+        std::vector<std::string> warnings = {}, AlphaMasks masks = {}, UvSets uv_sets = {});
   virtual ~Scene() = default;
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
 
   const TriangleMesh& mesh() const { return mesh_; }
   const AlphaMasks& masks() const { return masks_; }
+  // What a texture bake reads; uv_sets().loaded only where the loader was asked for them.
+  const UvSets& uv_sets() const { return uv_sets_; }
   const Bounds3& bounds() const { return bounds_; }
   // The point the device's coordinates are relative to. On each axis where the
   // scene lies farther from 0 than it is wide, its near edge (a vertex
@@ -56,6 +59,7 @@ class Scene {
  private:
   TriangleMesh mesh_;
   AlphaMasks masks_;
+  UvSets uv_sets_;
   Bounds3 bounds_;
   glm::vec3 render_origin_;
   std::string name_;

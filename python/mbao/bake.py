@@ -2,13 +2,14 @@
 
 import dataclasses
 import math
+import os
 
 import numpy as np
 
 from . import _checks, _core
 from ._progress import progress_bar
 from .devices import resolve
-from .scene import as_scene
+from .scene import Mesh, as_scene, load
 from .settings import RENDER, Engine, checked, engine_values
 
 TARGETS = ("vertices", "texture")
@@ -100,8 +101,9 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
     scene, the settings and the seed. The GIL is released while baking; Ctrl-C
     stops after the tile in flight. Returns an mbao.Bake.
     """
-    scene = as_scene(scene)
     target = _checks.choice("target", target, TARGETS)
+    scene = load(scene, texcoords=True) if target == "texture" and isinstance(scene, (str, os.PathLike)) \
+        else as_scene(scene)
     lo, hi = _core.BAKE_SAMPLES_RANGE
     samples = _checks.integer("samples", samples, lo, hi, f"[{lo}, {hi}]")
     given = dict(bounces=bounces, rho=rho, max_distance=max_distance, normals=normals, seed=seed, max_rays=max_rays)
@@ -118,20 +120,29 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
     width, height = _resolution(resolution)
     lo, hi = _core.BAKE_PADDING_RANGE
     padding = _checks.integer("padding", padding, lo, hi, f"[{lo}, {hi}]")
-    wrap_s, wrap_t = _wrap(wrap)
-    texcoords, texcoord = _texcoords(scene, texcoord)
-    layout = _core.TexelLayout(scene, texcoords, np.arange(scene.triangle_count, dtype=np.uint32), width, height,
-                               wrap_s, wrap_t)
-    _refuse_claimed_twice(layout, "the mesh", texcoord)
-    with _tile_progress(progress) as on_tile:
-        image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples, padding,
-                                                                 on_tile)
-    coverage = layout.covered.astype(bool)
-    texture_stats = dict(covered=layout.covered_count, claimed_twice=layout.claimed_twice,
-                         dilated=int(filled.sum()), unmapped_triangles=layout.unmapped_triangles)
-    texture = BakedTexture(image, standard_error, coverage, texcoord, texture_stats)
-    settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=(wrap_s, wrap_t))
-    return Bake(target, None, None, settings, stats, {0: texture})
+    wrap = None if wrap is None else _wrap(wrap)
+    if texcoord is not None:
+        texcoord = _checks.integer("texcoord", texcoord, 0, 7, "[0, 7] (TEXCOORD_n) or None")
+    # Every layout first: a UV set that cannot be baked is refused before any ray is traced.
+    layouts = {}
+    for material in _texture_materials(scene, texcoord, wrap):
+        layout = _core.TexelLayout(scene, material.texcoords, material.triangles, width, height, *material.wrap)
+        _refuse_claimed_twice(layout, material)
+        layouts[material.index] = (material, layout)
+    textures, totals = {}, dict(frame_ms=0.0, rays_secondary=0)
+    for index, (material, layout) in layouts.items():
+        with _tile_progress(progress, f"bake {material.name}") as on_tile:
+            image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples,
+                                                                     padding, on_tile)
+        texture_stats = dict(covered=layout.covered_count, claimed_twice=layout.claimed_twice,
+                             dilated=int(filled.sum()), unmapped_triangles=layout.unmapped_triangles,
+                             wrap=material.wrap)
+        textures[index] = BakedTexture(image, standard_error, layout.covered.astype(bool), material.set,
+                                       texture_stats)
+        for name in totals:
+            totals[name] += stats[name]
+    settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
+    return Bake(target, None, None, settings, dict(stats, **totals), textures)
 
 
 def _resolution(resolution):
@@ -155,37 +166,76 @@ def _wrap(wrap):
     return tuple(_checks.choice("wrap", mode, WRAP_MODES) for mode in wrap)
 
 
-def _texcoords(scene, texcoord):
-    """The (N, 2) UVs a texture bake of `scene` uses, and the name of their set."""
-    texcoords = getattr(scene, "texcoords", None)
-    if texcoord is not None:
-        raise ValueError(f"texcoord must be None for an mbao.Mesh (its one set of texcoords), got {texcoord!r}")
-    if texcoords is None:
-        raise ValueError(f"{scene.name}: a texture bake needs UVs, and this scene has none: give mbao.Mesh "
-                         f"texcoords=, or bake target=\"vertices\"")
-    return texcoords, 0
+@dataclasses.dataclass(frozen=True)
+class _Material:
+    """What a texture bake takes of one material: its triangles and the UV set they are baked into."""
+
+    index: int  # the key of Bake.textures: the glTF material, -1 for triangles without one
+    name: str   # for messages
+    triangles: np.ndarray
+    texcoords: np.ndarray
+    set: int    # n of TEXCOORD_n
+    wrap: tuple
 
 
-def _refuse_claimed_twice(layout, what, texcoord):
+def _texture_materials(scene, texcoord, wrap):
+    """The materials of a texture bake of `scene`, each with its UV set (SPEC 6.3)."""
+    if isinstance(scene, Mesh):
+        if texcoord not in (None, 0):
+            raise ValueError(f"texcoord must be None or 0 for an mbao.Mesh (its one set of texcoords), got {texcoord!r}")
+        if scene.texcoords is None:
+            raise ValueError(f"{scene.name}: a texture bake needs UVs, and this mesh has none: give mbao.Mesh "
+                             f"texcoords=, or bake target=\"vertices\"")
+        triangles = np.arange(scene.triangle_count, dtype=np.uint32)
+        return [_Material(0, "the mesh", triangles, scene.texcoords, 0, wrap or ("repeat", "repeat"))]
+    uv_sets = scene.uv_sets
+    if uv_sets is None:
+        raise ValueError(f"{scene.name}: a texture bake needs the file's UV sets: load it with "
+                         f"mbao.load(path, texcoords=True), or pass the path")
+    materials = []
+    for index in np.unique(uv_sets["triangle_materials"]).tolist():
+        triangles = np.flatnonzero(uv_sets["triangle_materials"] == index).astype(np.uint32)
+        info = uv_sets["materials"][index] if index >= 0 else dict(name="", occlusion_texcoord=None,
+                                                                   wrap=("repeat", "repeat"))
+        name = f"material {index} ({info['name']!r})" if index >= 0 else "the triangles without a material"
+        used = np.unique(scene.indices[triangles])
+        has = [n for n, values in enumerate(uv_sets["sets"]) if np.isfinite(values[used]).all()]
+        chosen = texcoord
+        if chosen is None:
+            chosen = info["occlusion_texcoord"]
+            if chosen is None:
+                chosen = next((n for n in (1, 0) if n in has), None)
+            if chosen is None:
+                raise ValueError(f"{scene.name}: {name} has no UV set on all its triangles to bake into "
+                                 f"(TEXCOORD_1 or TEXCOORD_0); bake target=\"vertices\"")
+        if chosen not in has:
+            raise ValueError(f"{scene.name}: {name}: TEXCOORD_{chosen} is missing on some of its triangles; "
+                             f"it has {', '.join(f'TEXCOORD_{n}' for n in has) or 'no UV set'}")
+        materials.append(_Material(index, f"{scene.name}: {name}", triangles, uv_sets["sets"][chosen], chosen,
+                                   wrap or tuple(info["wrap"])))
+    return materials
+
+
+def _refuse_claimed_twice(layout, material):
     """SPEC 6.3: a UV set in which any covered texel is claimed twice cannot hold one value per texel."""
     if layout.claimed_twice == 0:
         return
     fraction = layout.claimed_twice / layout.covered_count
-    raise _core.Error(f"{what}, UV set {texcoord}: {fraction:.1%} of its {layout.covered_count} covered texels "
-                      f"are claimed by more than one surface (overlap: mirrored halves, tiled UVs or overlapping "
-                      f"islands), so one value per texel cannot serve them; bake target=\"vertices\", or into a UV "
-                      f"set without overlaps")
+    raise _core.Error(f"{material.name}, UV set TEXCOORD_{material.set}: {fraction:.1%} of its "
+                      f"{layout.covered_count} covered texels are claimed by more than one surface (overlap: "
+                      f"mirrored halves, tiled UVs or overlapping islands), so one value per texel cannot serve "
+                      f"them; bake target=\"vertices\", or into a UV set without overlaps")
 
 
 class _tile_progress:
     """progress= as the core takes it: a tqdm bar over the tiles, the caller's callable, or None."""
 
-    def __init__(self, progress):
+    def __init__(self, progress, description="bake"):
         if not (isinstance(progress, bool) or callable(progress)):
             raise TypeError(f"progress must be a bool or a callable (tiles_done, tiles_total), "
                             f"got {type(progress).__name__}")
         self._progress = progress
-        self._bar = progress_bar(progress is True, None, "bake", "tile")
+        self._bar = progress_bar(progress is True, None, description, "tile")
 
     def __enter__(self):
         bar = self._bar.__enter__()

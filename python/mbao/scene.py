@@ -44,21 +44,22 @@ class Mesh(_core._Mesh):
         return f"<mbao.Mesh: {self.triangle_count} triangles, {len(self.vertices)} vertices>"
 
 
-def load(path, *, normals=True):
+def load(path, *, normals=True, texcoords=False):
     """Loads a glTF 2.0 file (.gltf or .glb): every triangle mesh of the default
     scene in world space, its vertex normals, the alpha masks of its MASK
     materials and its first perspective camera. Nothing else is read: no other
     attribute, no image but the alpha of mask textures. normals=False skips the
-    normals too (renders with normals="geometric" do not use them).
+    normals too (renders with normals="geometric" do not use them);
+    texcoords=True also reads every UV set, the triangles' materials and their
+    occlusion textures (scene.uv_sets), which texture bakes use.
 
     What is skipped (other primitive modes, ...) is reported as a warning and
     listed in scene.warnings. Raises mbao.LoadError naming the file and element.
     """
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
-    if not isinstance(normals, bool):
-        raise TypeError(f"normals must be a bool, got {type(normals).__name__}")
-    scene = _core.load(os.fspath(path), normals)
+    normals, texcoords = _checks.boolean("normals", normals), _checks.boolean("texcoords", texcoords)
+    scene = _core.load(os.fspath(path), normals, texcoords)
     for message in scene.warnings:
         warnings.warn(message, stacklevel=2)
     return scene

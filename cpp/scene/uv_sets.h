@@ -1,0 +1,29 @@
+// The texture coordinates and materials a texture bake reads (SPEC 6.3),
+// loaded from a file only when asked for: renders never read them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "scene/wrap_mode.h"
+
+namespace mbao {
+
+struct MaterialUvs {
+  std::string name;
+  int occlusion_texcoord = -1;  // its occlusionTexture's texCoord; -1 where it has none
+  // Its occlusion texture's sampler; glTF's default where it has none.
+  WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
+};
+
+struct UvSets {
+  bool loaded = false;
+  std::vector<std::vector<glm::vec2>> sets;      // sets[n][v]: vertex v's TEXCOORD_n; NaN where its primitive has none
+  std::vector<std::int32_t> triangle_materials;  // per triangle: its material, -1 for none
+  std::vector<MaterialUvs> materials;            // the file's materials, in its order
+};
+
+}  // namespace mbao
