@@ -8,6 +8,8 @@ BUILD := build
 SANITIZE_BUILD := build-sanitize
 JOBS := $(shell nproc)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+NODE_PACKAGES := nodejs npm
+GLTF_VALIDATOR := tests/gltf_validator/node_modules/gltf-validator/package.json
 
 # The C++ core and benchmark need only the first line; the rest is for the
 # Python module, the tests and image files.
@@ -29,10 +31,19 @@ demo: build
 # (for readable reports): the target-specific value reaches `deps`.
 SANITIZE_PACKAGES := clang libclang-rt-14-dev llvm
 test: APT_PACKAGES += $(SANITIZE_PACKAGES)
-test: build sanitize-build
+test: build sanitize-build $(GLTF_VALIDATOR)
 	cd $(BUILD) && ctest --output-on-failure
 	$(VENV)/bin/python -m pytest tests
 	cd $(SANITIZE_BUILD) && ctest --output-on-failure
+
+# The Khronos glTF-Validator, which checks the files `mbao bake` writes: the npm
+# package at the version tests/gltf_validator/package-lock.json pins, installed
+# beside it. Node.js and npm come from Debian where the machine has no npm.
+$(GLTF_VALIDATOR): tests/gltf_validator/package.json tests/gltf_validator/package-lock.json
+	command -v npm >/dev/null || { $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $(NODE_PACKAGES); }
+	cd tests/gltf_validator && npm ci --no-audit --no-fund
+	touch $@
 
 # The seed paper's Table 1 workload on the Cornell box and every shared scene,
 # beside Embree 3. Embree is only the benchmark's: the target-specific value

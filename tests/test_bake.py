@@ -128,7 +128,7 @@ ENGINES = [
 @pytest.mark.parametrize("engine", ENGINES, ids=["megakernel", "lanes", "short-stack-tiles"])
 def test_a_bake_is_a_function_of_the_seed_and_settings(engine):
     """The same seed gives the same bits whatever the walk, the organisation or
-    the tiles; another seed gives other values (SPEC 6.5)."""
+    the tiles; another seed gives other values (SPEC 6.6)."""
     vertices, indices = outward_box_grid()
     reference = bake(vertices, indices, bounces=2, samples=16, seed=5)
     again = bake(vertices, indices, bounces=2, samples=16, seed=5, engine=engine)

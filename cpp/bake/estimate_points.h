@@ -19,7 +19,7 @@ struct SurfacePoint {
 };
 
 // The four uniform numbers in [0, 1) of estimate `sample` of `target`: a pure
-// function of the two and the seed (SPEC 6.5). The kernels key a camera
+// function of the two and the seed (SPEC 6.6). The kernels key a camera
 // sample's jitter the same way (bounce 0, node 0), which a bake has no use
 // for, so an estimate's point and its path share no random numbers.
 inline std::array<double, 4> estimate_random(std::uint32_t target, std::uint32_t sample, std::uint64_t seed) {

@@ -213,11 +213,24 @@ rounding scales with the scene's size wherever it lies.)doc")
             d["triangle_materials"] = py::array_t<std::int32_t>(py::ssize_t(uv.triangle_materials.size()),
                                                                  uv.triangle_materials.data());
             d["materials"] = materials;
+            py::list primitives;
+            for (const LoadedPrimitive& p : uv.primitives) {
+              py::dict entry;
+              entry["node"] = p.node;
+              entry["mesh"] = p.mesh;
+              entry["primitive"] = p.primitive;
+              entry["vertices"] = py::make_tuple(p.first_vertex, p.first_vertex + p.vertex_count);
+              entry["triangles"] = py::make_tuple(p.first_triangle, p.first_triangle + p.triangle_count);
+              primitives.append(entry);
+            }
+            d["primitives"] = primitives;
             return std::move(d);
           },
           "None unless loaded with texcoords=True; else \"sets\": per TEXCOORD_n an (N, 2) array (NaN for "
           "vertices whose primitive lacks it), \"triangle_materials\" (-1: none) and \"materials\": per "
-          "material its name, occlusion_texcoord (None without an occlusion texture) and wrap (s, t).")
+          "material its name, occlusion_texcoord (None without an occlusion texture) and wrap (s, t); \"primitives\": "
+          "per primitive that brought triangles, its node, mesh, primitive and [first, end) of its vertices and "
+          "triangles in the scene.")
       .def("__repr__", [](const Scene& s) {
         return "<mbao.Scene '" + s.name() + "': " + std::to_string(s.mesh().triangles.size()) + " triangles>";
       });

@@ -57,7 +57,14 @@ class SceneAssembler {
     place_nodes(model_.scenes[std::size_t(scene_index)].nodes);
     reserve();
     if (options_.texcoords) read_materials();
-    for (const Instance& instance : instances_) add_primitive(*instance.primitive, instance.world, instance.what);
+    for (const Instance& instance : instances_) {
+      const std::size_t vertices = mesh_.positions.size(), triangles = mesh_.triangles.size();
+      add_primitive(*instance.primitive, instance.world, instance.what);
+      if (options_.texcoords && mesh_.triangles.size() > triangles)
+        uv_sets_.primitives.push_back({instance.node, instance.mesh, instance.index, vertices,
+                                       mesh_.positions.size() - vertices, triangles,
+                                       mesh_.triangles.size() - triangles});
+    }
     if (mesh_.triangles.empty())
       throw LoadError(path_ + ": the default scene has no triangles");
     return std::make_shared<Scene>(std::move(mesh_), path_, camera_, std::move(warnings_), masks_.take(),
@@ -96,7 +103,7 @@ class SceneAssembler {
       const tinygltf::Node& node = model_.nodes[std::size_t(next.index)];
       const glm::dmat4 world = next.parent_world * local_transform(node);
       const std::string name = "node " + std::to_string(next.index);
-      if (node.mesh >= 0) add_mesh(node.mesh, world, name);
+      if (node.mesh >= 0) add_mesh(node.mesh, world, next.index, name);
       if (node.camera >= 0 && !camera_) take_camera(node.camera, world, name);
       for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
         pending.push_back({*child, next.index, world});
@@ -154,12 +161,13 @@ class SceneAssembler {
     return std::nullopt;
   }
 
-  void add_mesh(int index, const glm::dmat4& world, const std::string& node) {
+  void add_mesh(int index, const glm::dmat4& world, int node_index, const std::string& node) {
     if (std::size_t(index) >= model_.meshes.size())
       throw LoadError(path_ + ": " + node + " refers to mesh " + std::to_string(index) + ", which does not exist");
     const tinygltf::Mesh& mesh = model_.meshes[std::size_t(index)];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p)
-      instances_.push_back({&mesh.primitives[p], world, "mesh " + std::to_string(index) + " primitive " + std::to_string(p)});
+      instances_.push_back({&mesh.primitives[p], world, "mesh " + std::to_string(index) + " primitive " + std::to_string(p),
+                            node_index, index, int(p)});
   }
 
   // Room for every instance's vertices and triangles up front, so the arrays
@@ -355,6 +363,7 @@ class SceneAssembler {
     const tinygltf::Primitive* primitive;
     glm::dmat4 world;
     std::string what;  // "mesh M primitive P", for messages
+    int node, mesh, index;  // the node that places it, its mesh, and its index in the mesh
   };
 
   const tinygltf::Model& model_;

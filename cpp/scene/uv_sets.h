@@ -19,11 +19,20 @@ struct MaterialUvs {
   WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
 };
 
+// Where a primitive of the file went: which node placed which mesh's
+// primitive, and its vertices and triangles in the scene (a mesh placed by two
+// nodes is there twice).
+struct LoadedPrimitive {
+  int node, mesh, primitive;
+  std::size_t first_vertex, vertex_count, first_triangle, triangle_count;
+};
+
 struct UvSets {
   bool loaded = false;
   std::vector<std::vector<glm::vec2>> sets;      // sets[n][v]: vertex v's TEXCOORD_n; NaN where its primitive has none
   std::vector<std::int32_t> triangle_materials;  // per triangle: its material, -1 for none
   std::vector<MaterialUvs> materials;            // the file's materials, in its order
+  std::vector<LoadedPrimitive> primitives;       // those that brought triangles, in the scene's order
 };
 
 }  // namespace mbao

@@ -10,6 +10,7 @@ in the docstrings refer to it).
 """
 
 from .bake import Bake, bake
+from .bake_file import bake_file
 from ._core import DEFAULT_MAX_RAYS, HBAO, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
 from .convergence import convergence, format_convergence, plot_convergence
 from .devices import devices
@@ -35,6 +36,7 @@ __all__ = [
     "Result",
     "Scene",
     "bake",
+    "bake_file",
     "convergence",
     "cornell_box",
     "devices",

@@ -1,6 +1,7 @@
 """python -m mbao: render from the command line.
 
     python -m mbao render [scene.glb] [--bounces 2] [--samples 4] [-o ao.png] ...
+    python -m mbao bake scene.glb -o baked.glb [--target texture|vertices] ...
     python -m mbao devices
 """
 
@@ -70,6 +71,28 @@ def _parser():
     c.add_argument("--quiet", action="store_true", help="no progress bars")
     c.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, else the first GPU, "
                    "else the first device")
+
+    b = commands.add_parser("bake", formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+                            help="bake AO into a glTF file's occlusion textures or vertices (SPEC 6)")
+    b.add_argument("input", help="a .glb or .gltf file")
+    b.add_argument("-o", "--output", required=True,
+                   help="the baked file, everything else in it kept: .glb for a .glb input, .gltf for a .gltf one")
+    b.add_argument("--target", choices=["texture", "vertices"], default="vertices",
+                   help="an occlusion texture per material, or an _OCCLUSION attribute per primitive")
+    b.add_argument("--texcoord", type=int,
+                   help="n of the UV set TEXCOORD_n; None: the occlusion texture's, else TEXCOORD_1, else TEXCOORD_0")
+    b.add_argument("--resolution", type=int, nargs="+", default=[1024], metavar="N",
+                   help="the texture's size: N, or WIDTH HEIGHT")
+    b.add_argument("--padding", type=int, default=4, help="texels filled around the covered ones (dilation)")
+    b.add_argument("--bounces", type=int, default=2, help="b, the bounces of SPEC 1")
+    b.add_argument("--samples", type=int, default=256, help="estimates per vertex or texel")
+    b.add_argument("--rho", type=float, default=1.0, help="albedo in [0, 1]")
+    b.add_argument("--max-distance", type=float, default=float("inf"), help="AO radius in world units")
+    b.add_argument("--seed", type=int, default=0, help="the bake is a function of the seed and the settings")
+    b.add_argument("--bit-depth", type=int, choices=[8, 16], default=8, help="bits per channel of the textures")
+    b.add_argument("--quiet", action="store_true", help="no progress bar")
+    b.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, "
+                   "else the first GPU, else the first device")
 
     commands.add_parser("devices", help="list the OpenCL devices")
     return parser
@@ -160,6 +183,35 @@ def _compare(args):
     return 0
 
 
+def _bake(args):
+    from .bake_file import bake_file
+
+    if len(args.resolution) > 2:
+        raise ValueError(f"--resolution takes N or WIDTH HEIGHT, got {len(args.resolution)} numbers")
+    result = bake_file(args.input, args.output, target=args.target, bit_depth=args.bit_depth, bounces=args.bounces,
+                       samples=args.samples, rho=args.rho, max_distance=args.max_distance, seed=args.seed,
+                       texcoord=args.texcoord, resolution=tuple(args.resolution) * (3 - len(args.resolution)),
+                       padding=args.padding, device=_device_argument(args.device), progress=not args.quiet)
+    s = result.stats
+    print(f"scene        {args.input}")
+    print(f"device       {s['device']}")
+    print(f"settings     {args.target}, bounces={args.bounces}, samples={args.samples}, rho={args.rho}, "
+          f"max_distance={args.max_distance:g}, seed={args.seed}")
+    for material, texture in result.textures.items():
+        t = texture.stats
+        height, width = texture.image.shape
+        print(f"material {material:<3} {width}x{height} into TEXCOORD_{texture.texcoord}: {t['covered']} texels "
+              f"covered, {t['dilated']} dilated, mean {texture.image[texture.coverage].mean():.3f}")
+    for material in s["replaced_occlusion"]:
+        print(f"replaced     material {material}'s occlusion texture")
+    if result.values is not None:
+        print(f"vertices     {len(result.values)}, mean {result.values.mean():.3f}, "
+              f"largest standard error {result.standard_error.max():.3f}")
+    print(f"bake         {s['frame_ms'] / 1e3:.1f} s, {s['rays_secondary'] / s['frame_ms'] / 1e3:.2f} Mrays/s")
+    print(f"wrote        {args.output}")
+    return 0
+
+
 def _print_warning(message, category, filename, lineno, file=None, line=None):
     """A warning as one line, like the command's errors: no source line."""
     print(f"mbao: warning: {message}", file=sys.stderr)
@@ -176,6 +228,8 @@ def main(argv=None):
                 return 0
             if args.command == "compare":
                 return _compare(args)
+            if args.command == "bake":
+                return _bake(args)
             return _render(args)
     except (ValueError, TypeError, OSError, _core.Error) as error:
         print(f"mbao: {error}", file=sys.stderr)

@@ -1,0 +1,150 @@
+"""A glTF file as its JSON document and binary data, edited and written back
+with everything it holds kept as it was (glTF 2.0's container: .glb's chunks,
+or .gltf with external or data-URI buffers and images)."""
+
+import base64
+import copy
+import json
+import os
+import struct
+from urllib.parse import quote, unquote
+
+from . import _core
+
+_GLB_MAGIC, _JSON_CHUNK, _BIN_CHUNK = 0x46546C67, 0x4E4F534A, 0x004E4942
+
+
+class GltfDocument:
+    """doc: the JSON document (a dict); new binary data goes into `added`, a
+    buffer of its own that write() places: the GLB's binary chunk (buffer 0)
+    for .glb, a data URI for .gltf."""
+
+    def __init__(self, path):
+        self.path = os.fspath(path)
+        with open(self.path, "rb") as file:
+            data = file.read()
+        self.glb = data[:4] == struct.pack("<I", _GLB_MAGIC)
+        self.bin = b""
+        self.doc = self._read_glb(data) if self.glb else self._read_json(data)
+        self.original = copy.deepcopy(self.doc)
+        self.added = bytearray()
+        self._added_views = []
+
+    def _read_json(self, data):
+        try:
+            return json.loads(data)
+        except (UnicodeDecodeError, json.JSONDecodeError) as error:
+            raise _core.LoadError(f"{self.path}: not glTF JSON: {error}") from None
+
+    def _read_glb(self, data):
+        if len(data) < 20:
+            raise _core.LoadError(f"{self.path}: a GLB file of {len(data)} bytes is shorter than its headers")
+        _, version, length = struct.unpack_from("<3I", data)
+        if version != 2 or length > len(data):
+            raise _core.LoadError(f"{self.path}: GLB version {version}, length {length} of {len(data)} bytes")
+        chunks, offset = {}, 12
+        while offset + 8 <= length:
+            size, kind = struct.unpack_from("<2I", data, offset)
+            chunks.setdefault(kind, data[offset + 8:offset + 8 + size])
+            offset += 8 + size + (-size % 4)
+        if _JSON_CHUNK not in chunks:
+            raise _core.LoadError(f"{self.path}: the GLB file has no JSON chunk")
+        self.bin = chunks.get(_BIN_CHUNK, b"")
+        return self._read_json(chunks[_JSON_CHUNK])
+
+    def append(self, key, item):
+        """Adds `item` to the top-level array `key`; returns its index."""
+        self.doc.setdefault(key, []).append(item)
+        return len(self.doc[key]) - 1
+
+    def add_data(self, data, **accessor):
+        """A bufferView over `data` (4-byte aligned) in the added buffer; with
+        accessor fields (componentType, count, type, ...), an accessor on it too.
+        Returns the accessor's index, else the bufferView's."""
+        self.added.extend(b"\0" * (-len(self.added) % 4))
+        view = self.append("bufferViews", {"buffer": None, "byteOffset": len(self.added), "byteLength": len(data)})
+        self._added_views.append(view)
+        self.added.extend(data)
+        if not accessor:
+            return view
+        return self.append("accessors", dict(bufferView=view, **accessor))
+
+    def write(self, path):
+        """Writes the document to `path`, .glb or .gltf as the input was (the
+        container is not converted); relative URIs are rewritten for its folder."""
+        path = self.check_output(path)
+        glb = self.glb
+        doc = copy.deepcopy(self.doc)
+        self._rebase_uris(doc, os.path.dirname(os.path.abspath(path)))
+        if glb:
+            binary = self._glb_binary(doc)
+        else:
+            binary = None
+            if self.added:
+                buffer = self._place_added(doc, {"uri": "data:application/octet-stream;base64,"
+                                                        + base64.b64encode(bytes(self.added)).decode("ascii")})
+                doc["buffers"][buffer]["byteLength"] = len(self.added)
+        text = json.dumps(doc, separators=(",", ":")).encode("utf-8")
+        with open(path, "wb") as file:
+            if not glb:
+                file.write(text)
+                return
+            text += b" " * (-len(text) % 4)
+            chunks = struct.pack("<2I", len(text), _JSON_CHUNK) + text
+            if binary is not None:
+                chunks += struct.pack("<2I", len(binary), _BIN_CHUNK) + binary
+            file.write(struct.pack("<3I", _GLB_MAGIC, 2, 12 + len(chunks)) + chunks)
+
+    def check_output(self, path):
+        """`path` as a str, or a ValueError where write() could not write it there."""
+        path = os.fspath(path)
+        extension = ".glb" if self.glb else ".gltf"
+        if not path.lower().endswith(extension):
+            raise ValueError(f"output {path!r} must be a {extension} file, as the input {self.path!r} is "
+                             f"(mbao does not convert between .glb and .gltf)")
+        if os.path.abspath(path) == os.path.abspath(self.path):
+            raise ValueError(f"output {path!r} is the input; write the baked file beside it")
+        folder = os.path.dirname(os.path.abspath(path))
+        if not os.access(folder, os.W_OK):
+            raise ValueError(f"output {path!r}: cannot write in {folder!r}")
+        return path
+
+    def _glb_binary(self, doc):
+        """The binary chunk: the input's with the added data after it, in buffer 0."""
+        if not self.added:
+            return self.bin or None
+        base = len(self.bin) + (-len(self.bin) % 4)
+        binary = bytes(self.bin) + b"\0" * (base - len(self.bin)) + bytes(self.added)
+        binary += b"\0" * (-len(binary) % 4)
+        buffers = doc.setdefault("buffers", [])
+        if not buffers or "uri" in buffers[0]:
+            # No GLB-stored buffer yet: ours becomes buffer 0, the others move up one.
+            buffers.insert(0, {})
+            for view in doc.get("bufferViews", []):
+                if view["buffer"] is not None:
+                    view["buffer"] += 1
+            base = 0
+            binary = bytes(self.added) + b"\0" * (-len(self.added) % 4)
+        buffers[0]["byteLength"] = len(binary)
+        for view in self._added_views:
+            doc["bufferViews"][view]["buffer"] = 0
+            doc["bufferViews"][view]["byteOffset"] += base
+        return binary
+
+    def _place_added(self, doc, buffer):
+        index = len(doc.setdefault("buffers", []))
+        doc["buffers"].append(buffer)
+        for view in self._added_views:
+            doc["bufferViews"][view]["buffer"] = index
+        return index
+
+    def _rebase_uris(self, doc, folder):
+        """Relative URIs of buffers and images, made relative to the output's folder."""
+        source = os.path.dirname(os.path.abspath(self.path))
+        if os.path.normcase(source) == os.path.normcase(folder):
+            return
+        for item in doc.get("buffers", []) + doc.get("images", []):
+            uri = item.get("uri")
+            if uri and not uri.startswith("data:") and "://" not in uri:
+                moved = os.path.relpath(os.path.join(source, unquote(uri)), folder)
+                item["uri"] = quote(moved.replace(os.sep, "/"))

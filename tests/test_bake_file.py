@@ -1,0 +1,177 @@
+"""Baked glTF files (mbao.bake_file, python -m mbao bake): the bake placed in
+the file, everything else kept, and the Khronos glTF-Validator's verdict on
+what mbao writes."""
+
+import copy
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import mbao
+from conftest import REPO, shared_scene
+from gltf_writer import GltfBuilder
+from meshes import plane
+from mbao._gltf import GltfDocument
+from test_bake_gltf import floor_and_wall
+
+VALIDATOR = REPO / "tests" / "gltf_validator"
+
+
+def validation_errors(path):
+    """The glTF-Validator's errors on `path`, as (code, pointer) pairs."""
+    if not (VALIDATOR / "node_modules" / "gltf-validator").exists():
+        pytest.fail("the glTF-Validator is not installed: `make test` installs it into tests/gltf_validator")
+    run = subprocess.run(["node", str(VALIDATOR / "validate.mjs"), str(path)], capture_output=True, text=True,
+                         check=True)
+    report = json.loads(run.stdout)
+    return [(m["code"], m.get("pointer")) for m in report["issues"]["messages"] if m["severity"] == 0]
+
+
+def accessor_values(document, index):
+    """An accessor of FLOAT SCALAR values in a GLB file's binary chunk, as mbao writes them."""
+    accessor = document.doc["accessors"][index]
+    view = document.doc["bufferViews"][accessor["bufferView"]]
+    assert view["buffer"] == 0 and accessor["componentType"] == 5126 and accessor["type"] == "SCALAR"
+    start = view.get("byteOffset", 0) + accessor.get("byteOffset", 0)
+    return np.frombuffer(document.bin, "<f4", accessor["count"], start)
+
+
+def without(doc, pointers):
+    """A copy of a glTF document without the members at `pointers` ((key, ...) paths)."""
+    doc = copy.deepcopy(doc)
+    for pointer in pointers:
+        parent = doc
+        for key in pointer[:-1]:
+            parent = parent[key]
+        del parent[pointer[-1]]
+    return doc
+
+
+def test_a_vertex_bake_adds_occlusion_and_keeps_everything_else(tmp_path):
+    source = floor_and_wall(tmp_path)
+    output = tmp_path / "baked.glb"
+    result = mbao.bake_file(source, output, samples=16, progress=False)
+    assert validation_errors(output) == []
+    before, after = GltfDocument(source), GltfDocument(output)
+    added = [("meshes", 0, "primitives", p, "attributes", "_OCCLUSION") for p in (0, 1)]
+    kept = without(after.doc, added)
+    for key, items in before.doc.items():
+        if key in ("buffers", "bufferViews", "accessors"):  # grown by the new data, the old entries kept
+            assert kept[key][:len(items)] == items if key != "buffers" else len(kept[key]) == len(items)
+        else:
+            assert kept[key] == items, key
+    assert after.bin[:len(before.bin)] == before.bin
+    scene = mbao.load(output, texcoords=True)
+    for placed in scene.uv_sets["primitives"]:
+        accessor = after.doc["meshes"][placed["mesh"]]["primitives"][placed["primitive"]]["attributes"]["_OCCLUSION"]
+        first, end = placed["vertices"]
+        np.testing.assert_array_equal(accessor_values(after, accessor), result.values[first:end])
+    np.testing.assert_array_equal(scene.vertices, mbao.load(source).vertices)
+
+
+def test_a_mesh_that_two_nodes_place_gets_a_copy_per_node(tmp_path):
+    """The same floor in the open and under a low ceiling: two meshes in the
+    output, each with its own AO (1 in the open, far less under the ceiling)."""
+    b = GltfBuilder()
+    floor = b.add_mesh([b.primitive(*plane(1.0, divisions=2))])
+    vertices, indices = plane(1.2, y=0.2)
+    ceiling = b.add_mesh([b.primitive(vertices, indices[:, ::-1])])  # facing down
+    nodes = [b.add_node(mesh=floor), b.add_node(mesh=floor, translation=(10, 0, 0)),
+             b.add_node(mesh=ceiling, translation=(10, 0, 0))]
+    b.add_scene(nodes, default=True)
+    source, output = b.write(tmp_path / "instances.glb"), tmp_path / "baked.glb"
+    mbao.bake_file(source, output, bounces=1, samples=64, progress=False)
+    assert validation_errors(output) == []
+    after = GltfDocument(output)
+    assert len(after.doc["meshes"]) == 3 and after.doc["nodes"][0]["mesh"] == 0
+    copy_of_floor = after.doc["nodes"][1]["mesh"]
+    assert copy_of_floor == 2 and after.doc["nodes"][2]["mesh"] == 1
+    def occlusion(mesh):
+        return accessor_values(after, after.doc["meshes"][mesh]["primitives"][0]["attributes"]["_OCCLUSION"])
+    np.testing.assert_array_equal(occlusion(0), 1.0)
+    assert occlusion(copy_of_floor).max() < 0.5
+
+
+@pytest.mark.parametrize("bit_depth", [8, 16])
+def test_a_texture_bake_points_each_material_at_its_texture(tmp_path, bit_depth):
+    import OpenImageIO as oiio
+
+    source = floor_and_wall(tmp_path)
+    before = GltfDocument(source)
+    before.doc["materials"][0]["occlusionTexture"]["strength"] = 0.7
+    before.write(tmp_path / "with_strength.glb")
+    source, output = tmp_path / "with_strength.glb", tmp_path / "baked.glb"
+    result = mbao.bake_file(source, output, target="texture", resolution=(16, 8), samples=8, bit_depth=bit_depth,
+                            progress=False)
+    assert validation_errors(output) == []
+    assert result.stats["replaced_occlusion"] == [0]
+    after = GltfDocument(output)
+    for material, texture in result.textures.items():
+        occlusion = after.doc["materials"][material]["occlusionTexture"]
+        assert occlusion["texCoord"] == texture.texcoord
+        assert occlusion.get("strength") == (0.7 if material == 0 else None)
+        gltf_texture = after.doc["textures"][occlusion["index"]]
+        # The floor's new texture keeps the sampler its occlusion texture had; the wall's has none (REPEAT).
+        assert gltf_texture.get("sampler") == (before.doc["textures"][0]["sampler"] if material == 0 else None)
+        image = after.doc["images"][gltf_texture["source"]]
+        view = after.doc["bufferViews"][image["bufferView"]]
+        png = tmp_path / f"occlusion{material}.png"
+        png.write_bytes(after.bin[view["byteOffset"]:view["byteOffset"] + view["byteLength"]])
+        decoded = oiio.ImageBuf(str(png))
+        assert decoded.spec().format == (oiio.UINT16 if bit_depth == 16 else oiio.UINT8)
+        pixels = decoded.get_pixels(oiio.FLOAT)
+        assert pixels.shape == (8, 16, 3)
+        for channel in range(3):
+            np.testing.assert_allclose(pixels[..., channel], texture.image, atol=0.5 / (2**bit_depth - 1))
+    assert after.doc["materials"][0]["pbrMetallicRoughness"] == before.doc["materials"][0]["pbrMetallicRoughness"]
+
+
+def test_a_gltf_with_external_files_is_written_to_another_folder(tmp_path):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(*plane(1.0, divisions=2))]))], default=True)
+    source = b.write(tmp_path / "external.gltf", container="gltf+bin")
+    assert any("uri" in buffer and not buffer["uri"].startswith("data:") for buffer in GltfDocument(source).doc["buffers"])
+    (tmp_path / "out").mkdir()
+    output = tmp_path / "out" / "baked.gltf"
+    result = mbao.bake_file(source, output, samples=4, progress=False)
+    assert validation_errors(output) == []
+    np.testing.assert_array_equal(mbao.load(output).vertices, mbao.load(source).vertices)
+    assert result.values.shape == (9,)
+
+
+@pytest.mark.parametrize("output, message", [
+    ("baked.gltf", r"must be a \.glb file, as the input"),
+    ("floor_and_wall.glb", "is the input"),
+    ("missing/baked.glb", "cannot write in"),
+])
+def test_outputs_that_cannot_be_written_are_refused_before_the_bake(tmp_path, output, message):
+    source = floor_and_wall(tmp_path)
+    with pytest.raises(ValueError, match=message):
+        mbao.bake_file(source, tmp_path / output, samples=2, progress=False)
+
+
+def test_the_damaged_helmet_baked_per_vertex_keeps_its_materials_and_images(tmp_path):
+    source = shared_scene("damaged_helmet") / "scene.glb"
+    output = tmp_path / "helmet.glb"
+    mbao.bake_file(source, output, samples=4, progress=False)
+    assert validation_errors(output) == []
+    before, after = GltfDocument(source), GltfDocument(output)
+    for key in ("materials", "textures", "images", "samplers", "nodes"):
+        assert after.doc[key] == before.doc[key], key
+    assert after.bin[:len(before.bin)] == before.bin
+
+
+def test_the_command_line_bakes_a_file(tmp_path):
+    source = floor_and_wall(tmp_path)
+    output = tmp_path / "baked.glb"
+    run = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(output), "--target", "texture",
+                          "--resolution", "16", "--samples", "4", "--quiet"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert "replaced     material 0's occlusion texture" in run.stdout and f"wrote        {output}" in run.stdout
+    assert validation_errors(output) == []
+    refused = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "x.gltf")],
+                             capture_output=True, text=True)
+    assert refused.returncode == 2 and refused.stderr.startswith("mbao: output") and "must be a .glb" in refused.stderr
