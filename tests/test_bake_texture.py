@@ -22,10 +22,12 @@ def floor_uvs(vertices, half_size, lo=0.0, hi=1.0):
     return lo + (vertices[:, [0, 2]] + half_size) / (2.0 * half_size) * (hi - lo)
 
 
-def floor_with_a_box(lo=0.0, hi=1.0):
-    """A floor of 2 x 2 (y = 0, facing up) with UVs, and a unit box on it whose triangles have no UV area."""
+def floor_with_a_box(lo=0.0, hi=1.0, box_at=(0.0, 0.0)):
+    """A floor of 4 x 4 (y = 0, facing up) with UVs, and a unit box on it centred
+    at (x, z) = box_at, whose triangles have no UV area."""
     floor, floor_indices = plane(2.0, divisions=16)
-    block, block_indices = box((-0.5, 0.0, -0.5), (0.5, 1.0, 0.5))
+    x, z = box_at
+    block, block_indices = box((x - 0.5, 0.0, z - 0.5), (x + 0.5, 1.0, z + 0.5))
     vertices, indices = merge((floor, floor_indices), (block, block_indices[:, ::-1]))
     texcoords = np.full((len(vertices), 2), 0.5)
     texcoords[:len(floor)] = floor_uvs(floor, 2.0, lo, hi)
@@ -160,3 +162,72 @@ def test_bad_texture_arguments_name_themselves(arguments, error, message):
 def test_a_texture_bake_needs_uvs():
     with pytest.raises(ValueError, match="a texture bake needs UVs"):
         mbao.bake(mbao.Mesh(*plane(1.0)), target="texture", progress=False)
+
+
+def camera_ray_directions(camera, width, height):
+    """The directions of the camera rays through the pixel centres (SPEC 3.1), row by row."""
+    eye, target, up = (np.asarray(v, float) for v in (camera.eye, camera.target, camera.up))
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, forward)
+    tan_half = math.tan(math.radians(camera.vfov_deg) / 2)
+    y, x = np.mgrid[0:height, 0:width]
+    u = ((x + 0.5) / width) * 2 - 1
+    v = 1 - ((y + 0.5) / height) * 2
+    directions = (forward + (u * tan_half * width / height)[..., None] * right + (v * tan_half)[..., None] * true_up)
+    return directions.reshape(-1, 3)
+
+
+def bilinear(image, standard_error, uv):
+    """The image looked up at texture coordinates uv (N, 2) between texel
+    centres, as a viewer samples it, and the standard error of that lookup:
+    of a weighted sum of independent texels, sqrt(sum of w^2 se^2)."""
+    height, width = image.shape
+    x, y = uv[:, 0] * width - 0.5, uv[:, 1] * height - 0.5
+    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
+    fx, fy = x - x0, y - y0
+    value = variance = 0.0
+    for i, j, w in ((x0, y0, (1 - fx) * (1 - fy)), (x0 + 1, y0, fx * (1 - fy)), (x0, y0 + 1, (1 - fx) * fy),
+                    (x0 + 1, y0 + 1, fx * fy)):
+        texel = np.clip(j, 0, height - 1), np.clip(i, 0, width - 1)
+        value = value + w * image[texel]
+        variance = variance + w**2 * standard_error[texel] ** 2
+    return value, np.sqrt(variance)
+
+
+def test_a_baked_texture_looked_up_at_the_cameras_hits_matches_the_render():
+    """Where the camera sees the floor, the texture looked up at each pixel's
+    hit (bilinear, as a viewer samples it) and the render agree within their
+    noise: the mean of z^2 = (render - lookup)^2 / (se_render^2 + se_texel^2)
+    is 1 within 4 of its standard errors, sqrt(2 / n). Pixels within a quarter
+    of a unit of the box's foot are left out: there AO bends too fast for a
+    bilinear lookup of 1/16-unit texels. The box stands off the floor's centre,
+    so a flipped u or v would show."""
+    box_at = (0.6, -0.5)
+    vertices, indices, texcoords = floor_with_a_box(box_at=box_at)
+    scene = mbao.Mesh(vertices, indices, texcoords=texcoords)
+    resolution, samples, r = 64, 256, 256
+    texture = mbao.bake(scene, target="texture", resolution=resolution, samples=samples, bounces=1,
+                        progress=False).textures[0]
+    camera = mbao.Camera((0.3, 5.0, 3.0), (0.0, 0.0, 0.0), vfov_deg=40.0)
+    width = height = 48
+    render = mbao.render(scene, camera=camera, width=width, height=height, bounces=1, samples=r)
+    directions = camera_ray_directions(camera, width, height)
+    _, triangle, barycentrics = mbao.trace(scene, np.tile(camera.eye, (len(directions), 1)), directions)
+    floor_triangles = 2 * 16 * 16
+    on_floor = (triangle >= 0) & (triangle < floor_triangles)
+    corners = scene.indices[triangle[on_floor]]
+    b1, b2 = barycentrics[on_floor, 0:1], barycentrics[on_floor, 1:2]
+    uv = (1 - b1 - b2) * texcoords[corners[:, 0]] + b1 * texcoords[corners[:, 1]] + b2 * texcoords[corners[:, 2]]
+    point = uv * 4.0 - 2.0  # the floor's (x, z)
+    from_box = np.maximum(np.abs(point - box_at) - 0.5, 0.0)
+    away = np.max(from_box, axis=1) > 0.25
+    inside = np.max(np.abs(point), axis=1) < 2.0 - 2.0 / resolution * 4.0  # a texel from the floor's edge
+    keep = away & inside
+    assert keep.sum() > 800
+    rendered = render.ao.reshape(-1)[on_floor][keep].astype(float)
+    looked_up, texel_error = bilinear(texture.image.astype(float), texture.standard_error.astype(float), uv[keep])
+    render_error2 = np.maximum(rendered * (1 - rendered), 1.0 / r) / r  # each pixel a mean of r Bernoulli outcomes
+    z2 = (rendered - looked_up) ** 2 / (render_error2 + texel_error**2)
+    assert abs(z2.mean() - 1.0) <= 4.0 * math.sqrt(2.0 / keep.sum()), z2.mean()
