@@ -63,25 +63,27 @@ double claim_offset(int i) { return (i + 0.5 + 1e-3) / kClaimPoints; }
 }  // namespace
 
 TexelLayout::TexelLayout(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-                         const std::vector<glm::vec2>& uvs, int width, int height, WrapMode wrap_s, WrapMode wrap_t)
+                         const std::vector<glm::vec2>& corner_uvs, int width, int height, WrapMode wrap_s,
+                         WrapMode wrap_t)
     : width_(width), height_(height), wrap_s_(wrap_s), wrap_t_(wrap_t) {
   if (width < 1 || height < 1 || width > kMaxTextureSide || height > kMaxTextureSide)
     throw std::invalid_argument("resolution must be in [1, " + std::to_string(kMaxTextureSide) + "] on each side, got " +
                                 std::to_string(width) + " x " + std::to_string(height));
-  if (uvs.size() != mesh.positions.size())
-    throw std::invalid_argument("texcoords: " + std::to_string(uvs.size()) + " for " +
-                                std::to_string(mesh.positions.size()) + " vertices");
+  if (corner_uvs.size() != 3 * triangles.size())
+    throw std::invalid_argument("texcoords: " + std::to_string(corner_uvs.size()) + " corners' UVs for " +
+                                std::to_string(triangles.size()) + " triangles");
   std::vector<double> surface_per_texel;
-  for (std::uint32_t t : triangles) {
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const std::uint32_t t = triangles[i];
     if (t >= mesh.triangles.size())
       throw std::invalid_argument("triangle " + std::to_string(t) + " does not exist");
     const glm::uvec3 v = mesh.triangles[t];
     Corners c;
     for (int k = 0; k < 3; ++k) {
-      const glm::vec2 uv = uvs[v[k]];
+      const glm::vec2 uv = corner_uvs[3 * i + std::size_t(k)];
       if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
-        throw std::invalid_argument("texcoords: vertex " + std::to_string(v[k]) + " of triangle " + std::to_string(t) +
-                                    " has no finite UV");
+        throw std::invalid_argument("texcoords: corner " + std::to_string(k) + " (vertex " + std::to_string(v[k]) +
+                                    ") of triangle " + std::to_string(t) + " has no finite UV");
       c[std::size_t(k)] = {double(uv.x) * width, double(uv.y) * height};
     }
     const double uv_area = 0.5 * std::abs(cross(c[1] - c[0], c[2] - c[0]));

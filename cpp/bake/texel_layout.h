@@ -23,13 +23,14 @@ constexpr int kMaxTextureSide = 16384;
 
 class TexelLayout : public EstimatePoints {
  public:
-  // The triangles `triangles` of `mesh` with texture coordinates `uvs` (one
-  // per vertex of the mesh) in a width x height texture whose sampler wraps
+  // The triangles `triangles` of `mesh` with texture coordinates `corner_uvs`
+  // (three per listed triangle, in its corners' order: a UV seam needs no
+  // split vertices) in a width x height texture whose sampler wraps
   // with wrap_s along u and wrap_t along v. Throws std::invalid_argument for
   // a size out of range, UVs that are not finite, or UVs that span more
   // texels than kMaxPieces.
   TexelLayout(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-              const std::vector<glm::vec2>& uvs, int width, int height, WrapMode wrap_s, WrapMode wrap_t);
+              const std::vector<glm::vec2>& corner_uvs, int width, int height, WrapMode wrap_s, WrapMode wrap_t);
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -8,6 +8,8 @@
 #include "bake/vertex_points.h"
 #include "bindings/bindings.h"
 
+#include <cstring>
+
 namespace py = pybind11;
 
 namespace mbao::bindings {
@@ -38,10 +40,11 @@ struct SceneTexels {
   TexelLayout layout;
 };
 
-std::vector<glm::vec2> texcoords_from(const py::array_t<float, py::array::c_style | py::array::forcecast>& uvs) {
-  if (uvs.ndim() != 2 || uvs.shape(1) != 2) throw std::invalid_argument("texcoords must have shape (N, 2)");
-  std::vector<glm::vec2> out(std::size_t(uvs.shape(0)));
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {uvs.at(py::ssize_t(i), 0), uvs.at(py::ssize_t(i), 1)};
+std::vector<glm::vec2> corner_uvs_from(const py::array_t<float, py::array::c_style | py::array::forcecast>& uvs) {
+  if (uvs.ndim() != 3 || uvs.shape(1) != 3 || uvs.shape(2) != 2)
+    throw std::invalid_argument("texcoords must have shape (triangles, 3, 2)");
+  std::vector<glm::vec2> out(std::size_t(uvs.shape(0)) * 3);
+  std::memcpy(out.data(), uvs.data(), out.size() * sizeof(glm::vec2));
   return out;
 }
 
@@ -49,7 +52,7 @@ SceneTexels make_texels(const std::shared_ptr<Scene>& scene,
                         const py::array_t<float, py::array::c_style | py::array::forcecast>& uvs,
                         const std::vector<std::uint32_t>& triangles, int width, int height,
                         const std::string& wrap_s, const std::string& wrap_t) {
-  const std::vector<glm::vec2> texcoords = texcoords_from(uvs);
+  const std::vector<glm::vec2> texcoords = corner_uvs_from(uvs);
   py::gil_scoped_release release;
   return SceneTexels{scene, TexelLayout(scene->mesh(), triangles, texcoords, width, height, parse_wrap_mode(wrap_s),
                                         parse_wrap_mode(wrap_t))};

@@ -26,15 +26,20 @@ class BakedTexture:
     standard_error: (H, W) float32, the standard error of each texel (its
         source's where dilated, 0 where 1 was filled in).
     coverage: (H, W) bool, the texels that hold surface.
-    texcoord: the UV set used.
-    stats: covered, claimed_twice, dilated (texel counts) and unmapped_triangles
-        (triangles of zero UV area, which no texel holds).
+    texcoord: n of the UV set TEXCOORD_n used.
+    triangles: (K,) the material's triangles, indices into scene.indices.
+    texcoords: (K, 3, 2) float32, the UVs of their corners as baked: a lookup
+        at a point of triangle triangles[k] interpolates texcoords[k].
+    stats: covered, claimed_twice, dilated (texel counts), unmapped_triangles
+        (triangles of zero UV area, which no texel holds) and wrap (s, t).
     """
 
     image: np.ndarray
     standard_error: np.ndarray
     coverage: np.ndarray
     texcoord: object
+    triangles: np.ndarray
+    texcoords: np.ndarray
     stats: dict
 
 
@@ -138,7 +143,7 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
                              dilated=int(filled.sum()), unmapped_triangles=layout.unmapped_triangles,
                              wrap=material.wrap)
         textures[index] = BakedTexture(image, standard_error, layout.covered.astype(bool), material.set,
-                                       texture_stats)
+                                       material.triangles, material.texcoords, texture_stats)
         for name in totals:
             totals[name] += stats[name]
     settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
@@ -173,7 +178,7 @@ class _Material:
     index: int  # the key of Bake.textures: the glTF material, -1 for triangles without one
     name: str   # for messages
     triangles: np.ndarray
-    texcoords: np.ndarray
+    texcoords: np.ndarray  # (K, 3, 2): the UVs of each triangle's corners
     set: int    # n of TEXCOORD_n
     wrap: tuple
 
@@ -187,7 +192,7 @@ def _texture_materials(scene, texcoord, wrap):
             raise ValueError(f"{scene.name}: a texture bake needs UVs, and this mesh has none: give mbao.Mesh "
                              f"texcoords=, or bake target=\"vertices\"")
         triangles = np.arange(scene.triangle_count, dtype=np.uint32)
-        return [_Material(0, "the mesh", triangles, scene.texcoords, 0, wrap or ("repeat", "repeat"))]
+        return [_Material(0, "the mesh", triangles, scene.texcoords[scene.indices], 0, wrap or ("repeat", "repeat"))]
     uv_sets = scene.uv_sets
     if uv_sets is None:
         raise ValueError(f"{scene.name}: a texture bake needs the file's UV sets: load it with "
@@ -211,7 +216,8 @@ def _texture_materials(scene, texcoord, wrap):
         if chosen not in has:
             raise ValueError(f"{scene.name}: {name}: TEXCOORD_{chosen} is missing on some of its triangles; "
                              f"it has {', '.join(f'TEXCOORD_{n}' for n in has) or 'no UV set'}")
-        materials.append(_Material(index, f"{scene.name}: {name}", triangles, uv_sets["sets"][chosen], chosen,
+        corners = uv_sets["sets"][chosen][scene.indices[triangles]]
+        materials.append(_Material(index, f"{scene.name}: {name}", triangles, corners, chosen,
                                    wrap or tuple(info["wrap"])))
     return materials
 

@@ -70,7 +70,8 @@ TEST(TexelLayout, DrawsEachTexelsSurfaceUniformly) {
   // square, cut by the diagonal. Points there are uniform: mean (0.75, 0.75).
   const TriangleMesh mesh = unit_square();
   std::vector<glm::vec2> uvs;
-  for (const glm::vec3& p : mesh.positions) uvs.push_back({p.x / 2, p.z / 2});
+  for (const glm::uvec3& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) uvs.push_back({mesh.positions[t[k]].x / 2, mesh.positions[t[k]].z / 2});
   const TexelLayout layout(mesh, {0, 1}, uvs, 4, 4, WrapMode::Repeat, WrapMode::Repeat);
   EXPECT_EQ(layout.covered_count(), 4u);
   EXPECT_EQ(layout.claimed_twice(), 0u);
@@ -96,8 +97,8 @@ TEST(TexelLayout, DrawsEachTexelsSurfaceUniformly) {
 
 TEST(TexelLayout, RefusesUvsThatAreNotFinite) {
   const TriangleMesh mesh = unit_square();
-  std::vector<glm::vec2> uvs(4, {0.5f, 0.5f});
-  uvs[2].x = std::nanf("");
+  std::vector<glm::vec2> uvs(6, {0.5f, 0.5f});
+  uvs[4].x = std::nanf("");
   EXPECT_THROW(TexelLayout(mesh, {0, 1}, uvs, 4, 4, WrapMode::Repeat, WrapMode::Repeat), std::invalid_argument);
 }
 
