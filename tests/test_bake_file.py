@@ -153,6 +153,11 @@ def test_outputs_that_cannot_be_written_are_refused_before_the_bake(tmp_path, ou
         mbao.bake_file(source, tmp_path / output, samples=2, progress=False)
 
 
+def test_generated_uvs_are_not_written_yet(tmp_path):
+    with pytest.raises(ValueError, match="bake_file cannot write generated UVs yet"):
+        mbao.bake_file(floor_and_wall(tmp_path), tmp_path / "baked.glb", target="texture", texcoord="generate")
+
+
 def test_the_damaged_helmet_baked_per_vertex_keeps_its_materials_and_images(tmp_path):
     source = shared_scene("damaged_helmet") / "scene.glb"
     output = tmp_path / "helmet.glb"

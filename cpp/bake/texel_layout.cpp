@@ -93,6 +93,7 @@ TexelLayout::TexelLayout(const TriangleMesh& mesh, const std::vector<std::uint32
     }
     const glm::dvec3 p0(mesh.positions[v.x]), p1(mesh.positions[v.y]), p2(mesh.positions[v.z]);
     triangles_.push_back(t);
+    given_at_.push_back(i);
     corners_.push_back(c);
     surface_per_texel.push_back(0.5 * glm::length(glm::cross(p1 - p0, p2 - p0)) / uv_area);
   }
@@ -115,7 +116,8 @@ TexelLayout::TexelLayout(const TriangleMesh& mesh, const std::vector<std::uint32
   }
 
   std::vector<std::uint16_t> once(texels, 0), twice(texels, 0);
-  for (std::uint32_t i = 0; i < triangles_.size(); ++i) count_claims(i, once, twice);
+  for (std::uint32_t i = 0; i < triangles_.size(); ++i)
+    if (count_claims(i, once, twice)) second_claimants_.push_back(given_at_[i]);
   for (std::size_t i = 0; i < texels; ++i) claimed_twice_ += covered_[i] && twice[i] != 0;
 }
 
@@ -160,13 +162,13 @@ void TexelLayout::add_pieces(std::uint32_t local, double surface_per_texel, std:
   }
 }
 
-void TexelLayout::count_claims(std::uint32_t local, std::vector<std::uint16_t>& once,
+bool TexelLayout::count_claims(std::uint32_t local, std::vector<std::uint16_t>& once,
                                std::vector<std::uint16_t>& twice) const {
   const Corners& c = corners_[local];
   double inside_sign[3];  // per edge k (corners k, k + 1): the sign of the side the triangle is on
   for (int k = 0; k < 3; ++k) {
     inside_sign[k] = edge_side(c[std::size_t(k)], c[std::size_t((k + 1) % 3)], c[std::size_t((k + 2) % 3)]);
-    if (inside_sign[k] == 0.0) return;  // too thin to hold a point
+    if (inside_sign[k] == 0.0) return false;  // too thin to hold a point
   }
   const auto inside = [&](glm::dvec2 p) {
     for (int k = 0; k < 3; ++k) {
@@ -176,6 +178,7 @@ void TexelLayout::count_claims(std::uint32_t local, std::vector<std::uint16_t>& 
     return true;
   };
   const glm::dvec2 lo = glm::min(glm::min(c[0], c[1]), c[2]), hi = glm::max(glm::max(c[0], c[1]), c[2]);
+  bool again = false;
   for (double y = std::floor(lo.y); y <= hi.y; y += 1.0) {
     bool mirrored_y;
     const std::int64_t ty = texel_along(std::int64_t(y), height_, wrap_t_, true, &mirrored_y);
@@ -194,9 +197,11 @@ void TexelLayout::count_claims(std::uint32_t local, std::vector<std::uint16_t>& 
         }
       const std::size_t texel = std::size_t(ty) * std::size_t(width_) + std::size_t(tx);
       twice[texel] |= once[texel] & claimed;
+      again = again || (once[texel] & claimed) != 0;
       once[texel] |= claimed;
     }
   }
+  return again;
 }
 
 std::optional<SurfacePoint> TexelLayout::point(std::size_t texel, const std::array<double, 4>& random) const {

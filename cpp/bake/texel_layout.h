@@ -39,6 +39,9 @@ class TexelLayout : public EstimatePoints {
   std::size_t covered_count() const { return covered_count_; }
   // Covered texels one of whose 4 x 4 sample points lies in two triangles' UV images.
   std::size_t claimed_twice() const { return claimed_twice_; }
+  // Positions in the `triangles` given of those that claimed a sample point an
+  // earlier one had claimed, in order.
+  const std::vector<std::size_t>& second_claimants() const { return second_claimants_; }
   // Triangles of zero UV area: they fall in no texel.
   std::size_t unmapped_triangles() const { return unmapped_; }
 
@@ -59,12 +62,14 @@ class TexelLayout : public EstimatePoints {
     Piece piece;
   };
   void add_pieces(std::uint32_t local, double surface_per_texel, std::vector<TexelPiece>& pieces) const;
-  void count_claims(std::uint32_t local, std::vector<std::uint16_t>& once, std::vector<std::uint16_t>& twice) const;
+  // Returns whether it claimed a point already claimed.
+  bool count_claims(std::uint32_t local, std::vector<std::uint16_t>& once, std::vector<std::uint16_t>& twice) const;
   // The texel that cell x of the UV plane falls in along an axis of n texels,
   // and whether it is mirrored; -1 where it falls in none (clamped beyond the edge, for claims only).
   std::int64_t texel_along(std::int64_t cell, int n, WrapMode wrap, bool clamp_beyond, bool* mirrored) const;
 
   std::vector<std::uint32_t> triangles_;  // the mesh's triangle of each piece's `triangle`
+  std::vector<std::size_t> given_at_;     // and its position in the `triangles` given
   std::vector<Corners> corners_;
   int width_, height_;
   WrapMode wrap_s_, wrap_t_;
@@ -72,6 +77,7 @@ class TexelLayout : public EstimatePoints {
   std::vector<Piece> pieces_;
   std::vector<std::uint8_t> covered_;
   std::size_t covered_count_ = 0, claimed_twice_ = 0, unmapped_ = 0;
+  std::vector<std::size_t> second_claimants_;
 };
 
 }  // namespace mbao

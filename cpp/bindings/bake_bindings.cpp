@@ -4,6 +4,7 @@
 
 #include "bake/bake_estimates.h"
 #include "bake/dilation.h"
+#include "bake/lightmap_uvs.h"
 #include "bake/texel_layout.h"
 #include "bake/vertex_points.h"
 #include "bindings/bindings.h"
@@ -79,9 +80,31 @@ py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const
                         adopt(std::move(filled), {h, w}), stats_dict(bake.stats));
 }
 
+py::tuple lightmap_uvs(const std::shared_ptr<Scene>& scene, const std::vector<std::uint32_t>& triangles, int width,
+                       int height, int padding) {
+  for (std::uint32_t t : triangles)
+    if (t >= scene->mesh().triangles.size()) throw std::invalid_argument("triangle " + std::to_string(t) + " does not exist");
+  LightmapUvs uvs;
+  {
+    py::gil_scoped_release release;
+    uvs = generate_lightmap_uvs(scene->mesh(), triangles, width, height, padding);
+  }
+  py::array_t<float> corners({py::ssize_t(triangles.size()), py::ssize_t(3), py::ssize_t(2)});
+  std::memcpy(corners.mutable_data(), uvs.corner_uvs.data(), uvs.corner_uvs.size() * sizeof(glm::vec2));
+  py::dict stats;
+  stats["charts"] = uvs.charts;
+  stats["worst_stretch"] = uvs.worst_stretch;
+  stats["texels_per_unit"] = uvs.texels_per_unit;
+  return py::make_tuple(corners, stats);
+}
+
 }  // namespace
 
 void bind_bake(py::module_& m) {
+  m.def("lightmap_uvs", &lightmap_uvs, py::arg("scene"), py::arg("triangles"), py::arg("width"), py::arg("height"),
+        py::arg("padding"),
+        "Generated UVs for a bake (bake/lightmap_uvs.h): ((K, 3, 2) corner UVs, {charts, worst_stretch, "
+        "texels_per_unit}).");
   py::class_<SceneTexels>(m, "TexelLayout",
                           "Where a UV set puts triangles of a scene in a texture (SPEC 6.3; bake/texel_layout.h).")
       .def(py::init(&make_texels), py::arg("scene"), py::arg("texcoords"), py::arg("triangles"), py::arg("width"),

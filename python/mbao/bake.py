@@ -26,7 +26,7 @@ class BakedTexture:
     standard_error: (H, W) float32, the standard error of each texel (its
         source's where dilated, 0 where 1 was filled in).
     coverage: (H, W) bool, the texels that hold surface.
-    texcoord: n of the UV set TEXCOORD_n used.
+    texcoord: n of the UV set TEXCOORD_n used, or "generated".
     triangles: (K,) the material's triangles, indices into scene.indices.
     texcoords: (K, 3, 2) float32, the UVs of their corners as baked: a lookup
         at a point of triangle triangles[k] interpolates texcoords[k].
@@ -53,9 +53,12 @@ class Bake:
         no triangle of positive area uses it). None for textures.
     standard_error: vertices only: (N,) float32, the standard error of each
         value, from the spread of its estimates (0 where a vertex has no surface).
-    textures: texture only: {material index: BakedTexture}; empty for vertices.
+    textures: texture only: {material index: BakedTexture}, -1 for triangles
+        without a material, 0 for an mbao.Mesh; empty for vertices.
     settings: what it was baked with.
-    stats: the renderer's statistics of the bake (rays_secondary, frame_ms, plan, ...).
+    stats: the renderer's statistics of the bake (rays_secondary, frame_ms, plan,
+        ...); for textures frame_ms and rays_secondary are summed over the
+        materials, the rest is the last material's.
     """
 
     target: str
@@ -77,21 +80,28 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
 
-    scene: an mbao.Scene (mbao.load, mbao.Mesh) or the path of a glTF file.
+    scene: an mbao.Scene (mbao.load, mbao.Mesh) or the path of a glTF file; a
+        texture bake of a loaded file into its own UV sets needs
+        mbao.load(path, texcoords=True).
     target: "vertices": a value per vertex of scene.vertices; "texture": a
-        texture per material, into a UV set (an mbao.Mesh's texcoords).
+        texture per material, into a UV set.
     bounces, rho, normals, seed, max_rays: as for mbao.render.
     samples: estimates per vertex or texel, each at its own point of the
         vertex's one-ring or the texel's surface with one path of `bounces`
         segments; in [2, 65536].
-    texcoord: texture only: the UV set; None takes the mesh's texcoords (the
-        one set an mbao.Mesh has).
+    texcoord: texture only: n of the UV set TEXCOORD_n. None: per material, its
+        occlusionTexture's texCoord where it has one, else TEXCOORD_1 where all
+        its triangles have it, else TEXCOORD_0; an mbao.Mesh's texcoords are set 0.
+        "generate": a new UV set per material, charts of neighbouring triangles
+        of similar normal packed at one texel density with `padding` texels
+        between them (the texture's stats say charts, worst_stretch,
+        texels_per_unit and texels_used).
     resolution: texture only: the texture's size, an int or (width, height), each in [1, 16384].
     padding: texture only: empty texels within this many texels of a covered
         one take its value (dilation); in [0, 64].
     wrap: texture only: how UVs outside [0, 1] map, "repeat", "mirrored-repeat"
-        or "clamp-to-edge", or a pair of them (along u, along v); None: "repeat",
-        glTF's default sampler.
+        or "clamp-to-edge", or a pair of them (along u, along v); None: the
+        sampler of the material's occlusion texture, else "repeat" (glTF's default).
     max_distance: the AO radius in world units; inf by default (a bake has no
         camera to suggest one).
     engine: an mbao.Engine, as for render.
@@ -126,11 +136,13 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
     lo, hi = _core.BAKE_PADDING_RANGE
     padding = _checks.integer("padding", padding, lo, hi, f"[{lo}, {hi}]")
     wrap = None if wrap is None else _wrap(wrap)
-    if texcoord is not None:
-        texcoord = _checks.integer("texcoord", texcoord, 0, 7, "[0, 7] (TEXCOORD_n) or None")
+    if texcoord is not None and texcoord != "generate":
+        texcoord = _checks.integer("texcoord", texcoord, 0, 7, "[0, 7] (TEXCOORD_n), \"generate\" or None")
     # Every layout first: a UV set that cannot be baked is refused before any ray is traced.
     layouts = {}
-    for material in _texture_materials(scene, texcoord, wrap):
+    materials = (_generated_materials(scene, width, height, padding) if texcoord == "generate"
+                 else _texture_materials(scene, texcoord, wrap))
+    for material in materials:
         layout = _core.TexelLayout(scene, material.texcoords, material.triangles, width, height, *material.wrap)
         _refuse_claimed_twice(layout, material)
         layouts[material.index] = (material, layout)
@@ -139,9 +151,9 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
         with _tile_progress(progress, f"bake {material.name}") as on_tile:
             image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples,
                                                                      padding, on_tile)
-        texture_stats = dict(covered=layout.covered_count, claimed_twice=layout.claimed_twice,
+        texture_stats = dict(material.stats, covered=layout.covered_count, claimed_twice=layout.claimed_twice,
                              dilated=int(filled.sum()), unmapped_triangles=layout.unmapped_triangles,
-                             wrap=material.wrap)
+                             wrap=material.wrap, texels_used=layout.covered_count / (width * height))
         textures[index] = BakedTexture(image, standard_error, layout.covered.astype(bool), material.set,
                                        material.triangles, material.texcoords, texture_stats)
         for name in totals:
@@ -179,8 +191,9 @@ class _Material:
     name: str   # for messages
     triangles: np.ndarray
     texcoords: np.ndarray  # (K, 3, 2): the UVs of each triangle's corners
-    set: int    # n of TEXCOORD_n
+    set: object  # n of TEXCOORD_n, or "generated"
     wrap: tuple
+    stats: dict = dataclasses.field(default_factory=dict)  # a generated set's: charts, worst_stretch, texels_per_unit
 
 
 def _texture_materials(scene, texcoord, wrap):
@@ -222,12 +235,31 @@ def _texture_materials(scene, texcoord, wrap):
     return materials
 
 
+def _generated_materials(scene, width, height, padding):
+    """Per material, a new UV set of charts packed into the texture (SPEC 6.3's texcoord="generate")."""
+    if isinstance(scene, Mesh) or scene.uv_sets is None:
+        key = 0 if isinstance(scene, Mesh) else -1
+        groups = {key: np.arange(scene.triangle_count, dtype=np.uint32)}
+        names = {key: "the mesh" if isinstance(scene, Mesh) else scene.name}
+    else:
+        triangle_materials = scene.uv_sets["triangle_materials"]
+        groups = {index: np.flatnonzero(triangle_materials == index).astype(np.uint32)
+                  for index in np.unique(triangle_materials).tolist()}
+        names = {index: f"{scene.name}: material {index}" for index in groups}
+    materials = []
+    for index, triangles in groups.items():
+        corners, stats = _core.lightmap_uvs(scene, triangles, width, height, padding)
+        materials.append(_Material(index, names[index], triangles, corners, "generated", ("repeat", "repeat"), stats))
+    return materials
+
+
 def _refuse_claimed_twice(layout, material):
     """SPEC 6.3: a UV set in which any covered texel is claimed twice cannot hold one value per texel."""
     if layout.claimed_twice == 0:
         return
     fraction = layout.claimed_twice / layout.covered_count
-    raise _core.Error(f"{material.name}, UV set TEXCOORD_{material.set}: {fraction:.1%} of its "
+    uv_set = "the generated UV set" if material.set == "generated" else f"UV set TEXCOORD_{material.set}"
+    raise _core.Error(f"{material.name}, {uv_set}: {fraction:.1%} of its "
                       f"{layout.covered_count} covered texels are claimed by more than one surface (overlap: "
                       f"mirrored halves, tiled UVs or overlapping islands), so one value per texel cannot serve "
                       f"them; bake target=\"vertices\", or into a UV set without overlaps")

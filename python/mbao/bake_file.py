@@ -34,6 +34,9 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, **settings):
     mbao.Bake, with stats["replaced_occlusion"]: the materials whose occlusion
     texture was replaced.
     """
+    if settings.get("texcoord") == "generate":
+        raise ValueError("bake_file cannot write generated UVs yet: the file needs its vertices split along the "
+                         "charts' seams; mbao.bake(..., texcoord=\"generate\") bakes into them in memory")
     bit_depth = _checks.integer("bit_depth", bit_depth)
     if bit_depth not in (8, 16):
         raise ValueError(f"bit_depth must be 8 or 16, got {bit_depth}")

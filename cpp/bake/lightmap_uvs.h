@@ -1,0 +1,37 @@
+// A new UV set for a bake (texcoord="generate", SPEC 6.3): charts of connected
+// triangles whose normals lie close to the chart's first, each projected onto
+// that triangle's plane, packed into the texture at one texel density.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "scene/triangle_mesh.h"
+
+namespace mbao {
+
+struct LightmapUvs {
+  std::vector<glm::vec2> corner_uvs;  // three per triangle asked for, in its corners' order
+  std::size_t charts = 0;
+  // The largest ratio of a triangle's area to its area in the chart's plane:
+  // 1 / the cosine of its tilt from the plane, at most 1 / kChartCosine.
+  double worst_stretch = 1.0;
+  double texels_per_unit = 0.0;  // the density: texels along a world unit of a chart's plane
+};
+
+// Triangles join a chart where the angle between their normal and the chart's
+// seed's is below acos(kChartCosine), about 37 degrees, so none is stretched
+// by more than 1.25 in area.
+constexpr double kChartCosine = 0.8;
+
+// Charts for `triangles` of `mesh` (neighbours: triangles sharing an edge
+// between equal positions), packed into width x height texels with `padding`
+// texels between them and around the border, at the largest density that
+// fits. Triangles of zero area get UVs of zero area. Throws
+// std::invalid_argument where the charts cannot fit even at the smallest density.
+LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, int width,
+                                  int height, int padding);
+
+}  // namespace mbao

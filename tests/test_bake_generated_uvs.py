@@ -1,0 +1,76 @@
+"""Generated UV sets (mbao.bake(texcoord="generate"), SPEC 6.3): charts that
+never overlap, one texel density, the stretch they report, and bakes into them."""
+
+import numpy as np
+import pytest
+
+import mbao
+from conftest import shared_scene
+from meshes import box, icosphere, merge, plane
+
+
+def generated(vertices, indices, **settings):
+    settings.setdefault("samples", 2)
+    settings.setdefault("progress", False)
+    return mbao.bake(mbao.Mesh(vertices, indices), target="texture", texcoord="generate", **settings).textures[0]
+
+
+def test_a_plane_is_one_chart_without_stretch_and_bakes_to_one():
+    texture = generated(*plane(1.0, divisions=4), resolution=32)
+    assert texture.texcoord == "generated"
+    assert texture.stats["charts"] == 1 and texture.stats["worst_stretch"] == 1.0
+    assert texture.stats["claimed_twice"] == 0
+    np.testing.assert_array_equal(texture.image, 1.0)
+
+
+def texels_per_unit_area(texture, vertices, indices, resolution):
+    """Per triangle: its UV area in texels over its area."""
+    corners = vertices[indices[texture.triangles]]
+    area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+    uv = texture.texcoords.astype(float) * resolution
+    d1, d2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    return 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / area
+
+
+def test_charts_share_one_density_and_stretch_at_most_1_25():
+    """Every triangle gets density^2 texels per unit of area, less by the cosine
+    of its tilt from its chart's plane: between density^2 / worst_stretch and
+    density^2, worst_stretch <= 1.25 (up to float32 UVs: 1e-3)."""
+    vertices, indices = icosphere(1.0, subdivisions=3)
+    resolution = 256
+    texture = generated(vertices, indices, resolution=resolution)
+    stats = texture.stats
+    assert stats["charts"] > 6 and 1.0 < stats["worst_stretch"] <= 1.25 and stats["claimed_twice"] == 0
+    ratio = texels_per_unit_area(texture, vertices, indices, resolution) / stats["texels_per_unit"] ** 2
+    assert ratio.max() <= 1.0 + 1e-3 and ratio.min() >= 1.0 / stats["worst_stretch"] - 1e-3
+    assert 0.05 < stats["texels_used"] <= 1.0
+
+
+def test_duplicated_triangles_and_folds_get_charts_of_their_own():
+    """Two copies of one floor (the same positions, the same winding) would
+    project onto one another in one chart: the second copy is taken out into
+    charts of its own, and nothing is claimed twice."""
+    vertices, indices = plane(1.0, divisions=3)
+    texture = generated(*merge((vertices, indices), (vertices, indices)), resolution=64)
+    assert texture.stats["charts"] >= 2 and texture.stats["claimed_twice"] == 0
+
+
+def test_a_closed_box_bakes_to_zero_inside_through_generated_uvs():
+    vertices, indices = box((-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
+    texture = generated(vertices, indices, resolution=64, samples=8, padding=2)
+    assert texture.stats["charts"] == 6
+    np.testing.assert_array_equal(texture.image[texture.coverage], 0.0)
+
+
+def test_charts_that_cannot_fit_are_refused():
+    with pytest.raises(ValueError, match=r"charts do not fit 8 x 8 texels with padding 4"):
+        generated(*icosphere(1.0, subdivisions=2), resolution=8, padding=4)
+
+
+def test_the_damaged_helmet_bakes_into_generated_uvs():
+    """Its own UVs are mirrored (refused: test_bake_gltf.py); generated ones hold it."""
+    path = shared_scene("damaged_helmet") / "scene.glb"
+    bake = mbao.bake(path, target="texture", texcoord="generate", resolution=256, samples=2, progress=False)
+    texture = bake.textures[0]
+    assert texture.stats["claimed_twice"] == 0 and texture.stats["charts"] > 100
+    assert texture.stats["unmapped_triangles"] == 0
