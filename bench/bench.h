@@ -53,6 +53,10 @@ json kd_builds(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, 
 // Megakernel against wavefront on the Table 1 workload, interleaved, at each of --work-groups.
 json organisation(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 
+// Bakes beside renders: the rays/s of a vertex bake and of a texture bake into generated UVs against
+// the Table 1 render's, at b = 2, and the texture bake's time by stage.
+json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
+
 // What the child processes run (mbao_bench --child-load / --child-build-kernels).
 int child_load(const std::string& path, bool everything);
 int child_build_kernels(const std::string& device);

@@ -11,10 +11,12 @@
 // * the Table 1 workload with the megakernel and the wavefront, interleaved, at
 //   each work-group size of --work-groups (default: the default size);
 // * the kd-tree clipped everywhere against the default (build time, tree,
-//   per-ray counts).
+//   per-ray counts);
+// * bakes beside renders: rays/s per vertex and per texel (generated UVs,
+//   2048x2048), and the texture bake's stages.
 // Prints markdown tables and writes everything as JSON. --sections picks some
 // of table1, traversals, embree, masks, kernel-builds, loading, organisation,
-// kd-build (default: all).
+// kd-build, bake (default: all).
 //
 //   mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]
 //              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack|lanes]
@@ -48,7 +50,7 @@ namespace {
   std::exit(2);
 }
 
-const std::vector<std::string> kSections = {"table1", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation", "kd-build"};
+const std::vector<std::string> kSections = {"table1", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation", "kd-build", "bake"};
 
 std::vector<std::string> split_commas(const std::string& list) {
   std::vector<std::string> items;
@@ -178,6 +180,7 @@ int run(bench::Options options) {
   if (wanted(options, "loading")) report["loading"] = bench::loading(scenes, options);
   if (wanted(options, "organisation")) report["organisation"] = bench::organisation(renderer, scenes, options);
   if (wanted(options, "kd-build")) report["kd_build"] = bench::kd_builds(renderer, scenes, options);
+  if (wanted(options, "bake")) report["bake"] = bench::bakes(renderer, scenes, options);
   if (!options.json_path.empty()) {
     const fs::path path(options.json_path);
     if (path.has_parent_path()) fs::create_directories(path.parent_path());

@@ -69,6 +69,7 @@ def embree_ratio(run, scene, bounces):
 
 def summary(runs):
     """README: Table 1 at max_distance = inf, b = 1 and 2, on each device, beside the paper."""
+    runs = {name: run for name, run in runs.items() if "results" in run}  # runs of other sections alone
     header = ["scene", "b"] + [f"{device_name(run)} ms" for run in runs.values()]
     with_embree = [name for name, run in runs.items() if run.get("embree")]
     header += [f"{device_name(runs[name])}: mbao / Embree rays/s" for name in with_embree]
@@ -158,8 +159,22 @@ def organisation(run):
     return table(header, rows)
 
 
+def bake(run):
+    header = ["scene", "max_distance", "render Mrays/s", "vertex bake Mrays/s", "texture bake Mrays/s",
+              "render / vertex ratio", "render / texture ratio", "texture bake ms", "UVs and layout ms",
+              "tracing ms", "dilation ms"]
+    rows = []
+    for row in run["bake"]:
+        render, vertex, texture = (row[key]["mrays_per_s"] for key in ("render", "vertex_bake", "texture_bake"))
+        t = row["texture_bake"]
+        rows.append([row["scene"], row["max_distance"], f"{render:.1f}", f"{vertex:.1f}", f"{texture:.1f}",
+                     f"{render / vertex:.2f}", f"{render / texture:.2f}", ms(t["total_ms"]), ms(t["uv_ms"]),
+                     ms(t["frame_ms"]), ms(t["dilation_ms"])])
+    return table(header, rows)
+
+
 TABLES = {"table1": table1, "embree": embree, "trees": trees, "kd-build": kd_build, "traversals": traversals,
-          "organisation": organisation}
+          "organisation": organisation, "bake": bake}
 ACROSS_FILES = {"summary": summary, "sources": sources}
 
 

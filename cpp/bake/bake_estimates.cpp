@@ -29,10 +29,15 @@ BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Sce
     throw std::invalid_argument("samples must be in [" + std::to_string(kMinBakeSamples) + ", " +
                                 std::to_string(kMaxBakeSamples) + "] (estimates per vertex or texel; a standard "
                                 "error needs two), got " + std::to_string(samples));
-  const std::size_t targets = points.targets();
   BakeEstimates bake;
-  bake.values.assign(targets, 1.0f);
-  bake.standard_error.assign(targets, 0.0f);
+  bake.values.assign(points.targets(), 1.0f);
+  bake.standard_error.assign(points.targets(), 0.0f);
+  // Only the targets that hold surface are traced, in their order: no work item
+  // is spent on a texel no UV reaches, and neighbours stay neighbours.
+  std::vector<std::uint32_t> traced;
+  for (std::size_t t = 0; t < points.targets(); ++t)
+    if (points.has_surface(t)) traced.push_back(std::uint32_t(t));
+  const std::size_t targets = traced.size();
   if (targets == 0) return bake;
   // Wider than asked where the image would be taller than a render's may be.
   const auto side = std::size_t(std::get<std::int64_t>(setting_spec("height").hi));
@@ -51,11 +56,12 @@ BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Sce
     constexpr cl_uint4 kNoSurface{{0u, 0xFFFFFFFFu, 0u, 0u}};
     const auto n = std::size_t(samples);
     for (std::size_t i = 0; i < count; ++i) {
-      const std::uint32_t target = pixel_at_position(std::uint32_t(first + i), std::uint32_t(width),
-                                                     std::uint32_t(height));
+      const std::uint32_t pixel = pixel_at_position(std::uint32_t(first + i), std::uint32_t(width),
+                                                    std::uint32_t(height));
       for (std::size_t k = 0; k < n; ++k) {
         const std::optional<SurfacePoint> p =
-            target < targets ? points.point(target, estimate_random(target, std::uint32_t(k), seed)) : std::nullopt;
+            pixel < targets ? points.point(traced[pixel], estimate_random(traced[pixel], std::uint32_t(k), seed))
+                            : std::nullopt;
         tile[i * n + k] = p ? cl_uint4{{0u, p->triangle, mbao_float_as_u32(p->b1), mbao_float_as_u32(p->b2)}}
                             : kNoSurface;
       }
@@ -63,12 +69,11 @@ BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Sce
   };
   RenderResult result = renderer.bake(scene, settings, points_of_tile, between_tiles);
   const double n = double(samples);
-  for (std::size_t t = 0; t < targets; ++t) {
-    if (result.coverage[t] == 0) continue;  // no surface: 1, exactly
-    const double mean = result.ao[t];
-    const double variance = std::max(0.0, double(result.ao_second_moment[t]) - mean * mean) * n / (n - 1.0);
-    bake.values[t] = result.ao[t];
-    bake.standard_error[t] = float(std::sqrt(variance / n));
+  for (std::size_t pixel = 0; pixel < targets; ++pixel) {
+    const double mean = result.ao[pixel];
+    const double variance = std::max(0.0, double(result.ao_second_moment[pixel]) - mean * mean) * n / (n - 1.0);
+    bake.values[traced[pixel]] = result.ao[pixel];
+    bake.standard_error[traced[pixel]] = float(std::sqrt(variance / n));
   }
   bake.stats = std::move(result.stats);
   return bake;

@@ -23,9 +23,9 @@ constexpr std::int64_t kMaxBakeSamples = std::int64_t(1) << 16;
 
 // Bakes settings.bounces, rho, max_distance (unset: inf), normals and seed, with
 // the engine settings as given, taking `samples` estimates of each target of
-// `points`. The targets are laid out as an image `layout_width` wide (a
-// texture's own width: neighbouring texels then trace neighbouring rays), one
-// per pixel, whose other settings this sets. Throws std::invalid_argument for
+// `points`. The targets that hold surface are laid out, in their order, as an
+// image `layout_width` wide (a texture's own width: neighbouring texels then
+// trace neighbouring rays), one per pixel, whose other settings this sets. Throws std::invalid_argument for
 // bad settings and refuses, as a render does, work beyond settings.max_rays.
 BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Scene>& scene, RenderSettings settings,
                              std::int64_t samples, const EstimatePoints& points, std::size_t layout_width,

@@ -49,6 +49,8 @@ class EstimatePoints {
   virtual ~EstimatePoints() = default;
   // How many targets there are.
   virtual std::size_t targets() const = 0;
+  // Whether `target` holds surface to draw points on; point() gives none where it does not.
+  virtual bool has_surface(std::size_t target) const = 0;
   // The point of one estimate of `target` from its four uniform numbers, or
   // none where the target holds no surface.
   virtual std::optional<SurfacePoint> point(std::size_t target, const std::array<double, 4>& random) const = 0;

@@ -1,7 +1,5 @@
 #include "bake/lightmap_uvs.h"
 
-#include "bake/texel_layout.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -219,9 +217,9 @@ LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<st
     result.texels_per_unit = densest_packing(charts, width, height, padding, &placed);
     result.charts = charts.size();
     result.corner_uvs = chart_uvs(mesh, triangles, charts, placed, result.texels_per_unit, width, height);
-    const TexelLayout layout(mesh, triangles, result.corner_uvs, width, height, WrapMode::Repeat, WrapMode::Repeat);
-    if (layout.second_claimants().empty()) return result;
-    for (std::size_t i : layout.second_claimants()) round[i] = r + 1;
+    result.layout.emplace(mesh, triangles, result.corner_uvs, width, height, WrapMode::Repeat, WrapMode::Repeat);
+    if (result.layout->second_claimants().empty()) return result;
+    for (std::size_t i : result.layout->second_claimants()) round[i] = r + 1;
   }
   throw std::logic_error("generated UVs: charts still overlap after " + std::to_string(kMaxRounds) + " rounds");
 }

@@ -8,6 +8,9 @@
 
 #include <glm/vec2.hpp>
 
+#include <optional>
+
+#include "bake/texel_layout.h"
 #include "scene/triangle_mesh.h"
 
 namespace mbao {
@@ -19,6 +22,7 @@ struct LightmapUvs {
   // 1 / the cosine of its tilt from the plane, at most 1 / kChartCosine.
   double worst_stretch = 1.0;
   double texels_per_unit = 0.0;  // the density: texels along a world unit of a chart's plane
+  std::optional<TexelLayout> layout;  // of corner_uvs in the texture (REPEAT), which nothing claims twice
 };
 
 // Triangles join a chart where the angle between their normal and the chart's

@@ -46,6 +46,7 @@ class TexelLayout : public EstimatePoints {
   std::size_t unmapped_triangles() const { return unmapped_; }
 
   std::size_t targets() const override { return covered_.size(); }
+  bool has_surface(std::size_t texel) const override { return covered_[texel] != 0; }
   std::optional<SurfacePoint> point(std::size_t texel, const std::array<double, 4>& random) const override;
 
   static constexpr std::size_t kMaxPieces = std::size_t(1) << 28;

@@ -14,6 +14,7 @@ class VertexPoints : public EstimatePoints {
   explicit VertexPoints(const TriangleMesh& mesh);
 
   std::size_t targets() const override { return ring_start_.size() - 1; }
+  bool has_surface(std::size_t vertex) const override { return ring_start_[vertex + 1] > ring_start_[vertex]; }
   std::optional<SurfacePoint> point(std::size_t vertex, const std::array<double, 4>& random) const override;
 
  private:

@@ -95,7 +95,7 @@ py::tuple lightmap_uvs(const std::shared_ptr<Scene>& scene, const std::vector<st
   stats["charts"] = uvs.charts;
   stats["worst_stretch"] = uvs.worst_stretch;
   stats["texels_per_unit"] = uvs.texels_per_unit;
-  return py::make_tuple(corners, stats);
+  return py::make_tuple(corners, stats, SceneTexels{scene, std::move(*uvs.layout)});
 }
 
 }  // namespace
@@ -104,7 +104,7 @@ void bind_bake(py::module_& m) {
   m.def("lightmap_uvs", &lightmap_uvs, py::arg("scene"), py::arg("triangles"), py::arg("width"), py::arg("height"),
         py::arg("padding"),
         "Generated UVs for a bake (bake/lightmap_uvs.h): ((K, 3, 2) corner UVs, {charts, worst_stretch, "
-        "texels_per_unit}).");
+        "texels_per_unit}, their TexelLayout).");
   py::class_<SceneTexels>(m, "TexelLayout",
                           "Where a UV set puts triangles of a scene in a texture (SPEC 6.3; bake/texel_layout.h).")
       .def(py::init(&make_texels), py::arg("scene"), py::arg("texcoords"), py::arg("triangles"), py::arg("width"),

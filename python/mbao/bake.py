@@ -143,7 +143,8 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
     materials = (_generated_materials(scene, width, height, padding) if texcoord == "generate"
                  else _texture_materials(scene, texcoord, wrap))
     for material in materials:
-        layout = _core.TexelLayout(scene, material.texcoords, material.triangles, width, height, *material.wrap)
+        layout = material.layout or _core.TexelLayout(scene, material.texcoords, material.triangles, width, height,
+                                                      *material.wrap)
         _refuse_claimed_twice(layout, material)
         layouts[material.index] = (material, layout)
     textures, totals = {}, dict(frame_ms=0.0, rays_secondary=0)
@@ -194,6 +195,7 @@ class _Material:
     set: object  # n of TEXCOORD_n, or "generated"
     wrap: tuple
     stats: dict = dataclasses.field(default_factory=dict)  # a generated set's: charts, worst_stretch, texels_per_unit
+    layout: object = None  # a generated set's TexelLayout, made while generating it
 
 
 def _texture_materials(scene, texcoord, wrap):
@@ -248,8 +250,9 @@ def _generated_materials(scene, width, height, padding):
         names = {index: f"{scene.name}: material {index}" for index in groups}
     materials = []
     for index, triangles in groups.items():
-        corners, stats = _core.lightmap_uvs(scene, triangles, width, height, padding)
-        materials.append(_Material(index, names[index], triangles, corners, "generated", ("repeat", "repeat"), stats))
+        corners, stats, layout = _core.lightmap_uvs(scene, triangles, width, height, padding)
+        materials.append(_Material(index, names[index], triangles, corners, "generated", ("repeat", "repeat"), stats,
+                                   layout))
     return materials
 
 

@@ -1,0 +1,119 @@
+#include <iostream>
+#include <map>
+
+#include "bake/bake_estimates.h"
+#include "bake/dilation.h"
+#include "bake/lightmap_uvs.h"
+#include "bake/texel_layout.h"
+#include "bake/vertex_points.h"
+#include "bench.h"
+#include "core/timer.h"
+#include "scene/gltf_loader.h"
+
+namespace bench {
+namespace {
+
+constexpr std::int64_t kVertexSamples = 16;
+constexpr std::int64_t kTexelSamples = 4;
+constexpr int kTextureSide = 2048;
+constexpr int kPadding = 4;
+
+// The scene again with its UV sets' materials, which a texture bake groups triangles by.
+std::shared_ptr<mbao::Scene> with_materials(const BenchScene& s) {
+  if (s.file.empty()) return s.scene;
+  mbao::LoadOptions options;
+  options.texcoords = true;
+  return mbao::load_gltf(s.file.string(), options);
+}
+
+std::map<int, std::vector<std::uint32_t>> triangles_by_material(const mbao::Scene& scene) {
+  std::map<int, std::vector<std::uint32_t>> groups;
+  const std::vector<std::int32_t>& materials = scene.uv_sets().triangle_materials;
+  for (std::uint32_t t = 0; t < scene.mesh().triangles.size(); ++t)
+    groups[materials.empty() ? -1 : materials[t]].push_back(t);
+  return groups;
+}
+
+json rays_json(double frame_ms, std::uint64_t rays) {
+  return {{"frame_ms", frame_ms}, {"rays", rays}, {"mrays_per_s", double(rays) / frame_ms / 1e3}};
+}
+
+// A per-vertex bake: the second of two, the first having built the kernels.
+json vertex_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& scene,
+                 const mbao::RenderSettings& settings) {
+  const mbao::VertexPoints points(scene->mesh());
+  mbao::bake_estimates(renderer, scene, settings, kVertexSamples, points, 1024);
+  const mbao::BakeEstimates bake = mbao::bake_estimates(renderer, scene, settings, kVertexSamples, points, 1024);
+  return rays_json(bake.stats.frame_ms, bake.stats.rays_secondary);
+}
+
+// A texture bake of every material into generated UVs, each stage timed.
+json texture_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& scene,
+                  const mbao::RenderSettings& settings) {
+  double uv_ms = 0.0, trace_ms = 0.0, dilation_ms = 0.0;
+  std::uint64_t rays = 0;
+  std::size_t charts = 0, materials = 0;
+  for (const auto& [material, triangles] : triangles_by_material(*scene)) {
+    mbao::Stopwatch clock;
+    const mbao::LightmapUvs uvs =
+        mbao::generate_lightmap_uvs(scene->mesh(), triangles, kTextureSide, kTextureSide, kPadding);
+    uv_ms += clock.elapsed_ms();  // the layout, made to check the charts, included
+    const mbao::TexelLayout& layout = *uvs.layout;
+    if (materials++ == 0) mbao::bake_estimates(renderer, scene, settings, kTexelSamples, layout, kTextureSide);
+    mbao::BakeEstimates bake =
+        mbao::bake_estimates(renderer, scene, settings, kTexelSamples, layout, kTextureSide);
+    trace_ms += bake.stats.frame_ms;
+    rays += bake.stats.rays_secondary;
+    clock = mbao::Stopwatch();
+    mbao::dilate(layout.covered(), kTextureSide, kTextureSide, kPadding, {&bake.values, &bake.standard_error});
+    dilation_ms += clock.elapsed_ms();
+    charts += uvs.charts;
+  }
+  json result = rays_json(trace_ms, rays);
+  result["materials"] = materials;
+  result["charts"] = charts;
+  result["uv_ms"] = uv_ms;
+  result["dilation_ms"] = dilation_ms;
+  result["total_ms"] = uv_ms + trace_ms + dilation_ms;
+  return result;
+}
+
+}  // namespace
+
+json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options) {
+  std::cout << "| scene | max_distance | render Mrays/s | vertex bake Mrays/s | texture bake Mrays/s | "
+               "render / vertex | render / texture | texture bake s (UVs and layout, tracing, dilation) | device |\n"
+            << "|---|---:|---:|---:|---:|---:|---:|---|---|\n";
+  json rows = json::array();
+  for (const BenchScene& s : scenes) {
+    mbao::RenderSettings settings = options.settings;
+    settings.bounces = 2;
+    settings.max_distance = distance_limits(s).back();  // the scene's own radius where it suggests one
+    const json render = measure_frames(renderer, s, settings, options.frames);
+    const std::shared_ptr<mbao::Scene> scene = with_materials(s);
+    const json vertex = vertex_bake(renderer, scene, settings);
+    const json texture = texture_bake(renderer, scene, settings);
+    const double render_rate = render["mrays_per_s"];
+    rows.push_back({{"scene", s.name},
+                    {"max_distance", distance_json(*settings.max_distance)},
+                    {"render", render},
+                    {"vertex_bake", vertex},
+                    {"texture_bake", texture}});
+    std::cout << "| " << s.name << " | " << distance_text(*settings.max_distance) << " | " << fixed(render_rate, 1)
+              << " | " << fixed(vertex["mrays_per_s"], 1) << " | " << fixed(texture["mrays_per_s"], 1) << " | "
+              << fixed(render_rate / double(vertex["mrays_per_s"]), 2) << " | "
+              << fixed(render_rate / double(texture["mrays_per_s"]), 2) << " | "
+              << fixed(double(texture["total_ms"]) / 1e3, 1) << " (" << fixed(double(texture["uv_ms"]) / 1e3, 1)
+              << ", " << fixed(double(texture["frame_ms"]) / 1e3, 1) << ", " << fixed(double(texture["dilation_ms"]) / 1e3, 1)
+              << ") | " << renderer.device().name << " |" << std::endl;
+  }
+  std::cout << "\nb = 2, rho = 1. Render: the Table 1 workload (" << options.settings.width << "x"
+            << options.settings.height << ", r = " << options.settings.samples
+            << ", camera rays counted). Vertex bake: " << kVertexSamples << " estimates per vertex. Texture bake: "
+            << "every material into generated UVs at " << kTextureSide << "x" << kTextureSide << ", padding "
+            << kPadding << ", " << kTexelSamples << " estimates per texel; its Mrays/s over the tracing alone. "
+            << "A bake's paths are one direction per bounce (r = 1).\n\n";
+  return rows;
+}
+
+}  // namespace bench
