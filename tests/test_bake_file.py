@@ -153,9 +153,51 @@ def test_outputs_that_cannot_be_written_are_refused_before_the_bake(tmp_path, ou
         mbao.bake_file(source, tmp_path / output, samples=2, progress=False)
 
 
-def test_generated_uvs_are_not_written_yet(tmp_path):
-    with pytest.raises(ValueError, match="bake_file cannot write generated UVs yet"):
-        mbao.bake_file(floor_and_wall(tmp_path), tmp_path / "baked.glb", target="texture", texcoord="generate")
+def test_generated_uvs_are_written_as_the_next_free_set_with_seams_split(tmp_path):
+    """The floor (two sets) gets TEXCOORD_2, the wall (one) TEXCOORD_1; the
+    triangles keep their order and corners, and each corner's new UV is the one
+    baked into (SPEC 6.5)."""
+    source, output = floor_and_wall(tmp_path), tmp_path / "baked.glb"
+    result = mbao.bake_file(source, output, target="texture", texcoord="generate", resolution=64, samples=4,
+                            progress=False)
+    assert validation_errors(output) == []
+    before, after = mbao.load(source, texcoords=True), mbao.load(output, texcoords=True)
+    np.testing.assert_array_equal(after.vertices[after.indices], before.vertices[before.indices])
+    document = GltfDocument(output)
+    for material, new_set in ((0, 2), (1, 1)):
+        assert document.doc["materials"][material]["occlusionTexture"]["texCoord"] == new_set
+        texture = result.textures[material]
+        written = after.uv_sets["sets"][new_set][after.indices[texture.triangles]]
+        np.testing.assert_array_equal(written, texture.texcoords)
+
+
+def test_generated_uvs_of_a_mesh_two_nodes_place_go_into_a_copy_each(tmp_path):
+    b = GltfBuilder()
+    floor = b.add_mesh([b.primitive(*plane(1.0, divisions=2))])
+    b.add_scene([b.add_node(mesh=floor), b.add_node(mesh=floor, translation=(10, 0, 0))], default=True)
+    source, output = b.write(tmp_path / "instances.glb"), tmp_path / "baked.glb"
+    result = mbao.bake_file(source, output, target="texture", texcoord="generate", resolution=32, samples=2,
+                            progress=False)
+    assert validation_errors(output) == []
+    document = GltfDocument(output)
+    assert [node["mesh"] for node in document.doc["nodes"]] == [0, 1]
+    assert result.textures[-1].stats["charts"] == 2  # one per placed floor
+    after = mbao.load(output, texcoords=True)
+    texture = result.textures[-1]
+    np.testing.assert_array_equal(after.uv_sets["sets"][0][after.indices[texture.triangles]], texture.texcoords)
+
+
+def test_the_damaged_helmet_baked_into_generated_uvs_is_valid(tmp_path):
+    source = shared_scene("damaged_helmet") / "scene.glb"
+    output = tmp_path / "helmet.glb"
+    mbao.bake_file(source, output, target="texture", texcoord="generate", resolution=256, samples=2,
+                   progress=False)
+    assert validation_errors(output) == []
+    document = GltfDocument(output)
+    assert document.doc["materials"][0]["occlusionTexture"]["texCoord"] == 2
+    before, after = mbao.load(source), mbao.load(output)
+    np.testing.assert_array_equal(after.vertices[after.indices], before.vertices[before.indices])
+    assert len(after.vertices) > len(before.vertices)  # its 1296 charts' seams split vertices
 
 
 def test_the_damaged_helmet_baked_per_vertex_keeps_its_materials_and_images(tmp_path):
@@ -177,6 +219,11 @@ def test_the_command_line_bakes_a_file(tmp_path):
     assert run.returncode == 0, run.stderr
     assert "replaced     material 0's occlusion texture" in run.stdout and f"wrote        {output}" in run.stdout
     assert validation_errors(output) == []
+    generated = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "g.glb"),
+                                "--target", "texture", "--texcoord", "generate", "--resolution", "32", "16",
+                                "--samples", "2", "--quiet"], capture_output=True, text=True)
+    assert generated.returncode == 0, generated.stderr
+    assert "32x16 into generated UVs" in generated.stdout and validation_errors(tmp_path / "g.glb") == []
     refused = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "x.gltf")],
                              capture_output=True, text=True)
     assert refused.returncode == 2 and refused.stderr.startswith("mbao: output") and "must be a .glb" in refused.stderr

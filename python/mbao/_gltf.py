@@ -9,9 +9,14 @@ import os
 import struct
 from urllib.parse import quote, unquote
 
+import numpy as np
+
 from . import _core
 
 _GLB_MAGIC, _JSON_CHUNK, _BIN_CHUNK = 0x46546C67, 0x4E4F534A, 0x004E4942
+_COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
+_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+_INDEX_TYPES = {5121: "<u1", 5123: "<u2", 5125: "<u4"}
 
 
 class GltfDocument:
@@ -51,6 +56,47 @@ class GltfDocument:
             raise _core.LoadError(f"{self.path}: the GLB file has no JSON chunk")
         self.bin = chunks.get(_BIN_CHUNK, b"")
         return self._read_json(chunks[_JSON_CHUNK])
+
+    def buffer_data(self, index):
+        """The bytes of buffer `index`: the GLB's binary chunk, a data URI's or an external file's."""
+        buffer = self.doc["buffers"][index]
+        uri = buffer.get("uri")
+        if uri is None:
+            return self.bin
+        if uri.startswith("data:"):
+            return base64.b64decode(uri.partition(",")[2])
+        with open(os.path.join(os.path.dirname(os.path.abspath(self.path)), unquote(uri)), "rb") as file:
+            return file.read()
+
+    def elements(self, index):
+        """Accessor `index`'s elements as raw bytes, one row each ((count, element size) uint8),
+        strides and sparse substitutions resolved: what a copy of it with other rows needs."""
+        accessor = self.doc["accessors"][index]
+        size = _COMPONENT_BYTES[accessor["componentType"]] * _COMPONENTS[accessor["type"]]
+        count = accessor["count"]
+        rows = np.zeros((count, size), np.uint8)
+        if "bufferView" in accessor:
+            rows[:] = self._view_rows(accessor["bufferView"], accessor.get("byteOffset", 0), count, size)
+        sparse = accessor.get("sparse")
+        if sparse:
+            indices = sparse["indices"]
+            index_type = np.dtype(_INDEX_TYPES[indices["componentType"]])
+            where = self._view_rows(indices["bufferView"], indices.get("byteOffset", 0), sparse["count"],
+                                    index_type.itemsize).copy().view(index_type).ravel()
+            values = sparse["values"]
+            rows[where] = self._view_rows(values["bufferView"], values.get("byteOffset", 0), sparse["count"], size)
+        return rows
+
+    def _view_rows(self, view_index, offset, count, size):
+        view = self.doc["bufferViews"][view_index]
+        data = np.frombuffer(self.buffer_data(view["buffer"]), np.uint8)
+        stride = view.get("byteStride", size)
+        start = view.get("byteOffset", 0) + offset
+        end = start + (count - 1) * stride + size if count else start
+        if end > min(len(data), view.get("byteOffset", 0) + view["byteLength"]):
+            raise _core.LoadError(f"{self.path}: bufferView {view_index} is too short for {count} elements of "
+                                  f"{size} bytes from byte {offset}")
+        return np.lib.stride_tricks.as_strided(data[start:], (count, size), (stride, 1), writeable=False)
 
     def append(self, key, item):
         """Adds `item` to the top-level array `key`; returns its index."""

@@ -13,6 +13,7 @@ from .bake import bake
 from .scene import load
 
 FLOAT, SCALAR = 5126, "SCALAR"
+_NUMPY_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
 
 
 def bake_file(input, output, *, target="vertices", bit_depth=8, **settings):
@@ -24,7 +25,9 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, **settings):
         PNG (linear values, AO in R copied to G and B, `bit_depth` 8 or 16 bits)
         with texCoord the UV set baked into; an existing occlusion texture is
         replaced (its strength kept), the rest of the material kept; triangles
-        without a material get a new one.
+        without a material get a new one. With texcoord="generate" the new UV
+        set is added as the next free TEXCOORD_n, the vertices on the charts'
+        seams split (every attribute copied along), the triangles in their order.
     target="vertices": a float attribute _OCCLUSION (glTF's prefix for an
         application's own attributes) on every primitive; a mesh that several
         nodes place gets a copy per node, since its AO depends on where it stands.
@@ -34,9 +37,6 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, **settings):
     mbao.Bake, with stats["replaced_occlusion"]: the materials whose occlusion
     texture was replaced.
     """
-    if settings.get("texcoord") == "generate":
-        raise ValueError("bake_file cannot write generated UVs yet: the file needs its vertices split along the "
-                         "charts' seams; mbao.bake(..., texcoord=\"generate\") bakes into them in memory")
     bit_depth = _checks.integer("bit_depth", bit_depth)
     if bit_depth not in (8, 16):
         raise ValueError(f"bit_depth must be 8 or 16, got {bit_depth}")
@@ -44,37 +44,119 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, **settings):
     document = GltfDocument(input)
     document.check_output(output)  # before the bake, not after it
     result = bake(scene, target=target, **settings)
+    meshes = _MeshesPerNode(document)
     if target == "texture":
-        replaced = _add_occlusion_textures(document, scene, result, bit_depth)
+        generated_sets = {}
+        if settings.get("texcoord") == "generate":
+            generated_sets = _add_generated_uvs(document, scene, result, meshes)
+        replaced = _add_occlusion_textures(document, scene, result, bit_depth, generated_sets)
     else:
         replaced = []
-        _add_vertex_occlusion(document, scene, result)
+        _add_vertex_occlusion(document, scene, result, meshes)
     document.write(output)
     result.stats["replaced_occlusion"] = replaced
     return result
 
 
-def _add_vertex_occlusion(document, scene, result):
-    doc = document.doc
-    mesh_of_node, copies = {}, {}
+class _MeshesPerNode:
+    """The mesh each node places in the output: the file's for the first node
+    that places it, a copy of the file's for each node after (a bake depends on
+    where the mesh stands)."""
+
+    def __init__(self, document):
+        self.document = document
+        self.of_node, self.placed = {}, set()
+
+    def primitive(self, placed):
+        """The output's primitive for one of scene.uv_sets["primitives"]."""
+        node, mesh = placed["node"], placed["mesh"]
+        if node not in self.of_node:
+            if mesh in self.placed:
+                copied = copy.deepcopy(self.document.original["meshes"][mesh])
+                self.document.doc["nodes"][node]["mesh"] = self.document.append("meshes", copied)
+            self.placed.add(mesh)
+            self.of_node[node] = self.document.doc["nodes"][node]["mesh"]
+        return self.document.doc["meshes"][self.of_node[node]]["primitives"][placed["primitive"]]
+
+
+def _add_vertex_occlusion(document, scene, result, meshes):
     for placed in scene.uv_sets["primitives"]:
-        node = doc["nodes"][placed["node"]]
-        if placed["node"] not in mesh_of_node:
-            mesh = placed["mesh"]
-            if mesh in copies.values():  # another node placed this mesh first: this one gets a copy
-                mesh = document.append("meshes", copy.deepcopy(document.original["meshes"][mesh]))
-                node["mesh"] = mesh
-            copies[placed["node"]] = placed["mesh"]
-            mesh_of_node[placed["node"]] = mesh
         first, end = placed["vertices"]
         values = np.ascontiguousarray(result.values[first:end], dtype="<f4")
         accessor = document.add_data(values.tobytes(), componentType=FLOAT, count=int(end - first), type=SCALAR,
                                      min=[float(values.min())], max=[float(values.max())])
-        primitive = doc["meshes"][mesh_of_node[placed["node"]]]["primitives"][placed["primitive"]]
-        primitive["attributes"]["_OCCLUSION"] = accessor
+        meshes.primitive(placed)["attributes"]["_OCCLUSION"] = accessor
 
 
-def _add_occlusion_textures(document, scene, result, bit_depth):
+def _add_generated_uvs(document, scene, result, meshes):
+    """Each baked primitive's vertices split where the generated charts' seams
+    need two UVs for one vertex (every attribute and morph target copied along,
+    the triangles in their order), and the UVs added as TEXCOORD_n, n the first
+    set no primitive of the material has; a primitive with fewer sets gets the
+    UVs in those below n too, as glTF's sets are numbered without gaps.
+    Returns {material: n}."""
+    corner_uvs = np.zeros((scene.triangle_count, 3, 2), np.float32)
+    for texture in result.textures.values():
+        corner_uvs[texture.triangles] = texture.texcoords
+    triangle_materials = scene.uv_sets["triangle_materials"]
+    placed_primitives = scene.uv_sets["primitives"]
+    by_material = {}
+    for placed in placed_primitives:
+        material = int(triangle_materials[placed["triangles"][0]])
+        by_material.setdefault(material, []).append(placed)
+    sets = {material: max(_uv_sets_of(document.original, placed) for placed in group)
+            for material, group in by_material.items()}
+    for material, group in by_material.items():
+        for placed in group:
+            _split_along_seams(document, meshes.primitive(placed), placed, scene, corner_uvs, sets[material])
+    return sets
+
+
+def _uv_sets_of(doc, placed):
+    attributes = doc["meshes"][placed["mesh"]]["primitives"][placed["primitive"]]["attributes"]
+    return sum(1 for name in attributes if name.startswith("TEXCOORD_"))
+
+
+def _split_along_seams(document, primitive, placed, scene, corner_uvs, new_set):
+    first_vertex, _ = placed["vertices"]
+    first, end = placed["triangles"]
+    local = (scene.indices[first:end].astype(np.int64) - first_vertex).ravel()
+    uvs = corner_uvs[first:end].reshape(-1, 2)
+    # One output vertex per (file vertex, UV) pair, in the order the corners first use them.
+    keys = np.column_stack([local.astype(np.float64), uvs.astype(np.float64)])
+    _, first_use, corner_vertex = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first_use)
+    renumbered = np.empty_like(order)
+    renumbered[order] = np.arange(len(order))
+    corner_vertex = renumbered[corner_vertex.ravel()]
+    source = local[first_use[order]]
+    new_uvs = uvs[first_use[order]]
+
+    def gathered(accessor):
+        entry = document.doc["accessors"][accessor]
+        rows = document.elements(accessor)[source]
+        fields = {key: entry[key] for key in ("componentType", "type", "normalized") if key in entry}
+        if "min" in entry:  # required for POSITION: the bounds of the rows kept
+            values = rows.copy().view(_NUMPY_TYPES[entry["componentType"]]).reshape(len(source), -1)
+            fields.update(min=values.min(axis=0).tolist(), max=values.max(axis=0).tolist())
+        return document.add_data(rows.tobytes(), count=len(source), **fields)
+
+    attributes = primitive["attributes"]
+    for name in list(attributes):
+        attributes[name] = gathered(attributes[name])
+    for target in primitive.get("targets", []):
+        for name in list(target):
+            target[name] = gathered(target[name])
+    uv_accessor = document.add_data(np.ascontiguousarray(new_uvs, "<f4").tobytes(), componentType=FLOAT,
+                                    count=len(source), type="VEC2")
+    for n in range(new_set + 1):
+        attributes.setdefault(f"TEXCOORD_{n}", uv_accessor)
+    attributes[f"TEXCOORD_{new_set}"] = uv_accessor
+    indices = np.ascontiguousarray(corner_vertex, "<u4")
+    primitive["indices"] = document.add_data(indices.tobytes(), componentType=5125, count=len(indices), type=SCALAR)
+
+
+def _add_occlusion_textures(document, scene, result, bit_depth, generated_sets):
     doc = document.doc
     replaced = []
     without_material = None
@@ -95,7 +177,8 @@ def _add_occlusion_textures(document, scene, result, bit_depth):
             entry = {"name": "mbao occlusion"}
             without_material = document.append("materials", entry)
             old = None
-        occlusion = {"index": document.append("textures", new_texture), "texCoord": texture.texcoord}
+        texcoord = generated_sets[material] if texture.texcoord == "generated" else texture.texcoord
+        occlusion = {"index": document.append("textures", new_texture), "texCoord": texcoord}
         if old is not None and "strength" in old:
             occlusion["strength"] = old["strength"]
         entry["occlusionTexture"] = occlusion

@@ -79,8 +79,9 @@ def _parser():
                    help="the baked file, everything else in it kept: .glb for a .glb input, .gltf for a .gltf one")
     b.add_argument("--target", choices=["texture", "vertices"], default="vertices",
                    help="an occlusion texture per material, or an _OCCLUSION attribute per primitive")
-    b.add_argument("--texcoord", type=int,
-                   help="n of the UV set TEXCOORD_n; None: the occlusion texture's, else TEXCOORD_1, else TEXCOORD_0")
+    b.add_argument("--texcoord", type=_texcoord_argument,
+                   help="n of the UV set TEXCOORD_n, or 'generate' for a new one of charts (written as the next free "
+                        "TEXCOORD_n); None: the occlusion texture's, else TEXCOORD_1, else TEXCOORD_0")
     b.add_argument("--resolution", type=int, nargs="+", default=[1024], metavar="N",
                    help="the texture's size: N, or WIDTH HEIGHT")
     b.add_argument("--padding", type=int, default=4, help="texels filled around the covered ones (dilation)")
@@ -119,6 +120,15 @@ def _radius(stats, args):
     source = {"settings": "--max-distance", "camera": "camera.json" if args.camera else "the scene's camera",
               "scene": "a quarter of the scene's diagonal", "none": "no camera suggests one"}
     return f"{stats['max_distance']:g} ({source[stats['max_distance_source']]})"
+
+
+def _texcoord_argument(text):
+    if text == "generate":
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"takes a set's number or 'generate', not {text!r}") from None
 
 
 def _device_argument(text):
@@ -200,8 +210,9 @@ def _bake(args):
     for material, texture in result.textures.items():
         t = texture.stats
         height, width = texture.image.shape
-        print(f"material {material:<3} {width}x{height} into TEXCOORD_{texture.texcoord}: {t['covered']} texels "
-              f"covered, {t['dilated']} dilated, mean {texture.image[texture.coverage].mean():.3f}")
+        into = "generated UVs" if texture.texcoord == "generated" else f"TEXCOORD_{texture.texcoord}"
+        print(f"material {material:<3} {width}x{height} into {into}: {t['covered']} texels covered, "
+              f"{t['dilated']} dilated, mean {texture.image[texture.coverage].mean():.3f}")
     for material in s["replaced_occlusion"]:
         print(f"replaced     material {material}'s occlusion texture")
     if result.values is not None:
