@@ -30,13 +30,19 @@ def validation_errors(path):
     return [(m["code"], m.get("pointer")) for m in report["issues"]["messages"] if m["severity"] == 0]
 
 
-def accessor_values(document, index):
-    """An accessor of FLOAT SCALAR values in a GLB file's binary chunk, as mbao writes them."""
+def accessor_rows(document, index, components):
+    """An accessor of FLOAT values in a GLB file's binary chunk, as mbao writes them: (count, components)."""
     accessor = document.doc["accessors"][index]
     view = document.doc["bufferViews"][accessor["bufferView"]]
-    assert view["buffer"] == 0 and accessor["componentType"] == 5126 and accessor["type"] == "SCALAR"
+    assert view["buffer"] == 0 and accessor["componentType"] == 5126 and "byteStride" not in view
     start = view.get("byteOffset", 0) + accessor.get("byteOffset", 0)
-    return np.frombuffer(document.bin, "<f4", accessor["count"], start)
+    return np.frombuffer(document.bin, "<f4", accessor["count"] * components, start).reshape(-1, components)
+
+
+def accessor_values(document, index):
+    """An accessor of FLOAT SCALAR values, as mbao writes them."""
+    assert document.doc["accessors"][index]["type"] == "SCALAR"
+    return accessor_rows(document, index, 1).ravel()
 
 
 def without(doc, pointers):
@@ -93,6 +99,35 @@ def test_a_mesh_that_two_nodes_place_gets_a_copy_per_node(tmp_path):
         return accessor_values(after, after.doc["meshes"][mesh]["primitives"][0]["attributes"]["_OCCLUSION"])
     np.testing.assert_array_equal(occlusion(0), 1.0)
     assert occlusion(copy_of_floor).max() < 0.5
+
+
+def test_vertex_colors_multiply_the_occlusion_into_color_0(tmp_path):
+    """A primitive with normalized-byte RGBA colours gets them times the AO
+    (alpha kept); one without gets the AO as its colour."""
+    b = GltfBuilder()
+    floor, indices = plane(1.0, divisions=2)
+    colors = np.tile(np.array([[255, 128, 0, 200]], np.uint8), (len(floor), 1))
+    painted = b.primitive(floor, indices)
+    painted["attributes"]["COLOR_0"] = b.add_accessor(b.add_buffer_view(colors.tobytes()), 5121, len(floor), 4,
+                                                      normalized=True)
+    wall = np.array([[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0], [0.5, 1.0, 0.0], [-0.5, 1.0, 0.0]])
+    bare = b.primitive(wall, [[0, 1, 2], [0, 2, 3]])
+    b.add_scene([b.add_node(mesh=b.add_mesh([painted, bare]))], default=True)
+    source, output = b.write(tmp_path / "painted.glb"), tmp_path / "baked.glb"
+    result = mbao.bake_file(source, output, samples=16, vertex_colors=True, progress=False)
+    assert validation_errors(output) == []
+    after = GltfDocument(output)
+    primitives = after.doc["meshes"][0]["primitives"]
+    def color(primitive):
+        accessor = after.doc["accessors"][primitive["attributes"]["COLOR_0"]]
+        return accessor_rows(after, primitive["attributes"]["COLOR_0"], int(accessor["type"][-1]))
+    ao = result.values.astype(np.float32)
+    np.testing.assert_allclose(color(primitives[0]), np.column_stack([ao[:9] * 1.0, ao[:9] * (128 / 255),
+                                                                       ao[:9] * 0.0, np.full(9, 200 / 255)]),
+                               rtol=1e-6)
+    np.testing.assert_allclose(color(primitives[1]), np.column_stack([ao[9:]] * 3), rtol=1e-6)
+    with pytest.raises(ValueError, match='vertex_colors=True .* needs target="vertices"'):
+        mbao.bake_file(source, tmp_path / "x.glb", target="texture", vertex_colors=True)
 
 
 @pytest.mark.parametrize("bit_depth", [8, 16])
@@ -224,6 +259,10 @@ def test_the_command_line_bakes_a_file(tmp_path):
                                 "--samples", "2", "--quiet"], capture_output=True, text=True)
     assert generated.returncode == 0, generated.stderr
     assert "32x16 into generated UVs" in generated.stdout and validation_errors(tmp_path / "g.glb") == []
+    colored = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "c.glb"),
+                              "--vertex-colors", "--samples", "2", "--quiet"], capture_output=True, text=True)
+    assert colored.returncode == 0, colored.stderr
+    assert "darkens direct light too" in colored.stdout and validation_errors(tmp_path / "c.glb") == []
     refused = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "x.gltf")],
                              capture_output=True, text=True)
     assert refused.returncode == 2 and refused.stderr.startswith("mbao: output") and "must be a .glb" in refused.stderr

@@ -16,7 +16,7 @@ FLOAT, SCALAR = 5126, "SCALAR"
 _NUMPY_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
 
 
-def bake_file(input, output, *, target="vertices", bit_depth=8, **settings):
+def bake_file(input, output, *, target="vertices", bit_depth=8, vertex_colors=False, **settings):
     """Bakes the glTF file `input` as mbao.bake does and writes `output`: the
     same document, every node, mesh, material, texture, animation, skin,
     extension and extra kept as it was, plus the bake:
@@ -31,12 +31,18 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, **settings):
     target="vertices": a float attribute _OCCLUSION (glTF's prefix for an
         application's own attributes) on every primitive; a mesh that several
         nodes place gets a copy per node, since its AO depends on where it stands.
+        vertex_colors=True also multiplies the AO into COLOR_0 (made where a
+        primitive has none), for viewers that show no _OCCLUSION; but glTF's
+        COLOR_0 darkens direct light too, which occlusion should not.
 
     output is .glb where input is, else .gltf (relative URIs rewritten for its
     folder; new data in data URIs). settings: those of mbao.bake. Returns the
     mbao.Bake, with stats["replaced_occlusion"]: the materials whose occlusion
     texture was replaced.
     """
+    vertex_colors = _checks.boolean("vertex_colors", vertex_colors)
+    if vertex_colors and target != "vertices":
+        raise ValueError("vertex_colors=True multiplies a per-vertex bake into COLOR_0: it needs target=\"vertices\"")
     bit_depth = _checks.integer("bit_depth", bit_depth)
     if bit_depth not in (8, 16):
         raise ValueError(f"bit_depth must be 8 or 16, got {bit_depth}")
@@ -52,7 +58,7 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, **settings):
         replaced = _add_occlusion_textures(document, scene, result, bit_depth, generated_sets)
     else:
         replaced = []
-        _add_vertex_occlusion(document, scene, result, meshes)
+        _add_vertex_occlusion(document, scene, result, meshes, vertex_colors)
     document.write(output)
     result.stats["replaced_occlusion"] = replaced
     return result
@@ -79,13 +85,32 @@ class _MeshesPerNode:
         return self.document.doc["meshes"][self.of_node[node]]["primitives"][placed["primitive"]]
 
 
-def _add_vertex_occlusion(document, scene, result, meshes):
+def _add_vertex_occlusion(document, scene, result, meshes, vertex_colors):
     for placed in scene.uv_sets["primitives"]:
         first, end = placed["vertices"]
         values = np.ascontiguousarray(result.values[first:end], dtype="<f4")
         accessor = document.add_data(values.tobytes(), componentType=FLOAT, count=int(end - first), type=SCALAR,
                                      min=[float(values.min())], max=[float(values.max())])
-        meshes.primitive(placed)["attributes"]["_OCCLUSION"] = accessor
+        attributes = meshes.primitive(placed)["attributes"]
+        if vertex_colors:
+            colors = _colors(document, attributes.get("COLOR_0"), len(values))
+            colors[:, :3] *= values[:, None]
+            attributes["COLOR_0"] = document.add_data(np.ascontiguousarray(colors, "<f4").tobytes(),
+                                                      componentType=FLOAT, count=len(values),
+                                                      type=f"VEC{colors.shape[1]}")
+        attributes["_OCCLUSION"] = accessor
+
+
+def _colors(document, accessor, count):
+    """COLOR_0's values as floats in [0, 1] ((count, 3) or (count, 4)), white where there is none."""
+    if accessor is None:
+        return np.ones((count, 3), np.float32)
+    entry = document.doc["accessors"][accessor]
+    components = int(entry["type"][-1])
+    values = document.elements(accessor).copy().view(_NUMPY_TYPES[entry["componentType"]]).reshape(count, components)
+    if entry["componentType"] == FLOAT:
+        return values.astype(np.float32)
+    return values.astype(np.float32) / np.float32(np.iinfo(values.dtype).max)  # normalized unsigned bytes or shorts
 
 
 def _add_generated_uvs(document, scene, result, meshes):

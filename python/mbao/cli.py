@@ -91,6 +91,9 @@ def _parser():
     b.add_argument("--max-distance", type=float, default=float("inf"), help="AO radius in world units")
     b.add_argument("--seed", type=int, default=0, help="the bake is a function of the seed and the settings")
     b.add_argument("--bit-depth", type=int, choices=[8, 16], default=8, help="bits per channel of the textures")
+    b.add_argument("--vertex-colors", action="store_true",
+                   help="with --target vertices, also multiply the AO into COLOR_0, for viewers that show no "
+                        "_OCCLUSION (COLOR_0 darkens direct light too, which occlusion should not)")
     b.add_argument("--quiet", action="store_true", help="no progress bar")
     b.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, "
                    "else the first GPU, else the first device")
@@ -198,7 +201,8 @@ def _bake(args):
 
     if len(args.resolution) > 2:
         raise ValueError(f"--resolution takes N or WIDTH HEIGHT, got {len(args.resolution)} numbers")
-    result = bake_file(args.input, args.output, target=args.target, bit_depth=args.bit_depth, bounces=args.bounces,
+    result = bake_file(args.input, args.output, target=args.target, bit_depth=args.bit_depth,
+                       vertex_colors=args.vertex_colors, bounces=args.bounces,
                        samples=args.samples, rho=args.rho, max_distance=args.max_distance, seed=args.seed,
                        texcoord=args.texcoord, resolution=tuple(args.resolution) * (3 - len(args.resolution)),
                        padding=args.padding, device=_device_argument(args.device), progress=not args.quiet)
@@ -213,6 +217,8 @@ def _bake(args):
         into = "generated UVs" if texture.texcoord == "generated" else f"TEXCOORD_{texture.texcoord}"
         print(f"material {material:<3} {width}x{height} into {into}: {t['covered']} texels covered, "
               f"{t['dilated']} dilated, mean {texture.image[texture.coverage].mean():.3f}")
+    if args.vertex_colors:
+        print("COLOR_0      multiplied by the AO; glTF's COLOR_0 darkens direct light too, which occlusion should not")
     for material in s["replaced_occlusion"]:
         print(f"replaced     material {material}'s occlusion texture")
     if result.values is not None:
