@@ -174,3 +174,36 @@ def test_bad_arguments_name_themselves(arguments, message):
 def test_a_bake_takes_a_scene_path(tmp_path):
     with pytest.raises(mbao.LoadError, match="missing.glb"):
         mbao.bake(tmp_path / "missing.glb", progress=False)
+
+
+def test_ctrl_c_stops_a_bake_between_tiles_and_the_next_one_works():
+    """A real SIGINT while a tile runs with the GIL released (as
+    test_work_limits.py does for renders): the bake stops after the tile in
+    flight, and the bakes after it work, bit for bit alike."""
+    import os
+    import signal
+    import threading
+    import time
+
+    vertices, indices = outward_box_grid()
+    settings = dict(bounces=3, samples=256, engine=mbao.Engine(tile_pixels=8))
+    tiles_done = {}
+
+    def interrupt_once_baking():
+        while not tiles_done:
+            time.sleep(0.001)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        sender = threading.Thread(target=interrupt_once_baking)
+        sender.start()
+        with pytest.raises(KeyboardInterrupt):
+            bake(vertices, indices, progress=tiles_done.__setitem__, **settings)
+        sender.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    total = next(iter(tiles_done.values()))
+    assert len(tiles_done) < total, "the bake ran to its end before it saw the interrupt"
+    small = dict(bounces=2, samples=8)
+    np.testing.assert_array_equal(bake(vertices, indices, **small).values, bake(vertices, indices, **small).values)
