@@ -160,14 +160,16 @@ def organisation(run):
 
 
 def bake(run):
-    header = ["scene", "max_distance", "render Mrays/s", "vertex bake Mrays/s", "texture bake Mrays/s",
+    header = ["scene", "max_distance", "render Mrays/s", "vertex estimates", "vertex bake Mrays/s",
+              "texture bake Mrays/s",
               "render / vertex ratio", "render / texture ratio", "texture bake ms", "UVs and layout ms",
               "tracing ms", "dilation ms"]
     rows = []
     for row in run["bake"]:
         render, vertex, texture = (row[key]["mrays_per_s"] for key in ("render", "vertex_bake", "texture_bake"))
         t = row["texture_bake"]
-        rows.append([row["scene"], row["max_distance"], f"{render:.1f}", f"{vertex:.1f}", f"{texture:.1f}",
+        rows.append([row["scene"], row["max_distance"], f"{render:.1f}", row["vertex_bake"]["samples"],
+                     f"{vertex:.1f}", f"{texture:.1f}",
                      f"{render / vertex:.2f}", f"{render / texture:.2f}", ms(t["total_ms"]), ms(t["uv_ms"]),
                      ms(t["frame_ms"]), ms(t["dilation_ms"])])
     return table(header, rows)

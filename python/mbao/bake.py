@@ -138,10 +138,18 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
     wrap = None if wrap is None else _wrap(wrap)
     if texcoord is not None and texcoord != "generate":
         texcoord = _checks.integer("texcoord", texcoord, 0, 7, "[0, 7] (TEXCOORD_n), \"generate\" or None")
-    # Every layout first: a UV set that cannot be baked is refused before any ray is traced.
-    layouts = {}
     materials = (_generated_materials(scene, width, height, padding) if texcoord == "generate"
                  else _texture_materials(scene, texcoord, wrap))
+    textures, stats = _bake_textures(scene, materials, (width, height), padding, values, samples, device, progress)
+    settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
+    return Bake(target, None, None, settings, stats, textures)
+
+
+def _bake_textures(scene, materials, resolution, padding, values, samples, device, progress):
+    """{material: BakedTexture} and the renders' statistics, frame_ms and rays_secondary summed."""
+    width, height = resolution
+    # Every layout first: a UV set that cannot be baked is refused before any ray is traced.
+    layouts = {}
     for material in materials:
         layout = material.layout or _core.TexelLayout(scene, material.texcoords, material.triangles, width, height,
                                                       *material.wrap)
@@ -159,8 +167,7 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
                                        material.triangles, material.texcoords, texture_stats)
         for name in totals:
             totals[name] += stats[name]
-    settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
-    return Bake(target, None, None, settings, dict(stats, **totals), textures)
+    return textures, dict(stats, **totals)
 
 
 def _resolution(resolution):
