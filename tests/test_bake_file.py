@@ -164,6 +164,17 @@ def test_a_texture_bake_points_each_material_at_its_texture(tmp_path, bit_depth)
     assert after.doc["materials"][0]["pbrMetallicRoughness"] == before.doc["materials"][0]["pbrMetallicRoughness"]
 
 
+def test_a_texture_baked_with_another_wrap_gets_a_sampler_that_wraps_so(tmp_path):
+    """The floor's occlusion texture mirrors; baked with wrap="clamp-to-edge", its new texture must clamp."""
+    source, output = floor_and_wall(tmp_path), tmp_path / "baked.glb"
+    mbao.bake_file(source, output, target="texture", wrap="clamp-to-edge", resolution=16, samples=2, progress=False)
+    assert validation_errors(output) == []
+    document = GltfDocument(output)
+    for material in document.doc["materials"]:
+        sampler = document.doc["textures"][material["occlusionTexture"]["index"]]["sampler"]
+        assert document.doc["samplers"][sampler] == {"wrapS": 33071, "wrapT": 33071}
+
+
 def test_a_gltf_with_external_files_is_written_to_another_folder(tmp_path):
     b = GltfBuilder()
     b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(*plane(1.0, divisions=2))]))], default=True)
@@ -216,6 +227,9 @@ def test_generated_uvs_of_a_mesh_two_nodes_place_go_into_a_copy_each(tmp_path):
     assert validation_errors(output) == []
     document = GltfDocument(output)
     assert [node["mesh"] for node in document.doc["nodes"]] == [0, 1]
+    # Both placed floors, the copy too, get the material that holds the new occlusion texture.
+    materials = {mesh["primitives"][0].get("material") for mesh in document.doc["meshes"]}
+    assert len(materials) == 1 and "occlusionTexture" in document.doc["materials"][materials.pop()]
     assert result.textures[-1].stats["charts"] == 2  # one per placed floor
     after = mbao.load(output, texcoords=True)
     texture = result.textures[-1]

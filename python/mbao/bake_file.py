@@ -55,7 +55,7 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, vertex_colors=Fa
         generated_sets = {}
         if settings.get("texcoord") == "generate":
             generated_sets = _add_generated_uvs(document, scene, result, meshes)
-        replaced = _add_occlusion_textures(document, scene, result, bit_depth, generated_sets)
+        replaced = _add_occlusion_textures(document, scene, result, bit_depth, generated_sets, meshes)
     else:
         replaced = []
         _add_vertex_occlusion(document, scene, result, meshes, vertex_colors)
@@ -181,7 +181,7 @@ def _split_along_seams(document, primitive, placed, scene, corner_uvs, new_set):
     primitive["indices"] = document.add_data(indices.tobytes(), componentType=5125, count=len(indices), type=SCALAR)
 
 
-def _add_occlusion_textures(document, scene, result, bit_depth, generated_sets):
+def _add_occlusion_textures(document, scene, result, bit_depth, generated_sets, meshes):
     doc = document.doc
     replaced = []
     without_material = None
@@ -189,19 +189,19 @@ def _add_occlusion_textures(document, scene, result, bit_depth, generated_sets):
         image = document.add_data(_png(texture.image, bit_depth))
         image_index = document.append("images", {"bufferView": image, "mimeType": "image/png",
                                                  "name": f"mbao occlusion, b = {result.settings['bounces']}"})
-        new_texture = {"source": image_index}
         if material >= 0:
             entry = doc["materials"][material]
             old = entry.get("occlusionTexture")
             if old is not None:
                 replaced.append(material)
-                sampler = doc["textures"][old["index"]].get("sampler")
-                if sampler is not None:
-                    new_texture["sampler"] = sampler
         else:
             entry = {"name": "mbao occlusion"}
             without_material = document.append("materials", entry)
             old = None
+        new_texture = {"source": image_index}
+        sampler = _sampler(document, old, texture.stats["wrap"])
+        if sampler is not None:
+            new_texture["sampler"] = sampler
         texcoord = generated_sets[material] if texture.texcoord == "generated" else texture.texcoord
         occlusion = {"index": document.append("textures", new_texture), "texCoord": texcoord}
         if old is not None and "strength" in old:
@@ -209,9 +209,26 @@ def _add_occlusion_textures(document, scene, result, bit_depth, generated_sets):
         entry["occlusionTexture"] = occlusion
     if without_material is not None:
         for placed in scene.uv_sets["primitives"]:
-            primitive = doc["meshes"][placed["mesh"]]["primitives"][placed["primitive"]]
-            primitive.setdefault("material", without_material)
+            meshes.primitive(placed).setdefault("material", without_material)
     return replaced
+
+
+_WRAP_CODES = {"repeat": 10497, "clamp-to-edge": 33071, "mirrored-repeat": 33648}
+
+
+def _sampler(document, old_occlusion, wrap):
+    """The sampler of a new occlusion texture, whose texels were baked with `wrap`:
+    the replaced texture's where it wraps so (its filters kept), else a new one;
+    none (REPEAT) where nothing else is asked for."""
+    doc = document.doc
+    if old_occlusion is not None:
+        sampler = doc["textures"][old_occlusion["index"]].get("sampler")
+        modes = doc["samplers"][sampler] if sampler is not None else {}
+        if (modes.get("wrapS", 10497), modes.get("wrapT", 10497)) == tuple(_WRAP_CODES[m] for m in wrap):
+            return sampler
+    if tuple(wrap) == ("repeat", "repeat"):
+        return None
+    return document.append("samplers", {"wrapS": _WRAP_CODES[wrap[0]], "wrapT": _WRAP_CODES[wrap[1]]})
 
 
 def _png(image, bit_depth):
