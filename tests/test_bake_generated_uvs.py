@@ -74,3 +74,13 @@ def test_the_damaged_helmet_bakes_into_generated_uvs():
     texture = bake.textures[0]
     assert texture.stats["claimed_twice"] == 0 and texture.stats["charts"] > 100
     assert texture.stats["unmapped_triangles"] == 0
+
+
+def test_vertices_split_at_minus_zero_still_join_one_chart():
+    """Two halves of a floor whose vertices on the seam x = 0 are duplicated,
+    the left half's with x = -0.0: equal positions, so one chart."""
+    left = np.array([[-1.0, 0.0, -1.0], [-0.0, 0.0, -1.0], [-0.0, 0.0, 1.0], [-1.0, 0.0, 1.0]])
+    right = np.array([[0.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    quad = [[0, 2, 1], [0, 3, 2]]  # facing up
+    texture = generated(*merge((left, quad), (right, quad)), resolution=32)
+    assert texture.stats["charts"] == 1

@@ -19,8 +19,9 @@ namespace {
 std::vector<std::uint32_t> welded_ids(const TriangleMesh& mesh) {
   struct Hash {
     std::size_t operator()(const glm::vec3& p) const {
+      const glm::vec3 q = p + 0.0f;  // -0 to +0: equal positions hash equally
       std::uint32_t bits[3];
-      std::memcpy(bits, &p, sizeof bits);
+      std::memcpy(bits, &q, sizeof bits);
       return (std::size_t(bits[0]) * 73856093u) ^ (std::size_t(bits[1]) * 19349663u) ^ (std::size_t(bits[2]) * 83492791u);
     }
   };
