@@ -87,14 +87,14 @@ def test_a_floor_under_a_parallel_disk():
     disk_vertices, disk_indices = disk(radius, height, 64)
     vertices, indices = merge((floor, fan + band), (disk_vertices, disk_indices))
     samples = 20000
-    result = bake(vertices, indices, bounces=1, samples=samples)
+    result = bake(vertices, indices, bounces=1, samples=samples, directions=1)
 
     polygon = disk_vertices[1:]
     expected = hat_weighted_mean(lambda p: 1.0 - polygon_occlusion(p, (0.0, 1.0, 0.0), polygon),
                                  floor[0], floor[1:13])
     at_centre = 1.0 - polygon_occlusion(np.zeros(3), (0.0, 1.0, 0.0), polygon)
     assert abs(at_centre - height**2 / (height**2 + radius**2)) < 2e-3  # the 64-gon is nearly the circle
-    # Each estimate is 0 or 1 with mean `expected`: a Bernoulli variable.
+    # With one direction, each estimate is 0 or 1 with mean `expected`: a Bernoulli variable.
     assert_within_standard_errors(float(result.values[0]), expected, samples)
     assert result.standard_error[0] == pytest.approx(math.sqrt(expected * (1 - expected) / samples), rel=0.05)
 
@@ -118,23 +118,39 @@ def test_standard_errors_are_honest():
     assert abs(z2.mean() - 1.0) <= 4.0 * math.sqrt(2.0 / varied.sum()), z2.mean()
 
 
+def test_both_estimators_bake_the_same_values():
+    """The path and the branching estimator have one expectation (SPEC 2): their
+    bakes differ by about their standard errors, z^2 as above."""
+    vertices, indices = outward_box_grid()
+    path = bake(vertices, indices, bounces=2, samples=64, estimator="path", seed=1)
+    branching = bake(vertices, indices, bounces=2, samples=16, estimator="branching", directions=3, seed=2)
+    spread = path.standard_error.astype(float) ** 2 + branching.standard_error.astype(float) ** 2
+    varied = spread > 0
+    assert varied.sum() > 150
+    z2 = (path.values[varied].astype(float) - branching.values[varied]) ** 2 / spread[varied]
+    assert abs(z2.mean() - 1.0) <= 4.0 * math.sqrt(2.0 / varied.sum()), z2.mean()
+
+
 ENGINES = [
-    mbao.Engine(traversal="stack", organisation="megakernel"),
-    mbao.Engine(traversal="lanes"),
-    mbao.Engine(traversal="short-stack", organisation="wavefront", tile_pixels=7),
+    ("path", mbao.Engine(traversal="stack", organisation="megakernel")),
+    ("branching", mbao.Engine(traversal="stack", organisation="megakernel")),
+    ("branching", mbao.Engine(traversal="lanes")),
+    ("branching", mbao.Engine(traversal="short-stack", organisation="wavefront", tile_pixels=7)),
 ]
 
 
-@pytest.mark.parametrize("engine", ENGINES, ids=["megakernel", "lanes", "short-stack-tiles"])
-def test_a_bake_is_a_function_of_the_seed_and_settings(engine):
+@pytest.mark.parametrize("estimator, engine", ENGINES,
+                         ids=["path-megakernel", "branching-megakernel", "lanes", "short-stack-tiles"])
+def test_a_bake_is_a_function_of_the_seed_and_settings(estimator, engine):
     """The same seed gives the same bits whatever the walk, the organisation or
     the tiles; another seed gives other values (SPEC 6.6)."""
     vertices, indices = outward_box_grid()
-    reference = bake(vertices, indices, bounces=2, samples=16, seed=5)
-    again = bake(vertices, indices, bounces=2, samples=16, seed=5, engine=engine)
+    reference = bake(vertices, indices, bounces=2, samples=16, estimator=estimator, seed=5)
+    again = bake(vertices, indices, bounces=2, samples=16, estimator=estimator, seed=5, engine=engine)
     np.testing.assert_array_equal(again.values, reference.values)
     np.testing.assert_array_equal(again.standard_error, reference.standard_error)
-    assert not np.array_equal(bake(vertices, indices, bounces=2, samples=16, seed=6).values, reference.values)
+    other = bake(vertices, indices, bounces=2, samples=16, estimator=estimator, seed=6)
+    assert not np.array_equal(other.values, reference.values)
 
 
 def test_vertices_without_surface_are_open():
@@ -151,9 +167,9 @@ def test_vertices_without_surface_are_open():
 
 def test_a_bake_counts_its_rays_and_refuses_too_many():
     vertices, indices = outward_box_grid()
-    result = bake(vertices, indices, bounces=2, samples=16)
+    result = bake(vertices, indices, bounces=2, samples=16, directions=3)
     assert result.stats["rays_primary"] == 0
-    assert 0 < result.stats["rays_secondary"] <= len(vertices) * 16 * 2
+    assert 0 < result.stats["rays_secondary"] <= len(vertices) * 16 * 3 * 2  # r paths of b segments each
     with pytest.raises(ValueError, match="max_rays"):
         bake(vertices, indices, bounces=2, samples=16, max_rays=1000)
 
@@ -162,6 +178,9 @@ def test_a_bake_counts_its_rays_and_refuses_too_many():
     (dict(samples=1), r"samples must be in \[2, 65536\]"),
     (dict(samples=1 << 17), r"samples must be in \[2, 65536\]"),
     (dict(target="faces"), "target must be one of 'vertices'"),
+    (dict(directions=0), r"directions must be in \[1, 1048576\]"),
+    (dict(estimator="paths"), "estimator"),
+    (dict(estimator="branching", bounces=17), "bounces"),
     (dict(bounces=0), "bounces"),
     (dict(rho=1.5), "rho"),
     (dict(max_distance=-1.0), "max_distance"),

@@ -56,7 +56,9 @@ def test_the_texel_under_a_parallel_disk():
     texcoords = np.zeros((len(vertices), 2))
     texcoords[:len(floor)] = floor_uvs(floor, half_size)
     samples = 20000
-    texture = bake(vertices, indices, texcoords, resolution=resolution, samples=samples, bounces=1).textures[0]
+    # One direction per estimate: each is 0 or 1, a Bernoulli variable.
+    texture = bake(vertices, indices, texcoords, resolution=resolution, samples=samples, bounces=1,
+                   directions=1).textures[0]
 
     texel = 2.0 * half_size / resolution
     nodes, weights = np.polynomial.legendre.leggauss(8)
@@ -228,6 +230,8 @@ def test_a_baked_texture_looked_up_at_the_cameras_hits_matches_the_render():
     assert keep.sum() > 800
     rendered = render.ao.reshape(-1)[on_floor][keep].astype(float)
     looked_up, texel_error = bilinear(texture.image.astype(float), texture.standard_error.astype(float), uv[keep])
-    render_error2 = np.maximum(rendered * (1 - rendered), 1.0 / r) / r  # each pixel a mean of r Bernoulli outcomes
+    # Each pixel is a mean of r Bernoulli outcomes, whose mean the texture estimates
+    # with less noise than the pixel itself.
+    render_error2 = np.maximum(looked_up * (1 - looked_up), 1.0 / r) / r
     z2 = (rendered - looked_up) ** 2 / (render_error2 + texel_error**2)
     assert abs(z2.mean() - 1.0) <= 4.0 * math.sqrt(2.0 / keep.sum()), z2.mean()

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <future>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "mbao/pixel_order.h"
 #include "render/setting_specs.h"
@@ -11,13 +14,17 @@
 namespace mbao {
 namespace {
 
-// One path per estimate (SPEC 6): the branching estimator with r = 1 is that
-// path, with the path estimator's random numbers, and runs in every
-// organisation the plan may pick; past its bounce limit the path estimator
-// computes the same.
-void set_one_path(RenderSettings& s) {
-  s.samples = 1;
-  s.estimator = s.bounces <= kMaxBranchingBounces ? Estimator::Branching : Estimator::Path;
+// Fewer targets than this share their estimates out over several pixels, so
+// that a bake of a small mesh still gives every core and compute unit work items.
+constexpr std::size_t kMinBakePixels = std::size_t(1) << 16;
+
+// The pixels each target's estimates are spread over: the least divisor of
+// `samples` that makes kMinBakePixels in all, else one per estimate. A
+// divisor, so that every pixel holds as many estimates and their means add up.
+std::size_t pixels_per_target(std::size_t targets, std::size_t samples) {
+  for (std::size_t d = 1; d < samples; ++d)
+    if (samples % d == 0 && targets * d >= kMinBakePixels) return d;
+  return samples;
 }
 
 }  // namespace
@@ -39,41 +46,66 @@ BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Sce
     if (points.has_surface(t)) traced.push_back(std::uint32_t(t));
   const std::size_t targets = traced.size();
   if (targets == 0) return bake;
+  // Target i's estimates fill pixels i * chunks .. i * chunks + chunks - 1,
+  // `per_pixel` each, in the order of their numbers.
+  const std::size_t chunks = pixels_per_target(targets, std::size_t(samples));
+  const std::size_t per_pixel = std::size_t(samples) / chunks;
+  const std::size_t pixels = targets * chunks;
   // Wider than asked where the image would be taller than a render's may be.
   const auto side = std::size_t(std::get<std::int64_t>(setting_spec("height").hi));
-  const std::size_t width = std::min(targets, std::max({layout_width, (targets + side - 1) / side, std::size_t(1)}));
-  const std::size_t height = (targets + width - 1) / width;
-  if (width > side)
+  const std::size_t width =
+      std::min({pixels, side, std::max({layout_width * chunks, (pixels + side - 1) / side, std::size_t(1)})});
+  const std::size_t height = (pixels + width - 1) / width;
+  if (height > side)
     throw std::invalid_argument("a bake of " + std::to_string(targets) + " vertices or texels is more than the " +
                                 std::to_string(side * side) + " that one bake can hold; bake the scene in parts");
   settings.width = std::int64_t(width);
   settings.height = std::int64_t(height);
-  settings.spp = samples;
-  set_one_path(settings);
+  settings.spp = std::int64_t(per_pixel);
   const std::uint64_t seed = settings.seed;
 
-  const auto points_of_tile = [&](std::size_t first, std::size_t count, std::vector<cl_uint4>& tile) {
+  // The points of the tile's pixels [begin, end).
+  const auto draw = [&](std::size_t first, std::size_t begin, std::size_t end, std::vector<cl_uint4>& tile) {
     constexpr cl_uint4 kNoSurface{{0u, 0xFFFFFFFFu, 0u, 0u}};
-    const auto n = std::size_t(samples);
-    for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
       const std::uint32_t pixel = pixel_at_position(std::uint32_t(first + i), std::uint32_t(width),
                                                     std::uint32_t(height));
-      for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t target = pixel < pixels ? traced[pixel / chunks] : 0u;
+      const std::size_t first_estimate = (pixel % chunks) * per_pixel;
+      for (std::size_t k = 0; k < per_pixel; ++k) {
         const std::optional<SurfacePoint> p =
-            pixel < targets ? points.point(traced[pixel], estimate_random(traced[pixel], std::uint32_t(k), seed))
-                            : std::nullopt;
-        tile[i * n + k] = p ? cl_uint4{{0u, p->triangle, mbao_float_as_u32(p->b1), mbao_float_as_u32(p->b2)}}
-                            : kNoSurface;
+            pixel < pixels
+                ? points.point(target, estimate_random(target, std::uint32_t(first_estimate + k), seed))
+                : std::nullopt;
+        tile[i * per_pixel + k] =
+            p ? cl_uint4{{0u, p->triangle, mbao_float_as_u32(p->b1), mbao_float_as_u32(p->b2)}} : kNoSurface;
       }
     }
   };
+  // On every core: a GPU traces the points faster than one thread draws them.
+  const std::size_t threads = std::max(1u, std::thread::hardware_concurrency());
+  const auto points_of_tile = [&](std::size_t first, std::size_t count, std::vector<cl_uint4>& tile) {
+    const std::size_t slice = (count + threads - 1) / threads;
+    std::vector<std::future<void>> slices;
+    for (std::size_t begin = slice; begin < count; begin += slice)
+      slices.push_back(std::async(std::launch::async, draw, first, begin, std::min(count, begin + slice),
+                                  std::ref(tile)));
+    draw(first, 0, std::min(count, slice), tile);
+    for (std::future<void>& part : slices) part.get();
+  };
   RenderResult result = renderer.bake(scene, settings, points_of_tile, between_tiles);
   const double n = double(samples);
-  for (std::size_t pixel = 0; pixel < targets; ++pixel) {
-    const double mean = result.ao[pixel];
-    const double variance = std::max(0.0, double(result.ao_second_moment[pixel]) - mean * mean) * n / (n - 1.0);
-    bake.values[traced[pixel]] = result.ao[pixel];
-    bake.standard_error[traced[pixel]] = float(std::sqrt(variance / n));
+  for (std::size_t i = 0; i < targets; ++i) {
+    double mean = 0.0, second_moment = 0.0;
+    for (std::size_t pixel = i * chunks; pixel < (i + 1) * chunks; ++pixel) {
+      mean += result.ao[pixel];
+      second_moment += result.ao_second_moment[pixel];
+    }
+    mean /= double(chunks);
+    second_moment /= double(chunks);
+    const double variance = std::max(0.0, second_moment - mean * mean) * n / (n - 1.0);
+    bake.values[traced[i]] = float(mean);
+    bake.standard_error[traced[i]] = float(std::sqrt(variance / n));
   }
   bake.stats = std::move(result.stats);
   return bake;

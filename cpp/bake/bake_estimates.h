@@ -21,12 +21,14 @@ struct BakeEstimates {
 constexpr std::int64_t kMinBakeSamples = 2;
 constexpr std::int64_t kMaxBakeSamples = std::int64_t(1) << 16;
 
-// Bakes settings.bounces, rho, max_distance (unset: inf), normals and seed, with
-// the engine settings as given, taking `samples` estimates of each target of
-// `points`. The targets that hold surface are laid out, in their order, as an
-// image `layout_width` wide (a texture's own width: neighbouring texels then
-// trace neighbouring rays), one per pixel, whose other settings this sets. Throws std::invalid_argument for
-// bad settings and refuses, as a render does, work beyond settings.max_rays.
+// Bakes settings.bounces, samples (r), estimator, rho, max_distance (unset:
+// inf), normals and seed, with the engine settings as given, taking `samples`
+// estimates of each target of `points`, each at a point of its own with r
+// directions there (SPEC 2, 6). The targets that hold surface are laid out, in
+// their order, as an image `layout_width` wide (a texture's own width:
+// neighbouring texels then trace neighbouring rays), whose other settings this
+// sets. Throws std::invalid_argument for bad settings and refuses, as a render
+// does, work beyond settings.max_rays.
 BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Scene>& scene, RenderSettings settings,
                              std::int64_t samples, const EstimatePoints& points, std::size_t layout_width,
                              const Renderer::TileCallback& between_tiles = {});

@@ -74,9 +74,9 @@ class Bake:
         return f"<mbao.Bake {self.target}: {what}, {self.stats['frame_ms'] / 1e3:.1f} s on {self.stats['device']}>"
 
 
-def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_distance=math.inf, normals="shading",
-         texcoord=None, resolution=1024, padding=4, wrap=None, seed=0, max_rays=_core.DEFAULT_MAX_RAYS, engine=None,
-         device=None, progress=True):
+def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", directions=4, rho=1.0,
+         max_distance=math.inf, normals="shading", texcoord=None, resolution=1024, padding=4, wrap=None, seed=0,
+         max_rays=_core.DEFAULT_MAX_RAYS, engine=None, device=None, progress=True):
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
 
@@ -87,8 +87,10 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
         texture per material, into a UV set.
     bounces, rho, normals, seed, max_rays: as for mbao.render.
     samples: estimates per vertex or texel, each at its own point of the
-        vertex's one-ring or the texel's surface with one path of `bounces`
-        segments; in [2, 65536].
+        vertex's one-ring or the texel's surface; in [2, 65536].
+    estimator, directions: how each estimate traces from its point (SPEC 2):
+        "path" (r paths of `bounces` segments) or "branching" (r directions
+        at every hit), with r = directions, as render's estimator and samples.
     texcoord: texture only: n of the UV set TEXCOORD_n. None: per material, its
         occlusionTexture's texCoord where it has one, else TEXCOORD_1 where all
         its triangles have it, else TEXCOORD_0; an mbao.Mesh's texcoords are set 0.
@@ -121,12 +123,15 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, rho=1.0, max_dista
         else as_scene(scene)
     lo, hi = _core.BAKE_SAMPLES_RANGE
     samples = _checks.integer("samples", samples, lo, hi, f"[{lo}, {hi}]")
-    given = dict(bounces=bounces, rho=rho, max_distance=max_distance, normals=normals, seed=seed, max_rays=max_rays)
+    given = dict(bounces=bounces, estimator=estimator, rho=rho, max_distance=max_distance, normals=normals, seed=seed,
+                 max_rays=max_rays)
     values = {name: checked(RENDER[name], value) for name, value in given.items()}
+    r = RENDER["samples"]
+    values["samples"] = _checks.integer("directions", directions, r["lo"], r["hi"], r["range"])
     if engine is not None and not isinstance(engine, Engine):
         raise TypeError(f"engine must be None or an mbao.Engine, got {type(engine).__name__}")
     values.update(engine_values(engine or Engine()))
-    settings = dict(given, target=target, samples=samples)
+    settings = dict(given, target=target, samples=samples, directions=directions)
     if target == "vertices":
         with _tile_progress(progress) as on_tile:
             ao, standard_error, stats = _core.bake_vertices(scene, resolve(device), values, samples, on_tile)
