@@ -160,18 +160,21 @@ def organisation(run):
 
 
 def bake(run):
-    header = ["scene", "max_distance", "render Mrays/s", "vertex estimates", "vertex bake Mrays/s",
-              "texture bake Mrays/s",
-              "render / vertex ratio", "render / texture ratio", "texture bake ms", "UVs and layout ms",
-              "tracing ms", "dilation ms"]
+    header = ["scene", "max_distance", "estimator", "render Mrays/s", "render AO Mrays/s", "vertex estimates",
+              "vertex bake Mrays/s", "texture bake Mrays/s", "render AO / vertex ratio", "render AO / texture ratio",
+              "texture bake ms", "UVs and layout ms", "tracing ms", "dilation ms"]
     rows = []
     for row in run["bake"]:
-        render, vertex, texture = (row[key]["mrays_per_s"] for key in ("render", "vertex_bake", "texture_bake"))
-        t = row["texture_bake"]
-        rows.append([row["scene"], row["max_distance"], f"{render:.1f}", row["vertex_bake"]["samples"],
-                     f"{vertex:.1f}", f"{texture:.1f}",
-                     f"{render / vertex:.2f}", f"{render / texture:.2f}", ms(t["total_ms"]), ms(t["uv_ms"]),
-                     ms(t["frame_ms"]), ms(t["dilation_ms"])])
+        render, vertex = row["render"]["ao_mrays_per_s"], row["vertex_bake"]["mrays_per_s"]
+        cells = [row["scene"], row["max_distance"], row["estimator"], f"{row['render']['mrays_per_s']:.1f}",
+                 f"{render:.1f}", row["vertex_bake"]["samples"], f"{vertex:.1f}"]
+        t = row.get("texture_bake")
+        if t is None:  # the texture bake runs with the bakes' default estimator only
+            cells += ["", f"{render / vertex:.2f}", "", "", "", "", ""]
+        else:
+            cells += [f"{t['mrays_per_s']:.1f}", f"{render / vertex:.2f}", f"{render / t['mrays_per_s']:.2f}",
+                      ms(t["total_ms"]), ms(t["uv_ms"]), ms(t["frame_ms"]), ms(t["dilation_ms"])]
+        rows.append(cells)
     return table(header, rows)
 
 
