@@ -97,7 +97,8 @@ def main():
         axis.set_title(title)
         axis.axis("off")
     figure.suptitle(f"Damaged Helmet: max_distance {radius}, rho 1, {RESOLUTION}x{RESOLUTION} generated UVs, "
-                    f"{SAMPLES} estimates per texel", fontsize=10)
+                    f"{SAMPLES} estimates per texel of {bake.settings['directions']} {bake.settings['estimator']}s each",
+                    fontsize=10)
     figure.tight_layout()
     figure.savefig(here / "helmet_bake.png", dpi=80)
 
