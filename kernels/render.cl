@@ -8,6 +8,11 @@
 #ifndef MBAO_UNLIMITED_DISTANCE
 #define MBAO_UNLIMITED_DISTANCE 0
 #endif
+// Whether the estimators keep the moments of the values of the r directions
+// drawn at the primary hit, for a pixel's variance at spp = 1 (SPEC 7.1).
+#ifndef MBAO_DIRECTION_MOMENTS
+#define MBAO_DIRECTION_MOMENTS 0
+#endif
 #include "surface.h"
 #include "sampling.h"
 #include "camera.h"
@@ -184,6 +189,41 @@ static float branching_value(const uint* escapes, const AoSettings* s) {
   return fmin(value, 1.0f);  // rounding of the weights must not lift it past 1
 }
 
+// The sum and the sum of squares of the values of the r directions drawn at a
+// primary hit (SPEC 7.1).
+typedef struct DirectionMoments {
+  float sum, squares;
+} DirectionMoments;
+
+static inline void add_direction_value(float value, DirectionMoments* m) {
+  m->sum += value;
+  m->squares += value * value;
+}
+
+// The value of one direction drawn at the primary hit, from the escapes per
+// bounce of its subtree of the branching estimator: an escape at bounce k + 1
+// weighs (rho / r)^k.
+static inline float direction_value(const uint* escapes, const AoSettings* s) {
+  float value = 0.0f, weight = 1.0f;
+  for (uint k = 0; k < s->bounces; ++k) {
+    value += (float)escapes[k] * weight;
+    weight *= s->rho / (float)s->samples;
+  }
+  return value;
+}
+
+#if MBAO_DIRECTION_MOMENTS
+// Adds the value of the subtree walked since `before` was taken, and takes it anew.
+static inline void end_direction(const uint* escapes, uint* before, const AoSettings* s, DirectionMoments* m) {
+  uint subtree[MBAO_MAX_BRANCHING_BOUNCES];
+  for (uint k = 0; k < s->bounces; ++k) {
+    subtree[k] = escapes[k] - before[k];
+    before[k] = escapes[k];
+  }
+  add_direction_value(direction_value(subtree, s), m);
+}
+#endif
+
 // The paper's estimator: r new directions at every hit of every bounce but the
 // last, r + r^2 + ... + r^b rays, walked depth first with one surface per level.
 // Escapes are counted per bounce and weighed once at the end: the sum of b + 1
@@ -191,13 +231,17 @@ static float branching_value(const uint* escapes, const AoSettings* s) {
 // holds sample by sample.
 static float branching_estimate(const SceneView* scene, const Surface* primary,
                                 const AoSettings* s, uint pixel, uint camera_sample, uint* rays,
-                                TraversalCounts* counts) {
+                                TraversalCounts* counts, DirectionMoments* moments) {
   Surface surface[MBAO_MAX_BRANCHING_BOUNCES];
   RayOrigin origin[MBAO_MAX_BRANCHING_BOUNCES];
   uint next_child[MBAO_MAX_BRANCHING_BOUNCES];
   uint node[MBAO_MAX_BRANCHING_BOUNCES];
   uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
   for (uint k = 0; k < s->bounces; ++k) escapes[k] = 0;
+#if MBAO_DIRECTION_MOMENTS
+  uint before[MBAO_MAX_BRANCHING_BOUNCES];
+  for (uint k = 0; k < s->bounces; ++k) before[k] = 0;
+#endif
   surface[0] = *primary;
   origin_of_rays(scene, primary, s->samples, &origin[0]);
   next_child[0] = 0;
@@ -209,6 +253,9 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
       --level;
       continue;
     }
+#if MBAO_DIRECTION_MOMENTS
+    if (level == 0 && next_child[0] > 0) end_direction(escapes, before, s, moments);
+#endif
     const uint child = node[level] * s->samples + next_child[level]++;
     const uint bounce = (uint)level + 1;
     const int bounce_on = bounces_on(s, bounce);
@@ -226,13 +273,17 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
       node[level] = child;
     }
   }
+#if MBAO_DIRECTION_MOMENTS
+  end_direction(escapes, before, s, moments);
+#endif
   return branching_value(escapes, s);
 }
 
 // r paths of up to b segments, one direction per further bounce; an escape at
 // bounce k adds rho^(k-1), and the sum is divided by r once.
 static float path_estimate(const SceneView* scene, const Surface* primary, const AoSettings* s,
-                           uint pixel, uint camera_sample, uint* rays, TraversalCounts* counts) {
+                           uint pixel, uint camera_sample, uint* rays, TraversalCounts* counts,
+                           DirectionMoments* moments) {
   RayOrigin primary_origin, origin;
   origin_of_rays(scene, primary, s->samples, &primary_origin);
   float sum = 0.0f;
@@ -246,7 +297,12 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
       Hit hit;
       const int outcome = cast_ao_ray(scene, &surface, from, s, pixel, camera_sample, bounce, path,
                                       bounce_on, &dir, &hit, rays, counts);
-      if (outcome == MBAO_RAY_ESCAPED) sum += weight;
+      if (outcome == MBAO_RAY_ESCAPED) {
+        sum += weight;
+#if MBAO_DIRECTION_MOMENTS
+        add_direction_value(weight, moments);  // a path escapes once, where it ends; one that does not adds 0
+#endif
+      }
       if (outcome != MBAO_RAY_HIT || !bounce_on) break;
       surface = make_surface(scene, hit, dir);
       origin_of_rays(scene, &surface, 1, &origin);
@@ -279,15 +335,28 @@ static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 ey
   return make_surface(scene, hit, hit_point - eye.xyz);
 }
 
+// A pixel's variance (SPEC 7.1): the spread of its camera samples' values
+// where it has two or more, else of its one sample's r direction values.
+static inline float pixel_variance(float sum, float sum_of_squares, uint spp, DirectionMoments directions,
+                                   uint r) {
+  const float n = (float)(spp > 1 ? spp : r);
+  const float total = spp > 1 ? sum : directions.sum;
+  const float squares = spp > 1 ? sum_of_squares : directions.squares;
+  return fmax(0.0f, squares - total * total / n) / ((n - 1.0f) * n);
+}
+
 // A pixel from the sum of its camera samples' values (1 for each that missed)
 // and the number of them that hit: its coverage in 255ths, rounded up (SPEC 2).
 // Where ao_second_moment is given, the mean of the values' squares too: a
-// bake's standard errors come from it (SPEC 6.4).
-static inline void store_pixel(uint pixel, float sum, float sum_of_squares, uint spp, uint covered, uint rays,
-                               __global float* ao, __global float* ao_second_moment, __global uchar* coverage,
-                               __global uint* secondary_rays) {
+// bake's standard errors come from it (SPEC 6.4); where ao_variance is, the
+// pixel's variance.
+static inline void store_pixel(uint pixel, float sum, float sum_of_squares, DirectionMoments directions,
+                               uint spp, uint r, uint covered, uint rays, __global float* ao,
+                               __global float* ao_second_moment, __global float* ao_variance,
+                               __global uchar* coverage, __global uint* secondary_rays) {
   ao[pixel] = sum / (float)spp;
   if (ao_second_moment) ao_second_moment[pixel] = sum_of_squares / (float)spp;
+  if (ao_variance) ao_variance[pixel] = pixel_variance(sum, sum_of_squares, spp, directions, r);
   coverage[pixel] = (uchar)((covered * 255u + spp - 1u) / spp);
   secondary_rays[pixel] = rays;
 }
@@ -300,10 +369,12 @@ static inline void store_pixel(uint pixel, float sum, float sum_of_squares, uint
 static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye, uint spp,
                                const AoSettings* s, uint first_position, uint pixel_index,
                                __global const uint4* camera_hits, __global float* ao,
-                               __global float* ao_second_moment, __global uchar* coverage,
-                               __global uint* secondary_rays, __global ulong* traversal_totals) {
+                               __global float* ao_second_moment, __global float* ao_variance,
+                               __global uchar* coverage, __global uint* secondary_rays,
+                               __global ulong* traversal_totals) {
   const uint pixel = tile_pixel(s, first_position, pixel_index);
   float sum = 0.0f, sum_of_squares = 0.0f;
+  DirectionMoments directions = {0.0f, 0.0f};  // kept at spp = 1 only
   uint covered = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
   for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
@@ -313,13 +384,14 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
       ++covered;
       const Surface primary = primary_surface(scene, hit, eye);
       value = estimator == MBAO_ESTIMATOR_BRANCHING
-                  ? branching_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts)
-                  : path_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts);
+                  ? branching_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts, &directions)
+                  : path_estimate(scene, &primary, s, pixel, camera_sample, &rays, &counts, &directions);
     }
     sum += value;
     sum_of_squares += value * value;
   }
-  store_pixel(pixel, sum, sum_of_squares, spp, covered, rays, ao, ao_second_moment, coverage, secondary_rays);
+  store_pixel(pixel, sum, sum_of_squares, directions, spp, s->samples, covered, rays, ao, ao_second_moment,
+              ao_variance, coverage, secondary_rays);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
@@ -334,14 +406,15 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
 #define MBAO_AO_KERNEL(name, estimator)                                                            \
   __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position, uint pixel_count,     \
                      __global const uint4 *camera_hits, __global float *ao,                        \
-                     __global float *ao_second_moment, __global uchar *coverage,                   \
-                     __global uint *secondary_rays, __global ulong *traversal_totals) {            \
+                     __global float *ao_second_moment, __global float *ao_variance,                \
+                     __global uchar *coverage, __global uint *secondary_rays,                      \
+                     __global ulong *traversal_totals) {                                           \
     const uint pixel_index = get_global_id(0);                                                     \
     if (pixel_index >= pixel_count) return;                                                        \
     const SceneView scene = MBAO_SCENE_VIEW();                                                     \
     const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);       \
     shade_pixel(&scene, estimator, eye, spp, &s, first_position, pixel_index, camera_hits, ao,     \
-                ao_second_moment, coverage, secondary_rays, traversal_totals);                     \
+                ao_second_moment, ao_variance, coverage, secondary_rays, traversal_totals);        \
   }
 
 MBAO_AO_KERNEL(ao_branching, MBAO_ESTIMATOR_BRANCHING)
@@ -390,18 +463,48 @@ static inline void tally_ray(int outcome, int bounce_on, Hit hit, float3 dir, ui
     next[atomic_inc(&queue_lengths[bounce])] = queued_surface(hit, dir, sample, node);
 }
 
+// Where the escapes at bounce `bounce` of a camera sample are counted: one
+// count per camera sample, or, keeping direction moments, one per direction
+// drawn at its primary hit, which the ray descends from.
+static inline uint escape_slot(uint sample, uint direction, uint bounce, const AoSettings* s) {
+#if MBAO_DIRECTION_MOMENTS
+  return (sample * s->samples + direction) * s->bounces + bounce - 1;
+#else
+  return sample * s->bounces + bounce - 1;
+#endif
+}
+
+// The direction drawn at the primary hit that `node` of bounce `bounce` descends from.
+static inline uint first_direction(uint node, uint bounce, uint r) {
+  for (uint k = 1; k < bounce; ++k) node /= r;
+  return node;
+}
+
+// Starts the counts of one direction drawn at a primary hit (direction
+// moments only; without them count_source starts the camera sample's).
+static inline void start_direction_counts(uint sample, uint direction, int outcome, const AoSettings* s,
+                                          __global uint* escape_counts) {
+#if MBAO_DIRECTION_MOMENTS
+  escape_counts[escape_slot(sample, direction, 1, s)] = outcome == MBAO_RAY_ESCAPED;
+  for (uint k = 2; k <= s->bounces; ++k) escape_counts[escape_slot(sample, direction, k, s)] = 0;
+#endif
+}
+
 // A source's escapes and rays into its camera sample's counts. Bounce 1 has
 // one source per camera sample and starts them, so they need no clearing and
 // there no atomics; later bounces add to them.
-static inline void count_source(uint bounce, uint bounces, uint sample, uint escapes, uint rays,
+static inline void count_source(uint bounce, uint sample, uint node, uint escapes, uint rays, const AoSettings* s,
                                 __global uint* escape_counts, __global uint* sample_rays) {
   if (bounce == 1) {
-    escape_counts[sample * bounces] = escapes;
-    for (uint k = 1; k < bounces; ++k) escape_counts[sample * bounces + k] = 0;
+#if !MBAO_DIRECTION_MOMENTS
+    escape_counts[escape_slot(sample, 0, 1, s)] = escapes;
+    for (uint k = 2; k <= s->bounces; ++k) escape_counts[escape_slot(sample, 0, k, s)] = 0;
+#endif
     sample_rays[sample] = rays;
     return;
   }
-  if (escapes) atomic_add(&escape_counts[sample * bounces + bounce - 1], escapes);
+  const uint slot = escape_slot(sample, first_direction(node, bounce - 1, s->samples), bounce, s);
+  if (escapes) atomic_add(&escape_counts[slot], escapes);
   if (rays) atomic_add(&sample_rays[sample], rays);
 }
 
@@ -409,7 +512,7 @@ static inline void count_source(uint bounce, uint bounces, uint sample, uint esc
 static void cast_children(const SceneView* scene, const Surface* from, const AoSettings* s,
                           uint spp, uint first_position, uint sample, uint bounce, uint node,
                           __global QueuedSurface* next, __global uint* queue_lengths,
-                          uint* escapes, uint* rays, TraversalCounts* counts) {
+                          __global uint* escape_counts, uint* escapes, uint* rays, TraversalCounts* counts) {
   const uint pixel = tile_pixel(s, first_position, sample / spp);
   const uint camera_sample = sample % spp;
   const int bounce_on = bounces_on(s, bounce);
@@ -422,6 +525,7 @@ static void cast_children(const SceneView* scene, const Surface* from, const AoS
     const int outcome = cast_ao_ray(scene, from, &origin, s, pixel, camera_sample, bounce, child,
                                     bounce_on, &dir, &hit, rays, counts);
     tally_ray(outcome, bounce_on, hit, dir, sample, child, bounce, next, queue_lengths, escapes);
+    if (bounce == 1) start_direction_counts(sample, i, outcome, s, escape_counts);
   }
 }
 
@@ -440,10 +544,10 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint fir
   const Hit hit = stored_hit(camera_hits, sample);
   if (hit.triangle != MBAO_NO_TRIANGLE) {
     const Surface primary = primary_surface(&scene, hit, eye);
-    cast_children(&scene, &primary, &s, spp, first_position, sample, 1, 0, next, queue_lengths,
+    cast_children(&scene, &primary, &s, spp, first_position, sample, 1, 0, next, queue_lengths, escape_counts,
                   &escapes, &rays, &counts);
   }
-  count_source(1, bounces, sample, escapes, rays, escape_counts, sample_rays);
+  count_source(1, sample, 0, escapes, rays, &s, escape_counts, sample_rays);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
@@ -464,11 +568,32 @@ __kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_pos
   uint escapes = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
   cast_children(&scene, &from, &s, spp, first_position, entry.sample, bounce, entry.node, next,
-                queue_lengths, &escapes, &rays, &counts);
-  count_source(bounce, bounces, entry.sample, escapes, rays, escape_counts, sample_rays);
+                queue_lengths, escape_counts, &escapes, &rays, &counts);
+  count_source(bounce, entry.sample, entry.node, escapes, rays, &s, escape_counts, sample_rays);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
+}
+
+// A camera sample's value from its escape counts, as the megakernel's; with
+// direction moments, its directions' values added to `directions`.
+static inline float branching_value_of_counts(__global const uint* escape_counts, uint sample, const AoSettings* s,
+                                              DirectionMoments* directions) {
+  uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
+  for (uint k = 0; k < s->bounces; ++k) escapes[k] = 0;
+#if MBAO_DIRECTION_MOMENTS
+  for (uint direction = 0; direction < s->samples; ++direction) {
+    uint subtree[MBAO_MAX_BRANCHING_BOUNCES];
+    for (uint k = 0; k < s->bounces; ++k) {
+      subtree[k] = escape_counts[escape_slot(sample, direction, k + 1, s)];
+      escapes[k] += subtree[k];
+    }
+    add_direction_value(direction_value(subtree, s), directions);
+  }
+#else
+  for (uint k = 0; k < s->bounces; ++k) escapes[k] = escape_counts[escape_slot(sample, 0, k + 1, s)];
+#endif
+  return branching_value(escapes, s);
 }
 
 // One work item per pixel of the tile: its camera samples' values, summed in
@@ -477,12 +602,13 @@ __kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_position, uint pixel_c
                                __global const uint4* camera_hits,
                                __global const uint* escape_counts,
                                __global const uint* sample_rays, __global float* ao,
-                               __global float* ao_second_moment, __global uchar* coverage,
-                               __global uint* secondary_rays) {
+                               __global float* ao_second_moment, __global float* ao_variance,
+                               __global uchar* coverage, __global uint* secondary_rays) {
   const uint pixel_index = get_global_id(0);
   if (pixel_index >= pixel_count) return;
   const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
   float sum = 0.0f, sum_of_squares = 0.0f;
+  DirectionMoments directions = {0.0f, 0.0f};
   uint covered = 0, rays = 0;
   for (uint camera_sample = 0; camera_sample < spp; ++camera_sample) {
     const uint sample = pixel_index * spp + camera_sample;
@@ -490,15 +616,13 @@ __kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_position, uint pixel_c
     float value = 1.0f;
     if (camera_hits[sample].y != MBAO_NO_TRIANGLE) {
       ++covered;
-      uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
-      for (uint k = 0; k < bounces; ++k) escapes[k] = escape_counts[sample * bounces + k];
-      value = branching_value(escapes, &s);
+      value = branching_value_of_counts(escape_counts, sample, &s, &directions);
     }
     sum += value;
     sum_of_squares += value * value;
   }
-  store_pixel(tile_pixel(&s, first_position, pixel_index), sum, sum_of_squares, spp, covered, rays, ao,
-              ao_second_moment, coverage, secondary_rays);
+  store_pixel(tile_pixel(&s, first_position, pixel_index), sum, sum_of_squares, directions, spp, samples, covered,
+              rays, ao, ao_second_moment, ao_variance, coverage, secondary_rays);
 }
 
 // The wavefront with traversal "lanes": a bounce in three launches over a
@@ -586,12 +710,15 @@ __kernel void stream_bounce_hits(MBAO_AO_PARAMS, uint bounce, uint first_source,
   for (uint i = 0; i < s.samples; ++i) {
     const uint ray = slot * s.samples + i;
     const float4 direction = ray_directions[ray];
-    if (direction.w < 0.0f) continue;  // blocked
-    ++rays;
-    const Hit hit = stored_hit(ray_hits, ray);
-    const int outcome = hit.triangle == MBAO_NO_TRIANGLE ? MBAO_RAY_ESCAPED : MBAO_RAY_HIT;
-    tally_ray(outcome, bounce_on, hit, direction.xyz, sample, node * s.samples + i, bounce, next, queue_lengths,
-              &escapes);
+    int outcome = MBAO_RAY_BLOCKED;
+    if (direction.w >= 0.0f) {
+      ++rays;
+      const Hit hit = stored_hit(ray_hits, ray);
+      outcome = hit.triangle == MBAO_NO_TRIANGLE ? MBAO_RAY_ESCAPED : MBAO_RAY_HIT;
+      tally_ray(outcome, bounce_on, hit, direction.xyz, sample, node * s.samples + i, bounce, next,
+                queue_lengths, &escapes);
+    }
+    if (bounce == 1) start_direction_counts(sample, i, outcome, &s, escape_counts);
   }
-  count_source(bounce, bounces, sample, escapes, rays, escape_counts, sample_rays);
+  count_source(bounce, sample, node, escapes, rays, &s, escape_counts, sample_rays);
 }

@@ -123,7 +123,9 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
     result = Renderer::for_device(device).render(scene, view, settings, between_tiles);
   }
   const py::ssize_t h = result.height, w = result.width;
-  return py::make_tuple(adopt(std::move(result.ao), {h, w}), adopt(std::move(result.coverage), {h, w}),
+  const py::object variance =
+      settings.variance ? py::object(adopt(std::move(result.variance), {h, w})) : py::object(py::none());
+  return py::make_tuple(adopt(std::move(result.ao), {h, w}), adopt(std::move(result.coverage), {h, w}), variance,
                         stats_dict(result.stats));
 }
 
@@ -187,7 +189,7 @@ The radius, in world units, is the render's max_distance.)doc")
       });
   m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("settings"),
         py::arg("progress"), py::arg("hbao"),
-        "Renders; returns (ao, coverage in 255ths, stats). settings: {name: value} of setting_specs(). "
+        "Renders; returns (ao, coverage in 255ths, variance or None, stats). settings: {name: value} of setting_specs(). "
         "Use mbao.render, which checks and documents the arguments.");
   m.def("setting_specs", &specs_list,
         "The render settings, each as a dict: name, group (\"render\" or \"engine\"), kind, doc, range, lo, hi, "

@@ -24,8 +24,9 @@ std::size_t camera_rays_per_item(const RenderSettings& s) {
 std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries) {
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   const std::size_t second_moment = primaries == PrimarySurfaces::GivenPoints ? sizeof(cl_float) : 0;
-  const std::size_t image =
-      pixels * (sizeof(cl_float) + second_moment + sizeof(cl_uchar) + sizeof(cl_uint));  // ao, coverage, rays
+  const std::size_t variance = s.variance ? sizeof(cl_float) : 0;
+  const std::size_t image = pixels * (sizeof(cl_float) + second_moment + variance + sizeof(cl_uchar) +
+                                      sizeof(cl_uint));  // ao, coverage, rays
   const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
   const std::size_t wavefront =
       s.organisation == KernelOrganisation::Wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
@@ -49,6 +50,7 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
   if (primaries == PrimarySurfaces::GivenPoints)
     buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
+  if (s.variance) buffers_.ao_variance = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   bytes_ = device_bytes(s, tile_pixels, primaries);
   if (s.count_traversal) {
     const cl_ulong zeros[4] = {0, 0, 0, 0};
@@ -76,7 +78,8 @@ void Frame::set_tile(std::size_t first, std::size_t count) {
                   buffers_.camera_hits, buffers_.traversal_totals);
   if (wavefront_) return;  // it sets its own kernels' tile
   set_kernel_args(ao_kernel_, scene_, ao_args_, cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.ao,
-                  buffers_.ao_second_moment, buffers_.coverage, buffers_.secondary_rays, buffers_.traversal_totals);
+                  buffers_.ao_second_moment, buffers_.ao_variance, buffers_.coverage, buffers_.secondary_rays,
+                  buffers_.traversal_totals);
 }
 
 void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
@@ -115,12 +118,15 @@ void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
     launch_empty(queue, ao_kernel_, tile_pixels_, ao_group_);
 }
 
-void Frame::enqueue_read_back(cl::CommandQueue& queue, float* ao, float* ao_second_moment, std::uint8_t* coverage,
-                              cl_uint* secondary_rays) {
-  queue.enqueueReadBuffer(buffers_.ao, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao);
-  if (ao_second_moment)
-    queue.enqueueReadBuffer(buffers_.ao_second_moment, CL_FALSE, 0, pixels_ * sizeof(cl_float), ao_second_moment);
-  queue.enqueueReadBuffer(buffers_.coverage, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), coverage);
+void Frame::enqueue_read_back(cl::CommandQueue& queue, RenderResult& result, cl_uint* secondary_rays) {
+  const auto read_floats = [&](const cl::Buffer& buffer, std::vector<float>& into) {
+    if (into.size() != pixels_) throw std::logic_error("Frame: read-back into an image of another size");
+    queue.enqueueReadBuffer(buffer, CL_FALSE, 0, pixels_ * sizeof(cl_float), into.data());
+  };
+  read_floats(buffers_.ao, result.ao);
+  if (!result.ao_second_moment.empty()) read_floats(buffers_.ao_second_moment, result.ao_second_moment);
+  if (!result.variance.empty()) read_floats(buffers_.ao_variance, result.variance);
+  queue.enqueueReadBuffer(buffers_.coverage, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), result.coverage.data());
   queue.enqueueReadBuffer(buffers_.secondary_rays, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
 }
 

@@ -36,10 +36,10 @@ class Frame {
   // a whole tile's (launch_empty): what a driver builds at a kernel's first
   // launch, it builds here rather than in a tile.
   void enqueue_empty_tiles(cl::CommandQueue& queue);
-  // Copies the image and the per-pixel secondary ray counts back (non-blocking); a frame of given
-  // points also the second moments (ao_second_moment: their room, else null).
-  void enqueue_read_back(cl::CommandQueue& queue, float* ao, float* ao_second_moment, std::uint8_t* coverage,
-                         cl_uint* secondary_rays);
+  // Copies the image, its coverage and the per-pixel secondary ray counts back
+  // (non-blocking), and the second moments and the variances into
+  // result.ao_second_moment and result.variance where they are sized for them.
+  void enqueue_read_back(cl::CommandQueue& queue, RenderResult& result, cl_uint* secondary_rays);
   // The frame's traversal counts (programs built with MBAO_COUNT_TRAVERSAL), once it has finished.
   TraversalTotals traversal_totals(cl::CommandQueue& queue) const;
 

@@ -107,6 +107,7 @@ std::string ProgramVariant::options() const {
   if (program == Program::Render) o += define("MBAO_UNLIMITED_DISTANCE", unlimited_distance);
   o += define("MBAO_LOAD_BOTH_CHILDREN", load_both_children);
   if (program == Program::Render) o += define("MBAO_ORIGIN_PATHS", origin_paths);
+  if (program == Program::Render) o += define("MBAO_DIRECTION_MOMENTS", direction_moments);
   return o;
 }
 
@@ -118,7 +119,7 @@ std::vector<ProgramVariant> all_program_variants() {
     const bool render = program == Program::Render, hbao = program == Program::Hbao;
     for (Traversal walk : walks) {
       if (hbao && walk == Traversal::Lanes) continue;
-      for (int bits = 0; bits < 64; ++bits) {
+      for (int bits = 0; bits < 128; ++bits) {
         ProgramVariant v;
         v.program = program;
         v.walk = walk;
@@ -128,10 +129,11 @@ std::vector<ProgramVariant> all_program_variants() {
         v.unlimited_distance = bits & 8;
         v.load_both_children = bits & 16;
         v.origin_paths = bits & 32;
+        v.direction_moments = bits & 64;
         // Only the bits that the program reads, and only where the plan can set them.
         if ((hbao && v.count_traversal) || (!render && !hbao && v.shading_normals) ||
             (!render && !v.unlimited_distance) || (v.load_both_children && !walks_full_stack(walk)) ||
-            (v.origin_paths && (!render || walk == Traversal::Lanes)))
+            (v.origin_paths && (!render || walk == Traversal::Lanes)) || (v.direction_moments && !render))
           continue;
         variants.push_back(v);
       }
@@ -157,6 +159,7 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   p.unlimited_distance = hbao || std::isinf(s.radius());
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
   p.origin_paths = plan_origin_paths(s, p.walk, profile, scene, plan.reasons);
+  p.direction_moments = s.direction_moments();
   return plan;
 }
 

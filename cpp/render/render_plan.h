@@ -52,6 +52,7 @@ struct ProgramVariant {
   bool unlimited_distance = true;    // render.cl
   bool load_both_children = false;   // full-stack walks only (Stack, Lanes)
   bool origin_paths = false;         // render.cl, walks of one ray only
+  bool direction_moments = false;    // render.cl
 
   const char* file() const;
   // "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 ...": the defines `program` reads, in a fixed order.

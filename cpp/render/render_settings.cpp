@@ -132,6 +132,9 @@ void RenderSettings::validate() const {
                      : ""));
   for (const SettingSpec& spec : setting_specs()) spec.check(*this);
   if (method == Method::Hbao) return validate_hbao();
+  if (variance && spp == 1 && samples == 1)
+    bad("variance needs two samples of a pixel to spread (SPEC 7.1): spp >= 2, or samples (r) >= 2 at spp=1; got "
+        "spp=1, samples=1");
   const std::uint64_t per_pixel = max_rays_per_camera_sample() * std::uint64_t(spp);
   if (per_pixel > kMaxRaysPerPixel) {
     std::string message = "the " + to_string(estimator) + " estimator with samples=" + std::to_string(samples) +
@@ -152,6 +155,7 @@ void RenderSettings::validate_hbao() const {
     bad("HBAO computes one bounce, got bounces=" + std::to_string(bounces) +
         "; mbao.gtao_multibounce approximates more from its image");
   if (spp != 1) bad("HBAO samples each pixel at its centre, got spp=" + std::to_string(spp));
+  if (variance) bad("variance is the spread of a ray-traced pixel's samples (SPEC 7.1); HBAO has none");
   if (!std::isfinite(radius()))
     bad("HBAO needs a finite max_distance: it is the radius, in world units, that it searches for occluders");
   if (organisation == KernelOrganisation::Wavefront) bad("organisation \"wavefront\" applies to the ray-traced method only");

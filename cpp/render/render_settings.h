@@ -73,6 +73,7 @@ struct RenderSettings {
   std::uint64_t seed = 0;
   Traversal traversal = Traversal::Auto;
   bool count_traversal = false;  // build the kernels that count nodes, leaves, triangle tests and restarts
+  bool variance = false;         // estimate each pixel's variance (SPEC 7.1) into RenderResult::variance
   // How the work is cut up; none of these changes the image.
   std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory (the wavefront's always)
   std::size_t work_group_size = 0;  // 0 lets the OpenCL driver choose
@@ -98,6 +99,9 @@ struct RenderSettings {
   // surfaces of the two deepest bounces that bounce on, r^(b-1) + r^(b-2)
   // (a bounce reads one queue and fills the other).
   std::uint64_t max_queue_entries_per_camera_sample() const;
+  // Whether the kernels keep the moments of the directions drawn at each primary
+  // hit: for a variance at spp = 1 (SPEC 7.1).
+  bool direction_moments() const { return variance && spp == 1 && method == Method::RayTraced; }
   // Whether the wavefront organisation can run these settings: the ray-traced
   // branching estimator, with a pixel's queue entries within kMaxWavefrontQueueEntries.
   bool wavefront_can_run() const;

@@ -45,6 +45,8 @@ struct RenderResult {
   std::vector<std::uint8_t> coverage;
   // Bakes only: per pixel, the mean of its estimates' squares (SPEC 6.4).
   std::vector<float> ao_second_moment;
+  // With RenderSettings::variance: per pixel, its variance (SPEC 7.1).
+  std::vector<float> variance;
   RenderStats stats;
 };
 

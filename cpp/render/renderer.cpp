@@ -193,8 +193,8 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
     }
   }
   if (points_of_tile) result.ao_second_moment.resize(pixels);
-  frame.enqueue_read_back(queue, result.ao.data(), points_of_tile ? result.ao_second_moment.data() : nullptr,
-                          result.coverage.data(), secondary_rays.data());
+  if (settings.variance) result.variance.resize(pixels);
+  frame.enqueue_read_back(queue, result, secondary_rays.data());
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
   if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);

@@ -134,6 +134,9 @@ std::vector<SettingSpec> make_specs() {
       choice("method", G::Render, &RenderSettings::method, parse_method,
              "\"raytraced\" (the estimators) or \"hbao\": screen-space horizon-based AO (SPEC 4) on the camera "
              "rays' hits through the pixel centres, with radius max_distance, one bounce and spp 1."),
+      member("variance", G::Render, K::Flag, &RenderSettings::variance,
+             "Estimate each pixel's variance from the spread of its samples (SPEC 7.1) into Result.variance: "
+             "its camera samples' at spp >= 2, else its r directions' (samples >= 2)."),
       whole("max_rays", &RenderSettings::max_rays, 1,
             "A render that could trace more rays than this, camera rays included, is refused before it starts."),
       choice("traversal", G::Engine, &RenderSettings::traversal, parse_traversal,

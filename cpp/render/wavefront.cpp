@@ -25,7 +25,9 @@ std::size_t queue_entries_per_camera_sample(const RenderSettings& s, std::int64_
 Wavefront::BufferSizes Wavefront::buffer_sizes(const RenderSettings& s, std::size_t tile_pixels) {
   const std::size_t tile_samples = tile_pixels * std::size_t(s.spp);
   BufferSizes sizes;
-  sizes.escape_counts = tile_samples * std::size_t(s.bounces) * sizeof(cl_uint);
+  // Per camera sample, or per direction at its primary hit (SPEC 7.1), and bounce.
+  const std::size_t counted = s.direction_moments() ? std::size_t(s.samples) : 1;
+  sizes.escape_counts = tile_samples * counted * std::size_t(s.bounces) * sizeof(cl_uint);
   sizes.sample_rays = tile_samples * sizeof(cl_uint);
   sizes.queue_lengths = (std::size_t(s.bounces) + 1) * sizeof(cl_uint);
   for (std::int64_t parity : {0, 1})
@@ -84,7 +86,8 @@ void Wavefront::start_tile(cl::CommandQueue& queue, std::size_t first, std::size
                     escape_counts_, sample_rays_, queue_of(1), queue_lengths_, frame_.traversal_totals);
   }
   set_kernel_args(finish_, ao_args_, cl_uint(first), cl_uint(count), frame_.camera_hits, escape_counts_,
-                  sample_rays_, frame_.ao, frame_.ao_second_moment, frame_.coverage, frame_.secondary_rays);
+                  sample_rays_, frame_.ao, frame_.ao_second_moment, frame_.ao_variance, frame_.coverage,
+                  frame_.secondary_rays);
 }
 
 void Wavefront::set_bounce(std::size_t bounce) {

@@ -29,12 +29,16 @@ class Result:
         (the radius used) and max_distance_source ("settings", "camera", "scene":
         HBAO's quarter diagonal, or "none": inf), upload_ms, frame_ms,
         rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
+    variance: (height, width) float32 with variance=True, else None: each
+        pixel's variance as an estimate of its expectation, from the spread of
+        its own samples (SPEC 7.1); 0 where every camera sample missed.
     """
 
     ao: np.ndarray
     mask: np.ndarray
     stats: dict
     coverage: np.ndarray
+    variance: np.ndarray = None
 
     def __repr__(self):
         h, w = self.ao.shape
@@ -52,11 +56,11 @@ def render(scene, *, camera=None, hbao=None, engine=None, device=None, progress=
                             f"{', '.join(RENDER)}, and engine=mbao.Engine(...) takes {', '.join(ENGINE)}")
         values[name] = checked(RENDER[name], value)
     values.update(engine_values(engine))
-    ao, coverage, stats = _core.render(scene, camera, resolve(device), values, _progress(progress),
-                                       _hbao_settings(hbao))
+    ao, coverage, variance, stats = _core.render(scene, camera, resolve(device), values, _progress(progress),
+                                                 _hbao_settings(hbao))
     mask = coverage > 0
     _warn_if_closed(scene, ao, mask, stats)
-    return Result(ao, mask, stats, coverage.astype(np.float32) / 255)
+    return Result(ao, mask, stats, coverage.astype(np.float32) / 255, variance)
 
 
 def _warn_if_closed(scene, ao, mask, stats):

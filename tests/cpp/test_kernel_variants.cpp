@@ -2,9 +2,11 @@
 // in every organisation it runs in, draws the same image bit for bit, with the
 // same rays, and the variants of one walk count the same traversal work. The
 // variants of a walk differ in where their nodes come from (origin paths,
-// both children loaded) or how rays are batched (lanes), never in a hit.
+// both children loaded) or how rays are batched (lanes), never in a hit. Those
+// that keep direction moments estimate the same variances too (SPEC 7.1).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -22,8 +24,7 @@ namespace mbao {
 namespace {
 
 struct Image {
-  std::vector<float> ao;
-  std::vector<std::uint8_t> coverage;
+  RenderResult result;
   std::uint64_t rays = 0;
   TraversalTotals counts;
 };
@@ -31,16 +32,18 @@ struct Image {
 Image render(ComputeContext& compute, const ProgramVariant& variant, const DeviceScene& scene, const Camera& camera,
              RenderSettings s) {
   s.traversal = variant.walk;
+  s.variance = variant.direction_moments;
   const cl::Program& program = compute.programs().get(variant.file(), variant.options()).program;
   const std::size_t pixels = std::size_t(s.width * s.height);
   Frame frame(compute.context(), compute.device().device, program, scene, camera, s, pixels);
   Image image;
-  image.ao.resize(pixels);
-  image.coverage.resize(pixels);
+  image.result.ao.resize(pixels);
+  image.result.coverage.resize(pixels);
+  if (s.variance) image.result.variance.resize(pixels);
   std::vector<cl_uint> rays(pixels);
   cl::CommandQueue& queue = compute.queue();
   frame.enqueue_tile(queue, 0, pixels);
-  frame.enqueue_read_back(queue, image.ao.data(), nullptr, image.coverage.data(), rays.data());
+  frame.enqueue_read_back(queue, image.result, rays.data());
   queue.finish();
   for (cl_uint r : rays) image.rays += r;
   image.counts = frame.traversal_totals(queue);
@@ -66,6 +69,7 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
   s.count_traversal = true;
 
   std::unique_ptr<Image> first;
+  std::vector<float> first_variance;
   std::map<Traversal, TraversalTotals> counts_of_walk;
   std::size_t rendered = 0;
   for (const ProgramVariant& v : all_program_variants()) {
@@ -79,23 +83,32 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
       s.organisation = organisation;
       const Image image = render(compute, v, device_scene, camera, s);
       ++rendered;
+      const std::vector<float>& ao = image.result.ao;
       if (!first) {
         first = std::make_unique<Image>(image);
         double sum = 0.0;
-        for (float a : image.ao) sum += a;
+        for (float a : ao) sum += a;
         ASSERT_GT(image.rays, 0u);
-        ASSERT_LT(sum, double(image.ao.size()));  // not a vacuous agreement: light was blocked
+        ASSERT_LT(sum, double(ao.size()));  // not a vacuous agreement: light was blocked
       }
-      EXPECT_EQ(std::memcmp(image.ao.data(), first->ao.data(), image.ao.size() * sizeof(float)), 0);
-      EXPECT_EQ(image.coverage, first->coverage);
+      EXPECT_EQ(std::memcmp(ao.data(), first->result.ao.data(), ao.size() * sizeof(float)), 0);
+      EXPECT_EQ(image.result.coverage, first->result.coverage);
       EXPECT_EQ(image.rays, first->rays);
+      if (v.direction_moments) {
+        const std::vector<float>& variance = image.result.variance;
+        if (first_variance.empty()) {
+          first_variance = variance;
+          ASSERT_GT(*std::max_element(variance.begin(), variance.end()), 0.0f);  // not vacuous either
+        }
+        EXPECT_EQ(std::memcmp(variance.data(), first_variance.data(), variance.size() * sizeof(float)), 0);
+      }
       // Lanes walk the full stack: its counts, node for node.
       const Traversal walk = v.walk == Traversal::Lanes ? Traversal::Stack : v.walk;
       const auto [known, inserted] = counts_of_walk.emplace(walk, image.counts);
       if (!inserted) EXPECT_TRUE(same_counts(image.counts, known->second));
     }
   }
-  EXPECT_EQ(rendered, 22u);  // 12 variants, lanes in the wavefront only
+  EXPECT_EQ(rendered, 44u);  // 12 variants with direction moments and 12 without, lanes in the wavefront only
 }
 
 }  // namespace

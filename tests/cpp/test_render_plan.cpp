@@ -119,7 +119,8 @@ TEST(RenderPlan, EachProgramIsBuiltWithTheDefinesItReads) {
   s.max_distance = 2.0f;
   EXPECT_EQ(plan_render(s, kCpu, scene).program.options(),
             "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 "
-            "-DMBAO_UNLIMITED_DISTANCE=0 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0");
+            "-DMBAO_UNLIMITED_DISTANCE=0 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0 "
+            "-DMBAO_DIRECTION_MOMENTS=0");
   EXPECT_EQ(plan_trace(Traversal::Auto, true, kCpu, scene).options(),
             "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_LOAD_BOTH_CHILDREN=1");
   // HBAO's G-buffer walks one ray per pixel: none of the AO's counts, distance limit or origin paths.
