@@ -167,7 +167,7 @@ def test_vertices_without_surface_are_open():
 
 def test_a_bake_counts_its_rays_and_refuses_too_many():
     vertices, indices = outward_box_grid()
-    result = bake(vertices, indices, bounces=2, samples=16, directions=3)
+    result = bake(vertices, indices, bounces=2, samples=16, directions=3, progress=None)  # None: no bar
     assert result.stats["rays_primary"] == 0
     assert 0 < result.stats["rays_secondary"] <= len(vertices) * 16 * 3 * 2  # r paths of b segments each
     with pytest.raises(ValueError, match="max_rays"):

@@ -108,8 +108,8 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
         camera to suggest one).
     engine: an mbao.Engine, as for render.
     device: as for render.
-    progress: True for a tqdm bar over the bake's tiles, False for none, or a
-        callable progress(tiles_done, tiles_total).
+    progress: True for a tqdm bar over the bake's tiles, False or None for
+        none, or a callable progress(tiles_done, tiles_total).
 
     A surface is baked on its front side, the side its triangles' corners run
     counter-clockwise seen from (SPEC 6.1). A UV set in which two surfaces
@@ -284,8 +284,8 @@ class _tile_progress:
     """progress= as the core takes it: a tqdm bar over the tiles, the caller's callable, or None."""
 
     def __init__(self, progress, description="bake"):
-        if not (isinstance(progress, bool) or callable(progress)):
-            raise TypeError(f"progress must be a bool or a callable (tiles_done, tiles_total), "
+        if not (progress is None or isinstance(progress, bool) or callable(progress)):
+            raise TypeError(f"progress must be a bool, None (as False) or a callable (tiles_done, tiles_total), "
                             f"got {type(progress).__name__}")
         self._progress = progress
         self._bar = progress_bar(progress is True, None, description, "tile")
