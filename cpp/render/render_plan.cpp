@@ -95,11 +95,13 @@ const char* ProgramVariant::file() const {
     case Program::Render: return "render.cl";
     case Program::Trace: return "trace.cl";
     case Program::Hbao: return "hbao.cl";
+    case Program::Denoise: return "denoise.cl";
   }
   return "";
 }
 
 std::string ProgramVariant::options() const {
+  if (program == Program::Denoise) return "";
   std::string o = define("MBAO_TRAVERSAL", int(walk)).substr(1);
   if (program != Program::Hbao) o += define("MBAO_COUNT_TRAVERSAL", count_traversal);
   o += define("MBAO_ALPHA_MASKS", alpha_masks);
@@ -139,6 +141,9 @@ std::vector<ProgramVariant> all_program_variants() {
       }
     }
   }
+  ProgramVariant denoise;
+  denoise.program = Program::Denoise;
+  variants.push_back(denoise);
   return variants;
 }
 

@@ -40,12 +40,13 @@ struct SceneTraits {
   static SceneTraits of(const Scene& scene);  // builds the scene's tree if it has none
 };
 
-enum class Program { Render, Trace, Hbao };
+enum class Program { Render, Trace, Hbao, Denoise };
 
 // One build of one program: its file and the defines that program reads.
 struct ProgramVariant {
   Program program = Program::Render;
-  Traversal walk = Traversal::Stack;  // MBAO_TRAVERSAL: never Auto; Lanes only for render.cl and trace.cl
+  Traversal walk = Traversal::Stack;  // MBAO_TRAVERSAL: never Auto; Lanes only for render.cl and trace.cl;
+                                      // denoise.cl walks no tree and reads no define
   bool count_traversal = false;      // render.cl, trace.cl
   bool alpha_masks = false;
   bool shading_normals = false;      // render.cl, hbao.cl

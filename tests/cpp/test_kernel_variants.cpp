@@ -105,7 +105,9 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
       // Lanes walk the full stack: its counts, node for node.
       const Traversal walk = v.walk == Traversal::Lanes ? Traversal::Stack : v.walk;
       const auto [known, inserted] = counts_of_walk.emplace(walk, image.counts);
-      if (!inserted) EXPECT_TRUE(same_counts(image.counts, known->second));
+      if (!inserted) {
+        EXPECT_TRUE(same_counts(image.counts, known->second));
+      }
     }
   }
   EXPECT_EQ(rendered, 44u);  // 12 variants with direction moments and 12 without, lanes in the wavefront only

@@ -1,0 +1,43 @@
+// The spatial filter of SPEC 7.3 on the device: an image and its variance
+// filtered in place, guided by a G-buffer (kernels/denoise.cl).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "opencl/opencl.h"
+
+namespace mbao {
+
+// The filter's settings, with SPEC 7.3's defaults.
+struct DenoiseSettings {
+  std::int64_t iterations = 5;  // K; iteration i takes taps 2^i pixels apart
+  float sigma_plane = 1.0f;     // distance from the tangent plane, in footprints
+  float sigma_normal = 128.0f;  // the exponent on the normals' cosine
+  float sigma_value = 4.0f;     // value differences, in standard deviations of the blurred variance
+  // Throws std::invalid_argument naming the first setting out of its range.
+  void validate() const;
+};
+
+class Denoiser {
+ public:
+  // For width x height images, with the kernels of `program` (denoise.cl).
+  Denoiser(const cl::Context& context, const cl::Device& device, const cl::Program& program, std::size_t width,
+           std::size_t height, const DenoiseSettings& settings, std::size_t work_group_size = 0);
+
+  // Filters `ao` and `variance` (a float per pixel, row by row) in place,
+  // guided by `gbuffer` (a GBufferTexel per pixel, kernels/mbao/gbuffer.h).
+  void enqueue(cl::CommandQueue& queue, const cl::Buffer& gbuffer, const cl::Buffer& ao, const cl::Buffer& variance);
+
+  // Its own buffers: an image, a variance and a blurred variance.
+  static std::size_t device_bytes(std::size_t pixels) { return 3 * pixels * sizeof(cl_float); }
+
+ private:
+  std::size_t width_, height_;
+  DenoiseSettings settings_;
+  cl::Buffer ao_, variance_, blurred_;
+  cl::Kernel blur_, atrous_;
+  std::size_t blur_group_ = 0, atrous_group_ = 0;
+};
+
+}  // namespace mbao

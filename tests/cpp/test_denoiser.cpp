@@ -1,0 +1,202 @@
+// The spatial filter of SPEC 7.3 on made-up images and G-buffers: a weighted
+// mean that keeps a constant image, stays within its inputs, never mixes two
+// surfaces that meet at an angle or a miss with a hit, and removes noise.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "mbao/gbuffer.h"
+#include "opencl/compute_context.h"
+#include "opencl/devices.h"
+#include "render/denoiser.h"
+
+namespace mbao {
+namespace {
+
+constexpr int kSide = 48;
+constexpr float kFootprint = 0.01f;
+
+struct Images {
+  std::vector<GBufferTexel> gbuffer;
+  std::vector<float> ao, variance;
+};
+
+// Every pixel on the plane z = 0, facing the eye, a footprint apart.
+std::vector<GBufferTexel> facing_plane() {
+  std::vector<GBufferTexel> g(kSide * kSide);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) g[y * kSide + x] = {x * kFootprint, -y * kFootprint, 0.0f, 1.0f,
+                                                        0.0f, 0.0f, 1.0f, kFootprint};
+  return g;
+}
+
+// The top half a wall (z = 0), the bottom half the floor it stands on (y = 0).
+bool on_wall(int y) { return y < kSide / 2; }
+std::vector<GBufferTexel> wall_on_floor() {
+  std::vector<GBufferTexel> g(kSide * kSide);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      const float along = x * kFootprint, from_edge = std::abs(y - kSide / 2 + 0.5f) * kFootprint;
+      g[y * kSide + x] = on_wall(y) ? GBufferTexel{along, from_edge, 0.0f, 1.0f, 0.0f, 0.0f, 1.0f, kFootprint}
+                                    : GBufferTexel{along, 0.0f, from_edge, 1.0f, 0.0f, 1.0f, 0.0f, kFootprint};
+    }
+  return g;
+}
+
+// `ao` and `variance` filtered by the device's Denoiser.
+Images denoise(Images images, const DenoiseSettings& settings = {}) {
+  ComputeContext compute(default_device());
+  const cl::Program& program = compute.programs().get("denoise.cl", "").program;
+  const auto buffer = [&](auto& host) {
+    return cl::Buffer(compute.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                      host.size() * sizeof(host[0]), host.data());
+  };
+  const cl::Buffer gbuffer = buffer(images.gbuffer), ao = buffer(images.ao), variance = buffer(images.variance);
+  Denoiser denoiser(compute.context(), compute.device().device, program, kSide, kSide, settings);
+  cl::CommandQueue& queue = compute.queue();
+  denoiser.enqueue(queue, gbuffer, ao, variance);
+  queue.enqueueReadBuffer(ao, CL_TRUE, 0, images.ao.size() * sizeof(float), images.ao.data());
+  queue.enqueueReadBuffer(variance, CL_TRUE, 0, images.variance.size() * sizeof(float), images.variance.data());
+  return images;
+}
+
+// Values uniform in [mean - half_width, mean + half_width], each with that distribution's variance.
+void fill_noisy(Images& images, std::size_t first, std::size_t last, float mean, float half_width,
+                std::mt19937& random) {
+  std::uniform_real_distribution<float> noise(-half_width, half_width);
+  for (std::size_t i = first; i < last; ++i) {
+    images.ao[i] = mean + noise(random);
+    images.variance[i] = half_width * half_width / 3.0f;
+  }
+}
+
+Images sized(std::vector<GBufferTexel> gbuffer) {
+  Images images;
+  images.ao.resize(gbuffer.size());
+  images.variance.resize(gbuffer.size());
+  images.gbuffer = std::move(gbuffer);
+  return images;
+}
+
+TEST(Denoiser, KeepsAConstantImage) {
+  Images images = sized(facing_plane());
+  std::mt19937 random(1);
+  std::uniform_real_distribution<float> variance(0.0f, 0.05f);
+  for (std::size_t i = 0; i < images.ao.size(); ++i) {
+    images.ao[i] = 0.37f;
+    images.variance[i] = variance(random);
+  }
+  const Images out = denoise(images);
+  for (std::size_t i = 0; i < out.ao.size(); ++i) {
+    ASSERT_NEAR(out.ao[i], 0.37f, 1e-6f) << "pixel " << i;
+    ASSERT_GE(out.variance[i], 0.0f);
+    ASSERT_LE(out.variance[i], images.variance[i] + 0.05f);
+  }
+}
+
+TEST(Denoiser, StaysWithinItsInputs) {
+  Images images = sized(facing_plane());
+  std::mt19937 random(2);
+  fill_noisy(images, 0, images.ao.size(), 0.5f, 0.5f, random);
+  const auto [lo, hi] = std::minmax_element(images.ao.begin(), images.ao.end());
+  const Images out = denoise(images);
+  for (float v : out.ao) {
+    ASSERT_GE(v, *lo);
+    ASSERT_LE(v, *hi);
+  }
+}
+
+// A variance so large that the values' weights let everything through: only
+// the G-buffer's weights and the misses' exclusion keep the sides apart.
+constexpr float kLargeVariance = 100.0f;
+
+TEST(Denoiser, NeverMixesAWallWithTheFloorItStandsOn) {
+  Images images = sized(wall_on_floor());
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      images.ao[y * kSide + x] = on_wall(y) ? 0.3f : 0.8f;
+      images.variance[y * kSide + x] = kLargeVariance;
+    }
+  const Images out = denoise(images);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x)
+      ASSERT_NEAR(out.ao[y * kSide + x], on_wall(y) ? 0.3f : 0.8f, 1e-6f) << "pixel (" << x << ", " << y << ")";
+}
+
+TEST(Denoiser, NeverMixesAcrossAStepInDepth) {
+  Images images = sized(facing_plane());
+  for (int y = 0; y < kSide; ++y)
+    for (int x = kSide / 2; x < kSide; ++x) {  // the right half one unit farther back, its pixels twice as large
+      GBufferTexel& g = images.gbuffer[y * kSide + x];
+      g = {2.0f * g.x, 2.0f * g.y, -1.0f, 2.0f, 0.0f, 0.0f, 1.0f, 2.0f * kFootprint};
+    }
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      images.ao[y * kSide + x] = x < kSide / 2 ? 0.3f : 0.8f;
+      images.variance[y * kSide + x] = kLargeVariance;
+    }
+  const Images out = denoise(images);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x)
+      ASSERT_NEAR(out.ao[y * kSide + x], x < kSide / 2 ? 0.3f : 0.8f, 1e-6f) << "pixel (" << x << ", " << y << ")";
+}
+
+TEST(Denoiser, LeavesMissesAloneAndNeverTakesThemIn) {
+  Images images = sized(facing_plane());
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      const bool miss = x >= kSide / 2;  // the right half: 1, as a render stores it
+      if (miss) images.gbuffer[y * kSide + x].t = 0.0f;
+      images.ao[y * kSide + x] = miss ? 1.0f : 0.2f;
+      images.variance[y * kSide + x] = kLargeVariance;
+    }
+  const Images out = denoise(images);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x)
+      ASSERT_NEAR(out.ao[y * kSide + x], x >= kSide / 2 ? 1.0f : 0.2f, 1e-6f) << "pixel (" << x << ", " << y << ")";
+}
+
+TEST(Denoiser, RemovesMostOfTheNoiseOfAFlatSurface) {
+  Images images = sized(facing_plane());
+  std::mt19937 random(5);
+  fill_noisy(images, 0, images.ao.size(), 0.5f, 0.2f, random);
+  const auto rmse = [](const std::vector<float>& v) {
+    double sum = 0.0;
+    for (float x : v) sum += (x - 0.5) * (x - 0.5);
+    return std::sqrt(sum / double(v.size()));
+  };
+  const Images out = denoise(images);
+  EXPECT_LT(rmse(out.ao), rmse(images.ao) / 3.0);  // the target for the denoiser: a third
+}
+
+TEST(Denoiser, PropagatesTheVarianceWithTheSquaredWeights) {
+  // A constant image on a flat surface: every weight is 1 but the spline's, so
+  // an interior pixel's variance shrinks by (sum of h1^2)^2 = (70 / 256)^2 per iteration.
+  Images images = sized(facing_plane());
+  std::fill(images.ao.begin(), images.ao.end(), 0.5f);
+  std::fill(images.variance.begin(), images.variance.end(), 0.01f);
+  DenoiseSettings two;
+  two.iterations = 2;
+  const Images out = denoise(images, two);
+  const double shrink = std::pow(70.0 / 256.0, 2);
+  EXPECT_NEAR(out.variance[(kSide / 2) * kSide + kSide / 2], 0.01 * shrink * shrink, 1e-9);
+}
+
+TEST(Denoiser, RefusesSettingsOutOfRange) {
+  DenoiseSettings s;
+  s.iterations = 0;
+  EXPECT_THROW(s.validate(), std::invalid_argument);
+  s = DenoiseSettings{};
+  s.sigma_value = 0.0f;
+  EXPECT_THROW(s.validate(), std::invalid_argument);
+  s = DenoiseSettings{};
+  s.sigma_normal = -1.0f;
+  EXPECT_THROW(s.validate(), std::invalid_argument);
+  EXPECT_NO_THROW(DenoiseSettings{}.validate());
+}
+
+}  // namespace
+}  // namespace mbao
