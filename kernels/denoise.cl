@@ -32,8 +32,17 @@ __kernel void denoise_blur_variance(__global const GBufferTexel* gbuffer, __glob
 }
 
 typedef struct FilterWeights {
-  float sigma_plane, sigma_normal, sigma_value;
+  float sigma_plane, sigma_value;
+  uint sigma_normal;
 } FilterWeights;
+
+// x^n by squaring: no logarithm per tap (it took a fifth of the filter's time on PoCL).
+static inline float power(float x, uint n) {
+  float result = 1.0f;
+  for (; n; n >>= 1, x *= x)
+    if (n & 1u) result *= x;
+  return result;
+}
 
 // w(p, q) of SPEC 7.3 for a tap other than p itself.
 static inline float edge_weight(GBufferTexel p, GBufferTexel q, float value_p, float value_q, float value_scale,
@@ -41,13 +50,13 @@ static inline float edge_weight(GBufferTexel p, GBufferTexel q, float value_p, f
   const float3 n = texel_normal(p);
   const float plane = fabs(dot(n, texel_point(q) - texel_point(p))) / (f->sigma_plane * p.footprint);
   const float facing = fmax(0.0f, dot(n, texel_normal(q)));
-  return exp(-plane) * pow(facing, f->sigma_normal) * exp(-fabs(value_p - value_q) / value_scale);
+  return power(facing, f->sigma_normal) * exp(-plane - fabs(value_p - value_q) / value_scale);
 }
 
 // One iteration: taps 2^i = `step` pixels apart, weighted by the B3 spline and w.
 __kernel void denoise_atrous(__global const GBufferTexel* gbuffer, __global const float* ao,
                              __global const float* variance, __global const float* blurred_variance, uint width,
-                             uint height, uint step, float sigma_plane, float sigma_normal, float sigma_value,
+                             uint height, uint step, float sigma_plane, uint sigma_normal, float sigma_value,
                              __global float* ao_out, __global float* variance_out) {
   const uint pixel = get_global_id(0);
   if (pixel >= width * height) return;
@@ -57,7 +66,7 @@ __kernel void denoise_atrous(__global const GBufferTexel* gbuffer, __global cons
     variance_out[pixel] = variance[pixel];
     return;
   }
-  const FilterWeights f = {sigma_plane, sigma_normal, sigma_value};
+  const FilterWeights f = {sigma_plane, sigma_value, sigma_normal};
   const float spline[3] = {6.0f / 16.0f, 4.0f / 16.0f, 1.0f / 16.0f};
   const int x = (int)(pixel % width), y = (int)(pixel / width);
   const float value_p = ao[pixel];

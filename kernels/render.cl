@@ -17,6 +17,7 @@
 #include "sampling.h"
 #include "camera.h"
 #include "mbao/wavefront.h"
+#include "mbao/gbuffer.h"
 #include "mbao/pixel_order.h"
 
 // The direction of camera sample `sample_index` of the positions from
@@ -333,6 +334,31 @@ static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 ey
   if (eye.w != 0.0f) return make_surface(scene, hit, cross(p2 - p0, p1 - p0));
   const float3 hit_point = (1.0f - hit.b1 - hit.b2) * p0 + hit.b1 * p1 + hit.b2 * p2;
   return make_surface(scene, hit, hit_point - eye.xyz);
+}
+
+// The G-buffer (SPEC 7.2) of the tile's pixels from their camera hits, at
+// spp = 1 the rays through the pixel centres. One work item per pixel.
+__kernel void store_gbuffer(MBAO_SCENE_PARAMS, float4 eye, uint2 image_size, float film_scale_y,
+                            uint first_position, uint pixel_count, __global const uint4* camera_hits,
+                            __global GBufferTexel* gbuffer) {
+  const uint index = get_global_id(0);
+  if (index >= pixel_count) return;
+  const uint pixel = pixel_at_position(first_position + index, image_size.x, image_size.y);
+  const Hit hit = stored_hit(camera_hits, index);
+  GBufferTexel g = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  if (hit.triangle != MBAO_NO_TRIANGLE) {
+    const SceneView scene = MBAO_SCENE_VIEW();
+    const Surface s = primary_surface(&scene, hit, eye);
+    g.x = s.position.x;
+    g.y = s.position.y;
+    g.z = s.position.z;
+    g.t = hit.t;
+    g.nx = s.geometric_normal.x;
+    g.ny = s.geometric_normal.y;
+    g.nz = s.geometric_normal.z;
+    g.footprint = 2.0f * hit.t * film_scale_y / (float)image_size.y;
+  }
+  gbuffer[pixel] = g;
 }
 
 // A pixel's variance (SPEC 7.1): the spread of its camera samples' values

@@ -84,6 +84,21 @@ def test_render_cornell_box_to_png(tmp_path, device):
     assert proc.stderr == ""
 
 
+def test_render_denoised_with_its_variance_beside(tmp_path):
+    """--denoise filters the image (SPEC 7.3); --variance writes each pixel's
+    variance, here the filtered one, as float EXR beside it."""
+    proc = run_mbao("render", "--width", 32, "--height", 24, "--bounces", 2, "--denoise", "--variance", "-o",
+                    "out.png", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    report = output_lines(proc.stdout)
+    assert re.search(r"[\d.]+ ms of it denoising", report["frame"])
+    spec, variance = read_image(tmp_path / "out.variance.exr")
+    assert (spec.width, spec.height, spec.nchannels) == (32, 24, 1) and spec.format == "float"
+    expected = mbao.render(mbao.cornell_box(), width=32, height=24, bounces=2, denoise=True, variance=True)
+    np.testing.assert_array_equal(variance[..., 0], expected.variance)
+    assert (expected.variance > 0).any()
+
+
 def test_render_gltf_with_camera_to_exr(tmp_path, gltf_scene):
     scene, camera, away = gltf_scene
     proc = run_mbao("render", scene, "--camera", camera, "--width", 20, "--height", 16, "-o", "out.exr", cwd=tmp_path)

@@ -69,6 +69,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["max_distance_source"] = s.max_distance_source;
   d["upload_ms"] = s.upload_ms;
   d["frame_ms"] = s.frame_ms;
+  d["denoise_ms"] = s.denoise_ms;
   d["rays_primary"] = s.rays_primary;
   d["rays_secondary"] = s.rays_secondary;
   d["memory_bytes"] = s.memory_bytes;
@@ -112,9 +113,11 @@ py::list specs_list() {
 }
 
 py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera>& camera, const DeviceInfo& device,
-                 const py::dict& values, const py::object& progress, const HbaoSettings& hbao) {
+                 const py::dict& values, const py::object& progress, const HbaoSettings& hbao,
+                 const std::optional<DenoiseSettings>& denoise) {
   RenderSettings settings = settings_from(values);
   settings.hbao = hbao;
+  settings.denoise = denoise;
   const Renderer::TileCallback between_tiles = tile_callback(progress);
   RenderResult result;
   {
@@ -187,8 +190,34 @@ The radius, in world units, is the render's max_distance.)doc")
         return "HBAO(directions=" + std::to_string(h.directions) + ", steps=" + std::to_string(h.steps) +
                ", angle_bias_deg=" + std::to_string(h.angle_bias_deg) + ", falloff=" + std::to_string(h.falloff) + ")";
       });
+  py::class_<DenoiseSettings>(m, "Denoise", R"doc(The spatial filter's settings (SPEC 7.3) for render(denoise=...):
+an edge-aware a-trous wavelet filter (Dammertz et al. 2010) guided by the camera
+hits' G-buffer and each pixel's variance, as in SVGF (Schied et al. 2017).
+
+iterations: K, 1..14; iteration i takes taps 2^i pixels apart.
+sigma_plane: how far, in pixel footprints, a tap may lie off the pixel's tangent plane.
+sigma_normal: the exponent on the cosine between the normals, an integer in 0..1024 (0 ignores them).
+sigma_value: how far a tap's value may differ, in standard deviations of the pixel's
+    blurred variance.)doc")
+      .def(py::init([](std::int64_t iterations, float sigma_plane, std::int64_t sigma_normal, float sigma_value) {
+             const DenoiseSettings d{iterations, sigma_plane, sigma_normal, sigma_value};
+             d.validate();
+             return d;
+           }),
+           py::arg("iterations") = DenoiseSettings{}.iterations, py::arg("sigma_plane") = DenoiseSettings{}.sigma_plane,
+           py::arg("sigma_normal") = DenoiseSettings{}.sigma_normal,
+           py::arg("sigma_value") = DenoiseSettings{}.sigma_value)
+      .def_readonly("iterations", &DenoiseSettings::iterations)
+      .def_readonly("sigma_plane", &DenoiseSettings::sigma_plane)
+      .def_readonly("sigma_normal", &DenoiseSettings::sigma_normal)
+      .def_readonly("sigma_value", &DenoiseSettings::sigma_value)
+      .def("__repr__", [](const DenoiseSettings& d) {
+        return "Denoise(iterations=" + std::to_string(d.iterations) + ", sigma_plane=" + std::to_string(d.sigma_plane) +
+               ", sigma_normal=" + std::to_string(d.sigma_normal) + ", sigma_value=" + std::to_string(d.sigma_value) +
+               ")";
+      });
   m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("settings"),
-        py::arg("progress"), py::arg("hbao"),
+        py::arg("progress"), py::arg("hbao"), py::arg("denoise"),
         "Renders; returns (ao, coverage in 255ths, variance or None, stats). settings: {name: value} of setting_specs(). "
         "Use mbao.render, which checks and documents the arguments.");
   m.def("setting_specs", &specs_list,

@@ -1,37 +1,11 @@
 #include "render/denoiser.h"
 
-#include <cmath>
-#include <stdexcept>
-#include <string>
 #include <utility>
 
 #include "opencl/kernel_args.h"
 #include "opencl/launch.h"
 
 namespace mbao {
-namespace {
-
-constexpr std::int64_t kMaxIterations = 14;  // taps 2^13 pixels apart: past the widest image
-
-void check_positive(const char* name, float value, const char* what) {
-  if (!(value > 0.0f && std::isfinite(value)))
-    throw std::invalid_argument(std::string("denoise ") + name + " must be positive and finite (" + what +
-                                "), got " + std::to_string(value));
-}
-
-}  // namespace
-
-void DenoiseSettings::validate() const {
-  if (iterations < 1 || iterations > kMaxIterations)
-    throw std::invalid_argument("denoise iterations must be in [1, " + std::to_string(kMaxIterations) +
-                                "] (iteration i takes taps 2^i pixels apart), got " + std::to_string(iterations));
-  check_positive("sigma_plane", sigma_plane, "distance from the tangent plane, in footprints");
-  if (!(sigma_normal >= 0.0f && std::isfinite(sigma_normal)))
-    throw std::invalid_argument("denoise sigma_normal must be >= 0 and finite (the exponent on the normals' "
-                                "cosine; 0 ignores normals), got " + std::to_string(sigma_normal));
-  check_positive("sigma_value", sigma_value, "value differences, in standard deviations");
-}
-
 Denoiser::Denoiser(const cl::Context& context, const cl::Device& device, const cl::Program& program,
                    std::size_t width, std::size_t height, const DenoiseSettings& settings,
                    std::size_t work_group_size)
@@ -57,7 +31,8 @@ void Denoiser::enqueue(cl::CommandQueue& queue, const cl::Buffer& gbuffer, const
     set_kernel_args(blur_, gbuffer, from_variance, width, height, blurred_);
     launch(queue, blur_, pixels, blur_group_);
     set_kernel_args(atrous_, gbuffer, from_ao, from_variance, blurred_, width, height, cl_uint(1u << i),
-                    settings_.sigma_plane, settings_.sigma_normal, settings_.sigma_value, to_ao, to_variance);
+                    settings_.sigma_plane, cl_uint(settings_.sigma_normal), settings_.sigma_value, to_ao,
+                    to_variance);
     launch(queue, atrous_, pixels, atrous_group_);
     std::swap(from_ao, to_ao);
     std::swap(from_variance, to_variance);

@@ -6,18 +6,9 @@
 #include <cstdint>
 
 #include "opencl/opencl.h"
+#include "render/render_settings.h"
 
 namespace mbao {
-
-// The filter's settings, with SPEC 7.3's defaults.
-struct DenoiseSettings {
-  std::int64_t iterations = 5;  // K; iteration i takes taps 2^i pixels apart
-  float sigma_plane = 1.0f;     // distance from the tangent plane, in footprints
-  float sigma_normal = 128.0f;  // the exponent on the normals' cosine
-  float sigma_value = 4.0f;     // value differences, in standard deviations of the blurred variance
-  // Throws std::invalid_argument naming the first setting out of its range.
-  void validate() const;
-};
 
 class Denoiser {
  public:

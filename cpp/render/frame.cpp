@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "mbao/gbuffer.h"
 #include "mbao/limits.h"
 #include "opencl/launch.h"
 
@@ -24,8 +25,9 @@ std::size_t camera_rays_per_item(const RenderSettings& s) {
 std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries) {
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   const std::size_t second_moment = primaries == PrimarySurfaces::GivenPoints ? sizeof(cl_float) : 0;
-  const std::size_t variance = s.variance ? sizeof(cl_float) : 0;
-  const std::size_t image = pixels * (sizeof(cl_float) + second_moment + variance + sizeof(cl_uchar) +
+  const std::size_t variance = s.variance || s.denoise ? sizeof(cl_float) : 0;
+  const std::size_t gbuffer = s.denoise ? sizeof(GBufferTexel) : 0;
+  const std::size_t image = pixels * (sizeof(cl_float) + second_moment + variance + gbuffer + sizeof(cl_uchar) +
                                       sizeof(cl_uint));  // ao, coverage, rays
   const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
   const std::size_t wavefront =
@@ -50,7 +52,13 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
   if (primaries == PrimarySurfaces::GivenPoints)
     buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
-  if (s.variance) buffers_.ao_variance = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
+  if (s.variance || s.denoise)
+    buffers_.ao_variance = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(cl_float));
+  if (s.denoise) {
+    buffers_.gbuffer = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(GBufferTexel));
+    gbuffer_ = cl::Kernel(program, "store_gbuffer");
+    gbuffer_group_ = work_group_size_for(gbuffer_, device, s.work_group_size);
+  }
   bytes_ = device_bytes(s, tile_pixels, primaries);
   if (s.count_traversal) {
     const cl_ulong zeros[4] = {0, 0, 0, 0};
@@ -76,6 +84,9 @@ void Frame::set_up_megakernel(const cl::Device& device, const cl::Program& progr
 void Frame::set_tile(std::size_t first, std::size_t count) {
   set_kernel_args(camera_rays_, scene_, camera_args_, cl_uint(spp_), seed_, cl_uint(first), cl_uint(count),
                   buffers_.camera_hits, buffers_.traversal_totals);
+  if (gbuffer_())
+    set_kernel_args(gbuffer_, scene_, ao_args_.eye, ao_args_.image_size, camera_args_.film_scale.s[1],
+                    cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.gbuffer);
   if (wavefront_) return;  // it sets its own kernels' tile
   set_kernel_args(ao_kernel_, scene_, ao_args_, cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.ao,
                   buffers_.ao_second_moment, buffers_.ao_variance, buffers_.coverage, buffers_.secondary_rays,
@@ -85,6 +96,7 @@ void Frame::set_tile(std::size_t first, std::size_t count) {
 void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   set_tile(first, count);
   launch(queue, camera_rays_, camera_items(count), camera_group_);
+  if (gbuffer_()) launch(queue, gbuffer_, count, gbuffer_group_);
   enqueue_ao(queue, first, count);
 }
 
@@ -112,6 +124,7 @@ std::size_t Frame::camera_items(std::size_t pixels) const {
 void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
   set_tile(0, 0);
   launch_empty(queue, camera_rays_, camera_items(tile_pixels_), camera_group_);
+  if (gbuffer_()) launch_empty(queue, gbuffer_, tile_pixels_, gbuffer_group_);
   if (wavefront_)
     wavefront_->enqueue_empty_tiles(queue, tile_pixels_);
   else

@@ -40,6 +40,8 @@ class Frame {
   // (non-blocking), and the second moments and the variances into
   // result.ao_second_moment and result.variance where they are sized for them.
   void enqueue_read_back(cl::CommandQueue& queue, RenderResult& result, cl_uint* secondary_rays);
+  // The whole frame's images, once its tiles have run: what the denoiser filters.
+  const FrameBuffers& buffers() const { return buffers_; }
   // The frame's traversal counts (programs built with MBAO_COUNT_TRAVERSAL), once it has finished.
   TraversalTotals traversal_totals(cl::CommandQueue& queue) const;
 
@@ -68,6 +70,8 @@ class Frame {
   FrameBuffers buffers_;
   cl::Kernel camera_rays_;
   std::size_t camera_group_ = 0;
+  cl::Kernel gbuffer_;  // when denoising
+  std::size_t gbuffer_group_ = 0;
   // The megakernel, or else the wavefront.
   cl::Kernel ao_kernel_;
   std::size_t ao_group_ = 0;

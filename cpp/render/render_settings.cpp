@@ -10,6 +10,15 @@ namespace {
 
 [[noreturn]] void bad(const std::string& message) { throw std::invalid_argument(message); }
 
+constexpr std::int64_t kMaxIterations = 14;  // taps 2^13 pixels apart: past the widest image
+constexpr std::int64_t kMaxNormalExponent = 1024;
+
+void check_positive(const char* name, float value, const char* what) {
+  if (!(value > 0.0f && std::isfinite(value)))
+    throw std::invalid_argument(std::string("denoise ") + name + " must be positive and finite (" + what +
+                                "), got " + std::to_string(value));
+}
+
 void check_range(const char* name, std::int64_t value, std::int64_t lo, std::int64_t hi) {
   if (value < lo || value > hi)
     bad(std::string(name) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
@@ -146,6 +155,7 @@ void RenderSettings::validate() const {
     bad(message);
   }
   validate_work();
+  if (denoise) validate_denoise();
   if (organisation == KernelOrganisation::Wavefront) validate_wavefront();
   if (traversal == Traversal::Lanes) validate_lanes();
 }
@@ -156,6 +166,7 @@ void RenderSettings::validate_hbao() const {
         "; mbao.gtao_multibounce approximates more from its image");
   if (spp != 1) bad("HBAO samples each pixel at its centre, got spp=" + std::to_string(spp));
   if (variance) bad("variance is the spread of a ray-traced pixel's samples (SPEC 7.1); HBAO has none");
+  if (denoise) bad("denoise filters a ray-traced image by its variance (SPEC 7.3); HBAO has none");
   if (!std::isfinite(radius()))
     bad("HBAO needs a finite max_distance: it is the radius, in world units, that it searches for occluders");
   if (organisation == KernelOrganisation::Wavefront) bad("organisation \"wavefront\" applies to the ray-traced method only");
@@ -165,6 +176,28 @@ void RenderSettings::validate_hbao() const {
     bad("hbao angle_bias_deg must be in [0, 90), got " + std::to_string(hbao.angle_bias_deg));
   if (!(hbao.falloff >= 0.0f && hbao.falloff <= 1.0f))
     bad("hbao falloff must be in [0, 1], got " + std::to_string(hbao.falloff));
+}
+
+void DenoiseSettings::validate() const {
+  if (iterations < 1 || iterations > kMaxIterations)
+    throw std::invalid_argument("denoise iterations must be in [1, " + std::to_string(kMaxIterations) +
+                                "] (iteration i takes taps 2^i pixels apart), got " + std::to_string(iterations));
+  check_positive("sigma_plane", sigma_plane, "distance from the tangent plane, in footprints");
+  if (sigma_normal < 0 || sigma_normal > kMaxNormalExponent)
+    throw std::invalid_argument("denoise sigma_normal must be an integer in [0, " +
+                                std::to_string(kMaxNormalExponent) + "] (the exponent on the normals' cosine; 0 "
+                                "ignores normals), got " + std::to_string(sigma_normal));
+  check_positive("sigma_value", sigma_value, "value differences, in standard deviations");
+}
+
+void RenderSettings::validate_denoise() const {
+  denoise->validate();
+  if (spp != 1)
+    bad("denoise needs spp=1, got spp=" + std::to_string(spp) + ": its G-buffer is each pixel's one camera hit, "
+        "through the pixel centre (SPEC 7.2)");
+  if (samples < 2)
+    bad("denoise weighs values by their variance, the spread of the r directions at each hit (SPEC 7.1): it needs "
+        "samples >= 2, got samples=" + std::to_string(samples));
 }
 
 void RenderSettings::validate_work() const {

@@ -35,6 +35,16 @@ struct HbaoSettings {
   float falloff = 1.0f;          // attenuation W(r) = 1 - falloff * (r / radius)^2, in [0, 1]
 };
 
+// The spatial filter's settings, with SPEC 7.3's defaults.
+struct DenoiseSettings {
+  std::int64_t iterations = 5;  // K; iteration i takes taps 2^i pixels apart
+  float sigma_plane = 1.0f;     // distance from the tangent plane, in footprints
+  std::int64_t sigma_normal = 128;  // the exponent on the normals' cosine
+  float sigma_value = 4.0f;     // value differences, in standard deviations of the blurred variance
+  // Throws std::invalid_argument naming the first setting out of its range.
+  void validate() const;
+};
+
 // Names as the Python API spells them; parse_* throw std::invalid_argument
 // listing the allowed names.
 Estimator parse_estimator(const std::string& name);
@@ -84,6 +94,7 @@ struct RenderSettings {
   std::optional<bool> origin_paths;
   Method method = Method::RayTraced;
   HbaoSettings hbao;  // method Hbao only
+  std::optional<DenoiseSettings> denoise;  // the spatial filter after the AO (SPEC 7.3); unset: none
   // Renders that could trace more rays than this are refused before they start.
   std::uint64_t max_rays = kDefaultMaxRays;
 
@@ -101,7 +112,7 @@ struct RenderSettings {
   std::uint64_t max_queue_entries_per_camera_sample() const;
   // Whether the kernels keep the moments of the directions drawn at each primary
   // hit: for a variance at spp = 1 (SPEC 7.1).
-  bool direction_moments() const { return variance && spp == 1 && method == Method::RayTraced; }
+  bool direction_moments() const { return (variance || denoise) && spp == 1 && method == Method::RayTraced; }
   // Whether the wavefront organisation can run these settings: the ray-traced
   // branching estimator, with a pixel's queue entries within kMaxWavefrontQueueEntries.
   bool wavefront_can_run() const;
@@ -111,6 +122,7 @@ struct RenderSettings {
   void validate_lanes() const;
   void validate_work() const;
   void validate_hbao() const;
+  void validate_denoise() const;
 };
 
 // The largest bounce count of the branching estimator; the path estimator has no such limit.

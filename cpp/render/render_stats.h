@@ -28,7 +28,8 @@ struct RenderStats {
   // "none" (inf, for want of any).
   std::string max_distance_source;
   double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
-  double frame_ms = 0.0;         // camera rays, AO and read-back of the image
+  double frame_ms = 0.0;         // camera rays, AO, the spatial filter and read-back of the image
+  double denoise_ms = 0.0;       // the spatial filter, where it ran (SPEC 7.3)
   std::uint64_t rays_primary = 0;
   std::uint64_t rays_secondary = 0;
   std::size_t memory_bytes = 0;  // device memory: scene, tile buffers and image

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
 #include "core/timer.h"
 #include "opencl/launch.h"
+#include "render/denoiser.h"
 #include "render/frame.h"
 #include "render/hbao_frame.h"
 
@@ -162,9 +164,19 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   std::vector<cl_uint> secondary_rays(pixels);
   cl::CommandQueue& queue = compute_.queue();
   const PrimarySurfaces primaries = points_of_tile ? PrimarySurfaces::GivenPoints : PrimarySurfaces::CameraHits;
-  check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels, primaries), settings);
+  const std::size_t filter_bytes = settings.denoise ? Denoiser::device_bytes(pixels) : 0;
+  check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels, primaries) + filter_bytes, settings);
   Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels, primaries);
-  stats.memory_bytes = scene.bytes() + frame.bytes();
+  stats.memory_bytes = scene.bytes() + frame.bytes() + filter_bytes;
+  std::optional<Denoiser> denoiser;
+  if (settings.denoise) {
+    ProgramVariant filter;
+    filter.program = Program::Denoise;
+    const BuiltProgram built = compute_.programs().get(filter.file(), filter.options());
+    stats.kernel_build_ms += built.build_ms;
+    denoiser.emplace(compute_.context(), device().device, built.program, std::size_t(settings.width),
+                     std::size_t(settings.height), *settings.denoise, settings.work_group_size);
+  }
   // Some drivers (PoCL) build a kernel at its first launch, for its work-group
   // size and its grid's size: launched empty first, counted as kernel build time.
   if (launched_.insert(frame.launch_signature()).second) {
@@ -191,6 +203,14 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
       queue.finish();
       between_tiles(stats.tiles, tiles);
     }
+  }
+  if (denoiser) {
+    queue.finish();  // the filter's time apart from the AO's
+    Stopwatch filter_clock;
+    const FrameBuffers& images = frame.buffers();
+    denoiser->enqueue(queue, images.gbuffer, images.ao, images.ao_variance);
+    queue.finish();
+    stats.denoise_ms = filter_clock.elapsed_ms();
   }
   if (points_of_tile) result.ao_second_moment.resize(pixels);
   if (settings.variance) result.variance.resize(pixels);

@@ -11,7 +11,7 @@ in the docstrings refer to it).
 
 from .bake import Bake, bake
 from .bake_file import bake_file
-from ._core import DEFAULT_MAX_RAYS, HBAO, Camera, Device, DeviceError, Error, LoadError, Scene, cornell_box
+from ._core import DEFAULT_MAX_RAYS, HBAO, Camera, Denoise, Device, DeviceError, Error, LoadError, Scene, cornell_box
 from .convergence import convergence, format_convergence, plot_convergence
 from .devices import devices
 from .gtao import gtao_multibounce
@@ -25,6 +25,7 @@ __all__ = [
     "DEFAULT_MAX_RAYS",
     "Bake",
     "Camera",
+    "Denoise",
     "Device",
     "DeviceError",
     "Engine",

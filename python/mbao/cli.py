@@ -6,6 +6,7 @@
 """
 
 import argparse
+import pathlib
 import sys
 import warnings
 
@@ -39,6 +40,8 @@ def _parser():
     r.add_argument("--camera", help="camera.json (SPEC 3.1.1) (default: the scene's own camera, else one framing it)")
     for spec in RENDER.values():
         _add_setting(r, spec)
+    r.add_argument("--denoise", action="store_true",
+                   help="filter the image with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)")
     hbao, defaults = r.add_argument_group("HBAO options", "for --method hbao (SPEC 4)"), _core.HBAO()
     hbao.add_argument("--hbao-directions", type=int, default=defaults.directions,
                       help="image directions per pixel, 1..64 (default: %(default)s)")
@@ -152,9 +155,12 @@ def _render(args):
         hbao=_core.HBAO(args.hbao_directions, args.hbao_steps, args.hbao_angle_bias, args.hbao_falloff),
         engine=Engine(**{name: getattr(args, name) for name in ENGINE}),
         device=_device_argument(args.device),
+        denoise=args.denoise or None,
         **{name: getattr(args, name) for name in RENDER},
     )
     save_image(args.output, result.ao, alpha=None if args.no_alpha else result.coverage)
+    if args.variance:
+        save_image(_variance_path(args.output), result.variance)
     s = result.stats
     rays = s["rays_primary"] + s["rays_secondary"]
     tree = s["tree"]
@@ -175,7 +181,8 @@ def _render(args):
         f"depth {tree['max_depth']}, {tree['mean_triangles_per_leaf']:.2f} triangles per leaf, SAH {tree['sah_cost']:.1f}"
     )
     print(f"kernels      {s['kernel_build_ms']:.1f} ms ({s['kernel_cache']}: {s['kernel_options']})")
-    print(f"frame        {s['frame_ms']:.1f} ms in {s['tiles']} tile(s)")
+    print(f"frame        {s['frame_ms']:.1f} ms in {s['tiles']} tile(s)"
+          + (f", {s['denoise_ms']:.1f} ms of it denoising" if args.denoise else ""))
     print(
         f"rays         {s['rays_primary']} primary + {s['rays_secondary']} secondary = "
         f"{rays / s['frame_ms'] / 1e3:.2f} Mrays/s"
@@ -188,7 +195,14 @@ def _render(args):
         )
     print(f"memory       {s['memory_bytes'] / 2**20:.1f} MiB on the device")
     print(f"wrote        {args.output}")
+    if args.variance:
+        print(f"wrote        {_variance_path(args.output)} (each pixel's variance, SPEC 7.1)")
     return 0
+
+
+def _variance_path(output):
+    """Where --variance goes: beside the image, as float EXR."""
+    return str(pathlib.Path(output).with_suffix("")) + ".variance.exr"
 
 
 def _compare(args):

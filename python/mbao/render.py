@@ -27,7 +27,8 @@ class Result:
         or "compiled"), kernel_options, traversal_mode, organisation, plan (why
         "auto" chose the kernel variant it did, a line per choice), max_distance
         (the radius used) and max_distance_source ("settings", "camera", "scene":
-        HBAO's quarter diagonal, or "none": inf), upload_ms, frame_ms,
+        HBAO's quarter diagonal, or "none": inf), upload_ms, frame_ms (denoise_ms,
+        the spatial filter's part of it, 0 without one),
         rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
     variance: (height, width) float32 with variance=True, else None: each
         pixel's variance as an estimate of its expectation, from the spread of
@@ -45,7 +46,7 @@ class Result:
         return f"<mbao.Result {w}x{h}, frame {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
 
 
-def render(scene, *, camera=None, hbao=None, engine=None, device=None, progress=None, **settings):
+def render(scene, *, camera=None, hbao=None, denoise=None, engine=None, device=None, progress=None, **settings):
     # The signature and the docstring are made below from the settings' table.
     scene, camera = as_scene(scene), as_camera(camera)
     engine = _engine(engine, settings)
@@ -57,7 +58,7 @@ def render(scene, *, camera=None, hbao=None, engine=None, device=None, progress=
         values[name] = checked(RENDER[name], value)
     values.update(engine_values(engine))
     ao, coverage, variance, stats = _core.render(scene, camera, resolve(device), values, _progress(progress),
-                                                 _hbao_settings(hbao))
+                                                 _hbao_settings(hbao), _denoise_settings(denoise))
     mask = coverage > 0
     _warn_if_closed(scene, ao, mask, stats)
     return Result(ao, mask, stats, coverage.astype(np.float32) / 255, variance)
@@ -88,6 +89,10 @@ camera: an mbao.Camera or the path of a camera.json file; by default the scene's
 {chr(10).join(describe(spec) for spec in RENDER.values())}
 
 hbao: an mbao.HBAO with HBAO's own settings, for method="hbao".
+denoise: None (the raw image), True or an mbao.Denoise: the image filtered by
+    an edge-aware a-trous filter guided by the camera hits and each pixel's
+    variance (SPEC 7.3), at spp=1 and samples >= 2; stats["denoise_ms"] is its
+    share of frame_ms, and Result.variance (variance=True) the filtered variance.
 engine: an mbao.Engine: how the work is done (traversal, kernel organisation,
     tiles, work groups, traversal counts). None: mbao's choice for the device.
     No engine setting changes the image; stats["plan"] says what was chosen.
@@ -105,7 +110,7 @@ render.__signature__ = inspect.Signature(
      inspect.Parameter("camera", inspect.Parameter.KEYWORD_ONLY, default=None)]
     + [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=spec["default"]) for name, spec in RENDER.items()]
     + [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=None)
-       for name in ("hbao", "engine", "device", "progress")]
+       for name in ("hbao", "denoise", "engine", "device", "progress")]
 )
 
 
@@ -122,6 +127,16 @@ def _engine(engine, settings):
                   f"release: pass engine=mbao.Engine({', '.join(f'{name}=...' for name in old)})",
                   DeprecationWarning, stacklevel=3)
     return Engine(**old)
+
+
+def _denoise_settings(denoise):
+    if denoise is None or denoise is False:
+        return None
+    if denoise is True:
+        return _core.Denoise()
+    if not isinstance(denoise, _core.Denoise):
+        raise TypeError(f"denoise must be None, True or an mbao.Denoise, got {type(denoise).__name__}")
+    return denoise
 
 
 def _hbao_settings(hbao):

@@ -193,7 +193,7 @@ TEST(Denoiser, RefusesSettingsOutOfRange) {
   s.sigma_value = 0.0f;
   EXPECT_THROW(s.validate(), std::invalid_argument);
   s = DenoiseSettings{};
-  s.sigma_normal = -1.0f;
+  s.sigma_normal = -1;
   EXPECT_THROW(s.validate(), std::invalid_argument);
   EXPECT_NO_THROW(DenoiseSettings{}.validate());
 }
