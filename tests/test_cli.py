@@ -242,7 +242,7 @@ def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_sce
     assert lines[0] == "method,cost,frame_ms,rmse,bias,noise_floor"
     methods = [line.split(",")[0] for line in lines[1:]]
     assert methods == [m for m in ("hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit")
-                       for _ in (1, 2)]
+                       for _ in (1, 2)] + ["b2 branching + denoise"]  # from r = 2 only
 
 
 def test_compares_figures_name_the_scene_and_keep_their_panels_one_size():

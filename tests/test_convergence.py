@@ -109,3 +109,13 @@ def test_format_convergence_lists_every_row_and_the_noise_floor(study):
     assert len(lines) == 1 + len(study) + 1
     assert all(line.startswith(row["method"]) for line, row in zip(lines[1:], study))
     assert lines[-1] == f"reference noise floor {study[0]['noise_floor']:.4f}"
+
+
+def test_denoised_methods_start_at_two_directions_and_cut_the_error(cornell, reference):
+    """A denoised method skips r = 1 (no variance to weigh by, SPEC 7.1), and
+    at r = 2 its error is below the raw method's at the same r."""
+    table = rows(mbao.convergence(cornell, ["b2 branching", "b2 branching + denoise"], reference,
+                                  sample_counts=(1, 2), progress=False, plot=False))
+    assert [(r["method"], r["cost"]) for r in table] == [
+        ("b2 branching", 1), ("b2 branching", 2), ("b2 branching + denoise", 2)]
+    assert table[2]["rmse"] < table[1]["rmse"]

@@ -11,7 +11,7 @@ from .convergence import convergence, format_convergence, plot_convergence
 from .reference import reference
 from .render import render
 
-STUDY_METHODS = ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit"]
+STUDY_METHODS = ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit", "b2 branching + denoise"]
 
 
 _RADIUS_SOURCES = {"settings": "--max-distance", "camera": "camera.json", "scene": "a quarter of the scene's diagonal"}

@@ -23,7 +23,16 @@ METHODS = {
     "b3 path": dict(bounces=3, estimator="path"),
     "hbao + gtao fit": dict(method="hbao", gtao=True),
     "b1 + gtao fit": dict(bounces=1, gtao=True),
+    "b1 + denoise": dict(bounces=1, denoise=True),
+    "b2 branching + denoise": dict(bounces=2, estimator="branching", denoise=True),
+    "b2 path + denoise": dict(bounces=2, estimator="path", denoise=True),
 }
+
+
+def _least_cost(name):
+    """Denoised methods start at r = 2: with one direction a pixel has no
+    variance for the filter to weigh by (SPEC 7.1)."""
+    return 2 if METHODS[name].get("denoise") else 1
 
 
 def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), time_budgets=None, seed=0,
@@ -31,8 +40,10 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     """Renders each method at increasing cost and measures its error against `reference`.
 
     methods: names from mbao.convergence.METHODS ("hbao", "b1", "b2 branching",
-        "b2 path", "b3 branching", "b3 path", "hbao + gtao fit", "b1 + gtao fit").
+        "b2 path", "b3 branching", "b3 path", "hbao + gtao fit", "b1 + gtao fit",
+        "b1 + denoise", "b2 branching + denoise", "b2 path + denoise").
         Each renders the reference's camera, size, rho and max_distance (HBAO's radius).
+        The denoised ones (SPEC 7.3) skip sample counts below 2.
     scene: as for mbao.render, a path included (loaded once for the whole study).
     reference: an mbao.Reference (mbao.reference or Reference.load).
     sample_counts: the costs of one render: samples r for the ray tracers, directions for HBAO.
@@ -53,7 +64,8 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     scene = as_scene(scene)
     methods = _method_names(methods)
     rows = []
-    renders = len(methods) * len(time_budgets or sample_counts)
+    renders = (len(methods) * len(time_budgets) if time_budgets is not None
+               else sum(len(_affordable(name, sample_counts)) for name in methods))
     with progress_bar(_checks.boolean("progress", progress), renders, "convergence", "render") as bar:
         for name in methods:
             measure = _budgets if time_budgets is not None else _costs
@@ -98,9 +110,14 @@ def _hbao(directions):
     return _core.HBAO(directions=directions)
 
 
+def _affordable(name, costs):
+    """The sample counts a method renders: those from its least cost on."""
+    return [cost for cost in costs if _checks.integer("sample_counts", cost, 1) >= _least_cost(name)]
+
+
 def _costs(scene, name, reference, costs, seed, device, bar):
     rows = []
-    for cost in costs:
+    for cost in _affordable(name, costs):
         image, ms = _render_once(scene, name, reference, _checks.integer("sample_counts", cost, 1), seed, device)
         rows.append(_row(name, cost, ms, image, reference))
         _advance(bar)
