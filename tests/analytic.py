@@ -19,6 +19,20 @@ def polygon_occlusion(point, normal, polygon):
     return abs(total) / (2.0 * math.pi)
 
 
+def spec_ray_directions(camera, width, height):
+    """Pixel-centre ray directions, (height, width, 3), straight from SPEC 3.1."""
+    eye, target, up = (np.asarray(v, float) for v in (camera.eye, camera.target, camera.up))
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, forward)
+    tan_half = math.tan(math.radians(camera.vfov_deg) / 2.0)
+    u = ((np.arange(width) + 0.5) / width) * 2.0 - 1.0
+    v = 1.0 - ((np.arange(height) + 0.5) / height) * 2.0
+    d = forward + u[None, :, None] * tan_half * (width / height) * right + v[:, None, None] * tan_half * true_up
+    return d / np.linalg.norm(d, axis=2, keepdims=True)
+
+
 def one_pixel_access(scene, eye, target, **settings):
     """L at the point the camera ray through a 1x1 image meets (the pixel centre
     looks straight at target)."""

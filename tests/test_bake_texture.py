@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mbao
-from analytic import assert_within_standard_errors, polygon_occlusion
+from analytic import assert_within_standard_errors, polygon_occlusion, spec_ray_directions
 from meshes import box, disk, merge, plane
 
 
@@ -166,21 +166,6 @@ def test_a_texture_bake_needs_uvs():
         mbao.bake(mbao.Mesh(*plane(1.0)), target="texture", progress=False)
 
 
-def camera_ray_directions(camera, width, height):
-    """The directions of the camera rays through the pixel centres (SPEC 3.1), row by row."""
-    eye, target, up = (np.asarray(v, float) for v in (camera.eye, camera.target, camera.up))
-    forward = (target - eye) / np.linalg.norm(target - eye)
-    right = np.cross(forward, up)
-    right /= np.linalg.norm(right)
-    true_up = np.cross(right, forward)
-    tan_half = math.tan(math.radians(camera.vfov_deg) / 2)
-    y, x = np.mgrid[0:height, 0:width]
-    u = ((x + 0.5) / width) * 2 - 1
-    v = 1 - ((y + 0.5) / height) * 2
-    directions = (forward + (u * tan_half * width / height)[..., None] * right + (v * tan_half)[..., None] * true_up)
-    return directions.reshape(-1, 3)
-
-
 def bilinear(image, standard_error, uv):
     """The image looked up at texture coordinates uv (N, 2) between texel
     centres, as a viewer samples it, and the standard error of that lookup:
@@ -215,7 +200,7 @@ def test_a_baked_texture_looked_up_at_the_cameras_hits_matches_the_render():
     camera = mbao.Camera((0.3, 5.0, 3.0), (0.0, 0.0, 0.0), vfov_deg=40.0)
     width = height = 48
     render = mbao.render(scene, camera=camera, width=width, height=height, bounces=1, samples=r)
-    directions = camera_ray_directions(camera, width, height)
+    directions = spec_ray_directions(camera, width, height).reshape(-1, 3)
     _, triangle, barycentrics = mbao.trace(scene, np.tile(camera.eye, (len(directions), 1)), directions)
     floor_triangles = 2 * 16 * 16
     on_floor = (triangle >= 0) & (triangle < floor_triangles)
