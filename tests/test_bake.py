@@ -9,6 +9,7 @@ import pytest
 
 import mbao
 from analytic import assert_within_standard_errors, polygon_occlusion
+from interrupts import interrupt_after_the_first_tile
 from meshes import box, box_grid, disk, icosphere, merge, plane
 
 
@@ -199,29 +200,10 @@ def test_ctrl_c_stops_a_bake_between_tiles_and_the_next_one_works():
     """A real SIGINT while a tile runs with the GIL released (as
     test_work_limits.py does for renders): the bake stops after the tile in
     flight, and the bakes after it work, bit for bit alike."""
-    import os
-    import signal
-    import threading
-    import time
-
     vertices, indices = outward_box_grid()
     settings = dict(bounces=3, samples=256, engine=mbao.Engine(tile_pixels=8))
-    tiles_done = {}
-
-    def interrupt_once_baking():
-        while not tiles_done:
-            time.sleep(0.001)
-        os.kill(os.getpid(), signal.SIGINT)
-
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
-    try:
-        sender = threading.Thread(target=interrupt_once_baking)
-        sender.start()
-        with pytest.raises(KeyboardInterrupt):
-            bake(vertices, indices, progress=tiles_done.__setitem__, **settings)
-        sender.join()
-    finally:
-        signal.signal(signal.SIGINT, previous)
+    tiles_done = interrupt_after_the_first_tile(lambda progress: bake(vertices, indices, progress=progress,
+                                                                      **settings))
     total = next(iter(tiles_done.values()))
     assert len(tiles_done) < total, "the bake ran to its end before it saw the interrupt"
     small = dict(bounces=2, samples=8)

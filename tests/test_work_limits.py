@@ -1,15 +1,11 @@
 """Work that would explode is refused before it starts, and long work can be
 stopped: between tiles, by Ctrl-C or by the progress callback (issue 6)."""
 
-import os
-import signal
-import threading
-import time
-
 import numpy as np
 import pytest
 
 import mbao
+from interrupts import interrupt_after_the_first_tile
 
 
 @pytest.fixture(scope="module")
@@ -97,26 +93,9 @@ def test_an_exception_in_progress_stops_the_render_and_the_next_one_works(cornel
 
 def test_ctrl_c_stops_the_render_between_tiles_and_the_next_one_works(cornell):
     """A real SIGINT, sent by another thread while a tile runs with the GIL
-    released. Progress goes to a dict's C-implemented __setitem__, which runs
-    no Python bytecode and so no signal handler: only the render's own check
-    between tiles can stop it early."""
+    released: only the render's own check between tiles can stop it early."""
     settings = dict(width=64, height=64, engine=mbao.Engine(tile_pixels=64), bounces=3, samples=8)
-    tiles_done = {}
-
-    def interrupt_once_rendering():
-        while not tiles_done:
-            time.sleep(0.001)
-        os.kill(os.getpid(), signal.SIGINT)
-
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
-    try:
-        sender = threading.Thread(target=interrupt_once_rendering)
-        sender.start()
-        with pytest.raises(KeyboardInterrupt):
-            mbao.render(cornell, progress=tiles_done.__setitem__, **settings)
-        sender.join()
-    finally:
-        signal.signal(signal.SIGINT, previous)
+    tiles_done = interrupt_after_the_first_tile(lambda progress: mbao.render(cornell, progress=progress, **settings))
     total = 64 * 64 // 64
     assert set(tiles_done.values()) == {total}
     assert len(tiles_done) < total, "the render ran to its end before it saw the interrupt"
