@@ -15,8 +15,8 @@ constexpr std::int64_t kMaxNormalExponent = 1024;
 
 void check_positive(const char* name, float value, const char* what) {
   if (!(value > 0.0f && std::isfinite(value)))
-    throw std::invalid_argument(std::string("denoise ") + name + " must be positive and finite (" + what +
-                                "), got " + std::to_string(value));
+    bad(std::string("denoise ") + name + " must be positive and finite (" + what + "), got " +
+        std::to_string(value));
 }
 
 void check_range(const char* name, std::int64_t value, std::int64_t lo, std::int64_t hi) {
@@ -180,13 +180,12 @@ void RenderSettings::validate_hbao() const {
 
 void DenoiseSettings::validate() const {
   if (iterations < 1 || iterations > kMaxIterations)
-    throw std::invalid_argument("denoise iterations must be in [1, " + std::to_string(kMaxIterations) +
-                                "] (iteration i takes taps 2^i pixels apart), got " + std::to_string(iterations));
+    bad("denoise iterations must be in [1, " + std::to_string(kMaxIterations) +
+        "] (iteration i takes taps 2^i pixels apart), got " + std::to_string(iterations));
   check_positive("sigma_plane", sigma_plane, "distance from the tangent plane, in footprints");
   if (sigma_normal < 0 || sigma_normal > kMaxNormalExponent)
-    throw std::invalid_argument("denoise sigma_normal must be an integer in [0, " +
-                                std::to_string(kMaxNormalExponent) + "] (the exponent on the normals' cosine; 0 "
-                                "ignores normals), got " + std::to_string(sigma_normal));
+    bad("denoise sigma_normal must be an integer in [0, " + std::to_string(kMaxNormalExponent) +
+        "] (the exponent on the normals' cosine; 0 ignores normals), got " + std::to_string(sigma_normal));
   check_positive("sigma_value", sigma_value, "value differences, in standard deviations");
 }
 
