@@ -340,7 +340,7 @@ static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 ey
 // spp = 1 the rays through the pixel centres. One work item per pixel.
 __kernel void store_gbuffer(MBAO_SCENE_PARAMS, float4 eye, uint2 image_size, float film_scale_y,
                             uint first_position, uint pixel_count, __global const uint4* camera_hits,
-                            __global GBufferTexel* gbuffer) {
+                            __global float* gbuffer) {
   const uint index = get_global_id(0);
   if (index >= pixel_count) return;
   const uint pixel = pixel_at_position(first_position + index, image_size.x, image_size.y);
@@ -358,7 +358,7 @@ __kernel void store_gbuffer(MBAO_SCENE_PARAMS, float4 eye, uint2 image_size, flo
     g.nz = s.geometric_normal.z;
     g.footprint = 2.0f * hit.t * film_scale_y / (float)image_size.y;
   }
-  gbuffer[pixel] = g;
+  gbuffer_store(gbuffer, image_size.x * image_size.y, pixel, g);
 }
 
 // A pixel's variance (SPEC 7.1): the spread of its camera samples' values

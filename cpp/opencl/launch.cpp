@@ -20,6 +20,13 @@ void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items
   queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * work_group), cl::NDRange(work_group));
 }
 
+void launch_rows(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t columns, std::size_t rows,
+                 std::size_t work_group) {
+  const std::size_t groups = std::max<std::size_t>(1, (columns + work_group - 1) / work_group);
+  queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * work_group, std::max<std::size_t>(1, rows)),
+                             cl::NDRange(work_group, 1));
+}
+
 std::size_t rays_per_lane_item(std::size_t rays, const cl::Device& device, std::size_t work_group) {
   constexpr std::size_t kMost = 512, kLeast = 16, kGroupsPerUnit = 4;
   const std::size_t units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();

@@ -16,6 +16,12 @@ std::size_t work_group_size_for(const cl::Kernel& kernel, const cl::Device& devi
 // so an empty launch still runs: the kernels return for indices past their count).
 void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items, std::size_t work_group);
 
+// Enqueues a columns x rows grid in groups of `work_group` x 1, so that a
+// group's work items are neighbouring pixels of one row (at least one group,
+// as launch).
+void launch_rows(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t columns, std::size_t rows,
+                 std::size_t work_group);
+
 // How many rays each work item of a kernel that walks rays in lanes
 // (kernels/kd_lanes.h) takes, of `rays` in all: 512 where there are enough,
 // fewer where that would leave the device's compute units under four groups

@@ -17,18 +17,18 @@ class Denoiser {
            std::size_t height, const DenoiseSettings& settings, std::size_t work_group_size = 0);
 
   // Filters `ao` and `variance` (a float per pixel, row by row) in place,
-  // guided by `gbuffer` (a GBufferTexel per pixel, kernels/mbao/gbuffer.h).
+  // guided by `gbuffer` (GBUFFER_PLANES planes of a float per pixel, kernels/mbao/gbuffer.h).
   void enqueue(cl::CommandQueue& queue, const cl::Buffer& gbuffer, const cl::Buffer& ao, const cl::Buffer& variance);
 
-  // Its own buffers: an image, a variance and a blurred variance.
-  static std::size_t device_bytes(std::size_t pixels) { return 3 * pixels * sizeof(cl_float); }
+  // Its own buffers: an image and a variance.
+  static std::size_t device_bytes(std::size_t pixels) { return 2 * pixels * sizeof(cl_float); }
 
  private:
   std::size_t width_, height_;
   DenoiseSettings settings_;
-  cl::Buffer ao_, variance_, blurred_;
-  cl::Kernel blur_, atrous_;
-  std::size_t blur_group_ = 0, atrous_group_ = 0;
+  cl::Buffer ao_, variance_;
+  cl::Kernel interior_, border_;
+  std::size_t interior_group_ = 0, border_group_ = 0;
 };
 
 }  // namespace mbao

@@ -26,7 +26,7 @@ std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   const std::size_t second_moment = primaries == PrimarySurfaces::GivenPoints ? sizeof(cl_float) : 0;
   const std::size_t variance = s.variance || s.denoise ? sizeof(cl_float) : 0;
-  const std::size_t gbuffer = s.denoise ? sizeof(GBufferTexel) : 0;
+  const std::size_t gbuffer = s.denoise ? GBUFFER_PLANES * sizeof(cl_float) : 0;
   const std::size_t image = pixels * (sizeof(cl_float) + second_moment + variance + gbuffer + sizeof(cl_uchar) +
                                       sizeof(cl_uint));  // ao, coverage, rays
   const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
@@ -55,7 +55,7 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   if (s.variance || s.denoise)
     buffers_.ao_variance = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(cl_float));
   if (s.denoise) {
-    buffers_.gbuffer = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(GBufferTexel));
+    buffers_.gbuffer = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * GBUFFER_PLANES * sizeof(cl_float));
     gbuffer_ = cl::Kernel(program, "store_gbuffer");
     gbuffer_group_ = work_group_size_for(gbuffer_, device, s.work_group_size);
   }

@@ -11,7 +11,8 @@ namespace {
 [[noreturn]] void bad(const std::string& message) { throw std::invalid_argument(message); }
 
 constexpr std::int64_t kMaxIterations = 14;  // taps 2^13 pixels apart: past the widest image
-constexpr std::int64_t kMaxNormalExponent = 1024;
+constexpr std::int64_t kMaxNormalExponent = MBAO_MAX_NORMAL_EXPONENT;
+static_assert(kMaxNormalExponent < (1 << MBAO_NORMAL_EXPONENT_BITS), "denoise.cl squares over these bits");
 
 void check_positive(const char* name, float value, const char* what) {
   if (!(value > 0.0f && std::isfinite(value)))

@@ -1,6 +1,11 @@
-// One pixel of the G-buffer (SPEC 7.2): the hit of the ray through the pixel
-// centre, as the screen-space passes read it. Shared by the host, which sizes
-// and fills test buffers with it, and the kernels.
+// The G-buffer (SPEC 7.2): for each pixel the hit of the ray through its
+// centre, as the screen-space passes read it. Shared by the host, which fills
+// test buffers with it, and the kernels.
+//
+// It is stored as planes, each one quantity for every pixel row by row, so
+// that work items of neighbouring pixels read neighbouring floats: coalesced
+// loads on a GPU, and on PoCL the only layout whose loop over work items the
+// compiler turns into vector loads (a texel struct per pixel gets gathers).
 #ifndef MBAO_GBUFFER_H
 #define MBAO_GBUFFER_H
 
@@ -12,5 +17,22 @@ typedef struct GBufferTexel {
   float nx, ny, nz;    // the geometric normal, turned to the eye
   float footprint;     // the side of the pixel at distance t: 2 t tan(vfov / 2) / height
 } GBufferTexel;
+
+// The planes, in GBufferTexel's order.
+enum GBufferPlane {
+  GBUFFER_X, GBUFFER_Y, GBUFFER_Z, GBUFFER_T, GBUFFER_NX, GBUFFER_NY, GBUFFER_NZ, GBUFFER_FOOTPRINT,
+  GBUFFER_PLANES
+};
+
+// Plane `plane` of a G-buffer of `pixels` pixels.
+MBAO_FN const MBAO_GLOBAL float* gbuffer_plane(const MBAO_GLOBAL float* gbuffer, mbao_u32 pixels,
+                                               enum GBufferPlane plane) {
+  return gbuffer + (mbao_u64)plane * pixels;
+}
+
+MBAO_FN void gbuffer_store(MBAO_GLOBAL float* gbuffer, mbao_u32 pixels, mbao_u32 pixel, GBufferTexel g) {
+  const float fields[GBUFFER_PLANES] = {g.x, g.y, g.z, g.t, g.nx, g.ny, g.nz, g.footprint};
+  for (int plane = 0; plane < GBUFFER_PLANES; ++plane) gbuffer[(mbao_u64)plane * pixels + pixel] = fields[plane];
+}
 
 #endif

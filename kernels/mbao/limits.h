@@ -15,4 +15,9 @@
 // camera rays as one packet).
 #define MBAO_LANES 16
 
+// The denoiser's largest exponent on the normals' cosine (SPEC 7.3), and its
+// bits: the filter raises to it by squaring over a fixed count of bits.
+#define MBAO_MAX_NORMAL_EXPONENT 1024
+#define MBAO_NORMAL_EXPONENT_BITS 11
+
 #endif
