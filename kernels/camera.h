@@ -12,4 +12,15 @@ static inline float3 camera_ray_direction(float3 forward, float3 right, float3 u
   return normalize(forward + u * film_scale.x * right + v * film_scale.y * up);
 }
 
+// Where the point `from_eye` (a point less the eye) lies in the image, as
+// camera_ray_direction inverted: .xy in pixels, each pixel's centre at its
+// column and row; .z the point's depth along `forward`, <= 0 where the point
+// is not in front of the camera.
+static inline float3 camera_image_position(float3 forward, float3 right, float3 up, float2 film_scale, uint width,
+                                           uint height, float3 from_eye) {
+  const float depth = dot(from_eye, forward);
+  const float u = dot(from_eye, right) / (depth * film_scale.x), v = dot(from_eye, up) / (depth * film_scale.y);
+  return (float3)((u + 1.0f) * 0.5f * (float)width - 0.5f, (1.0f - v) * 0.5f * (float)height - 0.5f, depth);
+}
+
 #endif

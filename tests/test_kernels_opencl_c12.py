@@ -45,14 +45,14 @@ def compile_errors(program, options, use_fp64):
 
 
 def test_the_plan_lists_every_program():
-    assert sorted(VARIANTS) == ["denoise.cl", "hbao.cl", "render.cl", "trace.cl"]
+    assert sorted(VARIANTS) == ["denoise.cl", "hbao.cl", "render.cl", "temporal.cl", "trace.cl"]
     # The lanes' walk and each of the four walks of one ray, in the programs that trace rays in streams.
     for program in ("render.cl", "trace.cl"):
         walks = {options.split()[0] for options in VARIANTS[program]}
         assert walks == {f"-DMBAO_TRAVERSAL={w}" for w in range(5)}
 
 
-@pytest.mark.parametrize("program", ["render.cl", "trace.cl", "hbao.cl", "denoise.cl"])
+@pytest.mark.parametrize("program", ["render.cl", "trace.cl", "hbao.cl", "denoise.cl", "temporal.cl"])
 def test_every_variant_compiles_as_opencl_c_1_2(program):
     jobs = [(options, fp64) for options in VARIANTS[program] for fp64 in (0, 1)]
     with concurrent.futures.ThreadPoolExecutor(os.cpu_count()) as pool:

@@ -70,6 +70,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["upload_ms"] = s.upload_ms;
   d["frame_ms"] = s.frame_ms;
   d["denoise_ms"] = s.denoise_ms;
+  d["temporal_ms"] = s.temporal_ms;
   d["rays_primary"] = s.rays_primary;
   d["rays_secondary"] = s.rays_secondary;
   d["memory_bytes"] = s.memory_bytes;
@@ -114,7 +115,7 @@ py::list specs_list() {
 
 py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera>& camera, const DeviceInfo& device,
                  const py::dict& values, const py::object& progress, const HbaoSettings& hbao,
-                 const std::optional<DenoiseSettings>& denoise) {
+                 const std::optional<DenoiseSettings>& denoise, TemporalHistory* history) {
   RenderSettings settings = settings_from(values);
   settings.hbao = hbao;
   settings.denoise = denoise;
@@ -123,13 +124,15 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
   {
     py::gil_scoped_release release;
     const Camera view = camera ? *camera : scene->default_camera(float(settings.width) / float(settings.height));
-    result = Renderer::for_device(device).render(scene, view, settings, between_tiles);
+    result = Renderer::for_device(device).render(scene, view, settings, between_tiles, history);
   }
   const py::ssize_t h = result.height, w = result.width;
   const py::object variance =
       settings.variance ? py::object(adopt(std::move(result.variance), {h, w})) : py::object(py::none());
+  const py::object history_length =
+      history ? py::object(adopt(std::move(result.history_length), {h, w})) : py::object(py::none());
   return py::make_tuple(adopt(std::move(result.ao), {h, w}), adopt(std::move(result.coverage), {h, w}), variance,
-                        stats_dict(result.stats));
+                        history_length, stats_dict(result.stats));
 }
 
 py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py::array::c_style>& origins,
@@ -216,10 +219,29 @@ sigma_value: how far a tap's value may differ, in standard deviations of the pix
                ", sigma_normal=" + std::to_string(d.sigma_normal) + ", sigma_value=" + std::to_string(d.sigma_value) +
                ")";
       });
+  py::class_<TemporalSettings>(m, "Temporal", R"doc(Temporal accumulation's settings (SPEC 7.4) for
+render_sequence(temporal=...): each frame blends its render with the history of
+the frames before, reprojected into its camera through the G-buffers.
+
+max_length: N, 1..65536: a still camera averages its first N frames exactly,
+    then keeps an exponential mean that weighs each new frame by 1/N.)doc")
+      .def(py::init([](std::int64_t max_length) {
+             const TemporalSettings t{max_length};
+             t.validate();
+             return t;
+           }),
+           py::arg("max_length") = TemporalSettings{}.max_length)
+      .def_readonly("max_length", &TemporalSettings::max_length)
+      .def("__repr__", [](const TemporalSettings& t) { return "Temporal(max_length=" + std::to_string(t.max_length) + ")"; });
+  py::class_<TemporalHistory>(m, "TemporalHistory",
+                              "What a sequence's frames keep on the device for the next (SPEC 7.4); "
+                              "mbao.render_sequence makes one per sequence.")
+      .def(py::init<const TemporalSettings&>(), py::arg("settings"));
   m.def("render", &render, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("settings"),
-        py::arg("progress"), py::arg("hbao"), py::arg("denoise"),
-        "Renders; returns (ao, coverage in 255ths, variance or None, stats). settings: {name: value} of setting_specs(). "
-        "Use mbao.render, which checks and documents the arguments.");
+        py::arg("progress"), py::arg("hbao"), py::arg("denoise"), py::arg("history"),
+        "Renders; returns (ao, coverage in 255ths, variance or None, history lengths or None, stats). settings: "
+        "{name: value} of setting_specs(); history: a TemporalHistory or None. Use mbao.render or "
+        "mbao.render_sequence, which check and document the arguments.");
   m.def("setting_specs", &specs_list,
         "The render settings, each as a dict: name, group (\"render\" or \"engine\"), kind, doc, range, lo, hi, "
         "choices and default (render/setting_specs.h).");

@@ -15,8 +15,8 @@ struct FrameBuffers {
   cl::Buffer camera_hits;       // per camera sample of the tile
   cl::Buffer ao, coverage, secondary_rays;  // per pixel of the frame
   cl::Buffer ao_second_moment;  // per pixel, the mean of its samples' squares: bakes only (SPEC 6.4)
-  cl::Buffer ao_variance;       // per pixel, its variance: when asked or denoising (SPEC 7.1)
-  cl::Buffer gbuffer;           // GBUFFER_PLANES floats per pixel, as planes: when denoising (SPEC 7.2)
+  cl::Buffer ao_variance;       // per pixel, its variance: when asked or filtered (SPEC 7.1)
+  cl::Buffer gbuffer;           // GBUFFER_PLANES floats per pixel, as planes: when filtered (SPEC 7.2)
   cl::Buffer traversal_totals;  // 4 x ulong, only when counting
 };
 

@@ -25,8 +25,8 @@ std::size_t camera_rays_per_item(const RenderSettings& s) {
 std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries) {
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   const std::size_t second_moment = primaries == PrimarySurfaces::GivenPoints ? sizeof(cl_float) : 0;
-  const std::size_t variance = s.variance || s.denoise ? sizeof(cl_float) : 0;
-  const std::size_t gbuffer = s.denoise ? GBUFFER_PLANES * sizeof(cl_float) : 0;
+  const std::size_t variance = s.variance || s.filtered() ? sizeof(cl_float) : 0;
+  const std::size_t gbuffer = s.filtered() ? GBUFFER_PLANES * sizeof(cl_float) : 0;
   const std::size_t image = pixels * (sizeof(cl_float) + second_moment + variance + gbuffer + sizeof(cl_uchar) +
                                       sizeof(cl_uint));  // ao, coverage, rays
   const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
@@ -52,9 +52,9 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
   if (primaries == PrimarySurfaces::GivenPoints)
     buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
-  if (s.variance || s.denoise)
+  if (s.variance || s.filtered())
     buffers_.ao_variance = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(cl_float));
-  if (s.denoise) {
+  if (s.filtered()) {
     buffers_.gbuffer = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * GBUFFER_PLANES * sizeof(cl_float));
     gbuffer_ = cl::Kernel(program, "store_gbuffer");
     gbuffer_group_ = work_group_size_for(gbuffer_, device, s.work_group_size);

@@ -40,7 +40,7 @@ class Frame {
   // (non-blocking), and the second moments and the variances into
   // result.ao_second_moment and result.variance where they are sized for them.
   void enqueue_read_back(cl::CommandQueue& queue, RenderResult& result, cl_uint* secondary_rays);
-  // The whole frame's images, once its tiles have run: what the denoiser filters.
+  // The whole frame's images, once its tiles have run: what the screen-space passes read.
   const FrameBuffers& buffers() const { return buffers_; }
   // The frame's traversal counts (programs built with MBAO_COUNT_TRAVERSAL), once it has finished.
   TraversalTotals traversal_totals(cl::CommandQueue& queue) const;
@@ -70,7 +70,7 @@ class Frame {
   FrameBuffers buffers_;
   cl::Kernel camera_rays_;
   std::size_t camera_group_ = 0;
-  cl::Kernel gbuffer_;  // when denoising
+  cl::Kernel gbuffer_;  // when filtered (RenderSettings::filtered)
   std::size_t gbuffer_group_ = 0;
   // The megakernel, or else the wavefront.
   cl::Kernel ao_kernel_;

@@ -96,12 +96,13 @@ const char* ProgramVariant::file() const {
     case Program::Trace: return "trace.cl";
     case Program::Hbao: return "hbao.cl";
     case Program::Denoise: return "denoise.cl";
+    case Program::Temporal: return "temporal.cl";
   }
   return "";
 }
 
 std::string ProgramVariant::options() const {
-  if (program == Program::Denoise) return "";
+  if (program == Program::Denoise || program == Program::Temporal) return "";
   std::string o = define("MBAO_TRAVERSAL", int(walk)).substr(1);
   if (program != Program::Hbao) o += define("MBAO_COUNT_TRAVERSAL", count_traversal);
   o += define("MBAO_ALPHA_MASKS", alpha_masks);
@@ -141,9 +142,11 @@ std::vector<ProgramVariant> all_program_variants() {
       }
     }
   }
-  ProgramVariant denoise;
-  denoise.program = Program::Denoise;
-  variants.push_back(denoise);
+  for (Program program : {Program::Denoise, Program::Temporal}) {
+    ProgramVariant screen_space;
+    screen_space.program = program;
+    variants.push_back(screen_space);
+  }
   return variants;
 }
 

@@ -40,13 +40,13 @@ struct SceneTraits {
   static SceneTraits of(const Scene& scene);  // builds the scene's tree if it has none
 };
 
-enum class Program { Render, Trace, Hbao, Denoise };
+enum class Program { Render, Trace, Hbao, Denoise, Temporal };
 
 // One build of one program: its file and the defines that program reads.
 struct ProgramVariant {
   Program program = Program::Render;
   Traversal walk = Traversal::Stack;  // MBAO_TRAVERSAL: never Auto; Lanes only for render.cl and trace.cl;
-                                      // denoise.cl walks no tree and reads no define
+                                      // denoise.cl and temporal.cl walk no tree and read no define
   bool count_traversal = false;      // render.cl, trace.cl
   bool alpha_masks = false;
   bool shading_normals = false;      // render.cl, hbao.cl

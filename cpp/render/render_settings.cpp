@@ -12,6 +12,7 @@ namespace {
 
 constexpr std::int64_t kMaxIterations = 14;  // taps 2^13 pixels apart: past the widest image
 constexpr std::int64_t kMaxNormalExponent = MBAO_MAX_NORMAL_EXPONENT;
+constexpr std::int64_t kMaxHistoryLength = 1 << 16;  // N: from no history to one that weighs a new frame by 2^-16
 static_assert(kMaxNormalExponent < (1 << MBAO_NORMAL_EXPONENT_BITS), "denoise.cl squares over these bits");
 
 void check_positive(const char* name, float value, const char* what) {
@@ -156,7 +157,7 @@ void RenderSettings::validate() const {
     bad(message);
   }
   validate_work();
-  if (denoise) validate_denoise();
+  if (filtered()) validate_filters();
   if (organisation == KernelOrganisation::Wavefront) validate_wavefront();
   if (traversal == Traversal::Lanes) validate_lanes();
 }
@@ -168,6 +169,7 @@ void RenderSettings::validate_hbao() const {
   if (spp != 1) bad("HBAO samples each pixel at its centre, got spp=" + std::to_string(spp));
   if (variance) bad("variance is the spread of a ray-traced pixel's samples (SPEC 7.1); HBAO has none");
   if (denoise) bad("denoise filters a ray-traced image by its variance (SPEC 7.3); HBAO has none");
+  if (temporal) bad("temporal accumulation blends ray-traced frames by their variance (SPEC 7.4); HBAO has none");
   if (!std::isfinite(radius()))
     bad("HBAO needs a finite max_distance: it is the radius, in world units, that it searches for occluders");
   if (organisation == KernelOrganisation::Wavefront) bad("organisation \"wavefront\" applies to the ray-traced method only");
@@ -190,13 +192,21 @@ void DenoiseSettings::validate() const {
   check_positive("sigma_value", sigma_value, "value differences, in standard deviations");
 }
 
-void RenderSettings::validate_denoise() const {
-  denoise->validate();
+void TemporalSettings::validate() const {
+  if (max_length < 1 || max_length > kMaxHistoryLength)
+    bad("temporal max_length must be in [1, " + std::to_string(kMaxHistoryLength) +
+        "] (the frames a pixel's mean is capped at; 1 keeps no history), got " + std::to_string(max_length));
+}
+
+void RenderSettings::validate_filters() const {
+  if (denoise) denoise->validate();
+  if (temporal) temporal->validate();
+  const std::string what = denoise ? "denoise" : "temporal accumulation";
   if (spp != 1)
-    bad("denoise needs spp=1, got spp=" + std::to_string(spp) + ": its G-buffer is each pixel's one camera hit, "
+    bad(what + " needs spp=1, got spp=" + std::to_string(spp) + ": its G-buffer is each pixel's one camera hit, "
         "through the pixel centre (SPEC 7.2)");
   if (samples < 2)
-    bad("denoise weighs values by their variance, the spread of the r directions at each hit (SPEC 7.1): it needs "
+    bad(what + " weighs values by their variance, the spread of the r directions at each hit (SPEC 7.1): it needs "
         "samples >= 2, got samples=" + std::to_string(samples));
 }
 

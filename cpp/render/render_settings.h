@@ -45,6 +45,13 @@ struct DenoiseSettings {
   void validate() const;
 };
 
+// Temporal accumulation's settings (SPEC 7.4), with its default.
+struct TemporalSettings {
+  std::int64_t max_length = 64;  // N, the history length a pixel's mean is capped at
+  // Throws std::invalid_argument where max_length is out of its range.
+  void validate() const;
+};
+
 // Names as the Python API spells them; parse_* throw std::invalid_argument
 // listing the allowed names.
 Estimator parse_estimator(const std::string& name);
@@ -95,6 +102,8 @@ struct RenderSettings {
   Method method = Method::RayTraced;
   HbaoSettings hbao;  // method Hbao only
   std::optional<DenoiseSettings> denoise;  // the spatial filter after the AO (SPEC 7.3); unset: none
+  // A frame of a sequence that accumulates (SPEC 7.4), before any spatial filter; unset: none.
+  std::optional<TemporalSettings> temporal;
   // Renders that could trace more rays than this are refused before they start.
   std::uint64_t max_rays = kDefaultMaxRays;
 
@@ -112,7 +121,10 @@ struct RenderSettings {
   std::uint64_t max_queue_entries_per_camera_sample() const;
   // Whether the kernels keep the moments of the directions drawn at each primary
   // hit: for a variance at spp = 1 (SPEC 7.1).
-  bool direction_moments() const { return (variance || denoise) && spp == 1 && method == Method::RayTraced; }
+  bool direction_moments() const { return (variance || filtered()) && spp == 1 && method == Method::RayTraced; }
+  // Whether screen-space passes follow the AO, which read its G-buffer and
+  // variance (SPEC 7.2-7.4): denoising or temporal accumulation.
+  bool filtered() const { return denoise || temporal; }
   // Whether the wavefront organisation can run these settings: the ray-traced
   // branching estimator, with a pixel's queue entries within kMaxWavefrontQueueEntries.
   bool wavefront_can_run() const;
@@ -122,7 +134,7 @@ struct RenderSettings {
   void validate_lanes() const;
   void validate_work() const;
   void validate_hbao() const;
-  void validate_denoise() const;
+  void validate_filters() const;
 };
 
 // The largest bounce count of the branching estimator; the path estimator has no such limit.

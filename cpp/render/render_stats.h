@@ -30,6 +30,7 @@ struct RenderStats {
   double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
   double frame_ms = 0.0;         // camera rays, AO, the spatial filter and read-back of the image
   double denoise_ms = 0.0;       // the spatial filter, where it ran (SPEC 7.3)
+  double temporal_ms = 0.0;      // temporal accumulation, where it ran (SPEC 7.4)
   std::uint64_t rays_primary = 0;
   std::uint64_t rays_secondary = 0;
   std::size_t memory_bytes = 0;  // device memory: scene, tile buffers and image
@@ -48,6 +49,8 @@ struct RenderResult {
   std::vector<float> ao_second_moment;
   // With RenderSettings::variance: per pixel, its variance (SPEC 7.1).
   std::vector<float> variance;
+  // A frame that accumulates (SPEC 7.4): per pixel, its history length n.
+  std::vector<std::uint32_t> history_length;
   RenderStats stats;
 };
 

@@ -89,8 +89,11 @@ Renderer& Renderer::for_device(const DeviceInfo& device) {
 }
 
 RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                              const RenderSettings& settings, const TileCallback& between_tiles) {
-  return run(scene, camera, settings, between_tiles, nullptr);
+                              const RenderSettings& settings, const TileCallback& between_tiles,
+                              TemporalHistory* history) {
+  RenderSettings s = settings;
+  if (history) s.temporal = history->settings();
+  return run(scene, camera, s, between_tiles, nullptr, history);
 }
 
 RenderResult Renderer::bake(const std::shared_ptr<const Scene>& scene, const RenderSettings& settings,
@@ -101,7 +104,7 @@ RenderResult Renderer::bake(const std::shared_ptr<const Scene>& scene, const Ren
 
 RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                            const RenderSettings& requested, const TileCallback& between_tiles,
-                           const TilePoints* points_of_tile) {
+                           const TilePoints* points_of_tile, TemporalHistory* history) {
   RenderResult result;
   RenderStats& stats = result.stats;
   const AoRadius radius = radius_for(requested, camera, *scene);
@@ -144,7 +147,8 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
       RenderSettings planned = settings;
       planned.traversal = plan.traversal;
       planned.organisation = plan.organisation;
-      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, points_of_tile, result);
+      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, points_of_tile, history,
+                 result);
     }
   } catch (const cl::Error& e) {
     throw_device_error((points_of_tile ? "baking " : "rendering ") + scene->name() + " on " + device().description(),
@@ -156,7 +160,7 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
 
 void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                           const RenderSettings& settings, const TileCallback& between_tiles,
-                          const TilePoints* points_of_tile, RenderResult& result) {
+                          const TilePoints* points_of_tile, TemporalHistory* history, RenderResult& result) {
   RenderStats& stats = result.stats;
   stats.organisation = to_string(settings.organisation);
   const std::size_t pixels = result.ao.size();
@@ -164,19 +168,11 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   std::vector<cl_uint> secondary_rays(pixels);
   cl::CommandQueue& queue = compute_.queue();
   const PrimarySurfaces primaries = points_of_tile ? PrimarySurfaces::GivenPoints : PrimarySurfaces::CameraHits;
-  const std::size_t filter_bytes = settings.denoise ? Denoiser::device_bytes(pixels) : 0;
+  const std::size_t filter_bytes = (settings.denoise ? Denoiser::device_bytes(pixels) : 0) +
+                                   (history ? TemporalHistory::device_bytes(pixels) : 0);
   check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels, primaries) + filter_bytes, settings);
   Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels, primaries);
   stats.memory_bytes = scene.bytes() + frame.bytes() + filter_bytes;
-  std::optional<Denoiser> denoiser;
-  if (settings.denoise) {
-    ProgramVariant filter;
-    filter.program = Program::Denoise;
-    const BuiltProgram built = compute_.programs().get(filter.file(), filter.options());
-    stats.kernel_build_ms += built.build_ms;
-    denoiser.emplace(compute_.context(), device().device, built.program, std::size_t(settings.width),
-                     std::size_t(settings.height), *settings.denoise, settings.work_group_size);
-  }
   // Some drivers (PoCL) build a kernel at its first launch, for its work-group
   // size and its grid's size: launched empty first, counted as kernel build time.
   if (launched_.insert(frame.launch_signature()).second) {
@@ -204,14 +200,7 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
       between_tiles(stats.tiles, tiles);
     }
   }
-  if (denoiser) {
-    queue.finish();  // the filter's time apart from the AO's
-    Stopwatch filter_clock;
-    const FrameBuffers& images = frame.buffers();
-    denoiser->enqueue(queue, images.gbuffer, images.ao, images.ao_variance);
-    queue.finish();
-    stats.denoise_ms = filter_clock.elapsed_ms();
-  }
+  run_screen_space_passes(frame, camera, settings, history, result);
   if (points_of_tile) result.ao_second_moment.resize(pixels);
   if (settings.variance) result.variance.resize(pixels);
   frame.enqueue_read_back(queue, result, secondary_rays.data());
@@ -219,6 +208,42 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   stats.frame_ms = clock.elapsed_ms();
   if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
   for (cl_uint r : secondary_rays) stats.rays_secondary += r;
+}
+
+void Renderer::run_screen_space_passes(Frame& frame, const Camera& camera, const RenderSettings& settings,
+                                       TemporalHistory* history, RenderResult& result) {
+  RenderStats& stats = result.stats;
+  cl::CommandQueue& queue = compute_.queue();
+  const FrameBuffers& images = frame.buffers();
+  if (history) {
+    const cl::Program program = screen_space_program(Program::Temporal, stats);
+    queue.finish();  // each pass's time apart from the AO's
+    Stopwatch clock;
+    history->enqueue_accumulate(queue, compute_.context(), program, images, CameraArgs(camera, settings),
+                                settings.work_group_size);
+    queue.finish();
+    stats.temporal_ms = clock.elapsed_ms();
+    result.history_length.resize(result.ao.size());
+    history->enqueue_read_lengths(queue, result.history_length);
+  }
+  if (settings.denoise) {
+    const cl::Program program = screen_space_program(Program::Denoise, stats);
+    Denoiser denoiser(compute_.context(), device().device, program, std::size_t(settings.width),
+                      std::size_t(settings.height), *settings.denoise, settings.work_group_size);
+    queue.finish();
+    Stopwatch clock;
+    denoiser.enqueue(queue, images.gbuffer, images.ao, images.ao_variance);
+    queue.finish();
+    stats.denoise_ms = clock.elapsed_ms();
+  }
+}
+
+cl::Program Renderer::screen_space_program(Program program, RenderStats& stats) {
+  ProgramVariant variant;
+  variant.program = program;
+  const BuiltProgram built = compute_.programs().get(variant.file(), variant.options());
+  stats.kernel_build_ms += built.build_ms;
+  return built.program;
 }
 
 void Renderer::run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,

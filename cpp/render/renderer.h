@@ -15,10 +15,13 @@
 #include "render/render_plan.h"
 #include "render/render_settings.h"
 #include "render/render_stats.h"
+#include "render/temporal_history.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 
 namespace mbao {
+
+class Frame;
 
 // One traced ray: t is +inf and triangle ~0u where it hit nothing.
 struct RayHit {
@@ -57,8 +60,12 @@ class Renderer {
   // render, leaving the renderer ready for the next one.
   using TileCallback = std::function<void(std::size_t done, std::size_t total)>;
   // settings.max_distance, where unset, follows SPEC 1's rule (stats.max_distance_source says which part).
+  // With `history`, the frame is one of a sequence that accumulates (SPEC 7.4): blended with
+  // history's frames before any spatial filter, it becomes their history; result.history_length
+  // holds each pixel's.
   RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                      const RenderSettings& settings, const TileCallback& between_tiles = {});
+                      const RenderSettings& settings, const TileCallback& between_tiles = {},
+                      TemporalHistory* history = nullptr);
 
   // A bake's estimates (SPEC 6): settings.width x height pixels, each the mean (result.ao) and the mean
   // square (result.ao_second_moment) of settings.spp estimates, one path each, from the surface points
@@ -78,12 +85,18 @@ class Renderer {
  private:
   // render and bake: points_of_tile, where given, stands for the camera rays.
   RenderResult run(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& requested,
-                   const TileCallback& between_tiles, const TilePoints* points_of_tile);
+                   const TileCallback& between_tiles, const TilePoints* points_of_tile,
+                   TemporalHistory* history = nullptr);
   // The two kinds of frame, given the scene on the device and the camera in its frame; run_traced's
   // settings carry the plan's traversal and organisation.
   void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                   const RenderSettings& settings, const TileCallback& between_tiles,
-                  const TilePoints* points_of_tile, RenderResult& result);
+                  const TilePoints* points_of_tile, TemporalHistory* history, RenderResult& result);
+  // The temporal accumulation and the spatial filter, in that order, where the settings ask for them.
+  void run_screen_space_passes(Frame& frame, const Camera& camera, const RenderSettings& settings,
+                               TemporalHistory* history, RenderResult& result);
+  // A program that walks no tree (denoise.cl, temporal.cl), its build time added to stats.
+  cl::Program screen_space_program(Program program, RenderStats& stats);
   void run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                 const RenderSettings& settings, RenderResult& result);
 

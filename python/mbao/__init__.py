@@ -11,13 +11,14 @@ in the docstrings refer to it).
 
 from .bake import Bake, bake
 from .bake_file import bake_file
-from ._core import DEFAULT_MAX_RAYS, HBAO, Camera, Denoise, Device, DeviceError, Error, LoadError, Scene, cornell_box
+from ._core import (DEFAULT_MAX_RAYS, HBAO, Camera, Denoise, Device, DeviceError, Error, LoadError, Scene, Temporal,
+                    cornell_box)
 from .convergence import convergence, format_convergence, plot_convergence
 from .devices import devices
 from .gtao import gtao_multibounce
 from .images import save_image
 from .reference import Reference, reference, reference_camera
-from .render import Result, render, trace
+from .render import Result, render, render_sequence, trace
 from .scene import Mesh, load
 from .settings import Engine
 
@@ -36,6 +37,7 @@ __all__ = [
     "Reference",
     "Result",
     "Scene",
+    "Temporal",
     "bake",
     "bake_file",
     "convergence",
@@ -48,6 +50,7 @@ __all__ = [
     "reference",
     "reference_camera",
     "render",
+    "render_sequence",
     "save_image",
     "trace",
 ]

@@ -28,11 +28,15 @@ class Result:
         "auto" chose the kernel variant it did, a line per choice), max_distance
         (the radius used) and max_distance_source ("settings", "camera", "scene":
         HBAO's quarter diagonal, or "none": inf), upload_ms, frame_ms (denoise_ms,
-        the spatial filter's part of it, 0 without one),
+        the spatial filter's part of it, and temporal_ms, temporal accumulation's:
+        0 without them),
         rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
     variance: (height, width) float32 with variance=True, else None: each
         pixel's variance as an estimate of its expectation, from the spread of
         its own samples (SPEC 7.1); 0 where every camera sample missed.
+    history_length: (height, width) uint32 in a sequence with temporal
+        accumulation, else None: the frames each pixel's value averages
+        (SPEC 7.4): 1 where it has no history, 0 where its camera ray missed.
     """
 
     ao: np.ndarray
@@ -40,6 +44,7 @@ class Result:
     stats: dict
     coverage: np.ndarray
     variance: np.ndarray = None
+    history_length: np.ndarray = None
 
     def __repr__(self):
         h, w = self.ao.shape
@@ -49,19 +54,56 @@ class Result:
 def render(scene, *, camera=None, hbao=None, denoise=None, engine=None, device=None, progress=None, **settings):
     # The signature and the docstring are made below from the settings' table.
     scene, camera = as_scene(scene), as_camera(camera)
-    engine = _engine(engine, settings)
+    values = _setting_values("render", _engine(engine, settings), settings)
+    return _render(scene, camera, values, resolve(device), progress=progress, hbao=hbao, denoise=denoise)
+
+
+def render_sequence(scene, cameras, *, temporal=True, denoise=None, engine=None, device=None, **settings):
+    """Renders a frame per camera, yielding a Result for each as it is done.
+
+    scene: as render's; loaded once for the whole sequence.
+    cameras: an iterable of mbao.Camera, camera.json paths or None (the scene's
+        default camera); it may be a generator.
+    temporal: True, an mbao.Temporal, or False: each frame blends its render
+        with the history of the frames before, reprojected into its camera
+        through the camera hits, and drops it where the surface differs (a
+        disocclusion); Result.history_length says how many frames each pixel
+        averages (SPEC 7.4). A still camera converges as a progressive render
+        does. Needs spp=1 and samples >= 2.
+    denoise: as render's, run on each frame after the accumulation; the history
+        keeps the unfiltered value.
+    settings: render's; frame k is rendered with seed + k, so that its noise is
+        independent of the frames before.
+
+    The sequence is a function of its cameras, its settings and the seed.
+    """
+    scene = as_scene(scene)
+    values = _setting_values("render_sequence", _engine(engine, settings), settings)
+    history = _core.TemporalHistory(_temporal_settings(temporal)) if temporal is not False else None
+    device = resolve(device)
+    for k, camera in enumerate(cameras):
+        frame = dict(values, seed=values.get("seed", RENDER["seed"]["default"]) + k)
+        yield _render(scene, as_camera(camera), frame, device, denoise=denoise, history=history)
+
+
+def _setting_values(function, engine, settings):
+    """{name: value} of the settings, checked against the table, and the engine's."""
     values = {}
     for name, value in settings.items():
         if name not in RENDER:
-            raise TypeError(f"render() got an unexpected keyword argument {name!r}; its settings are "
+            raise TypeError(f"{function}() got an unexpected keyword argument {name!r}; its settings are "
                             f"{', '.join(RENDER)}, and engine=mbao.Engine(...) takes {', '.join(ENGINE)}")
         values[name] = checked(RENDER[name], value)
     values.update(engine_values(engine))
-    ao, coverage, variance, stats = _core.render(scene, camera, resolve(device), values, _progress(progress),
-                                                 _hbao_settings(hbao), _denoise_settings(denoise))
+    return values
+
+
+def _render(scene, camera, values, device, *, progress=None, hbao=None, denoise=None, history=None):
+    ao, coverage, variance, history_length, stats = _core.render(
+        scene, camera, device, values, _progress(progress), _hbao_settings(hbao), _denoise_settings(denoise), history)
     mask = coverage > 0
     _warn_if_closed(scene, ao, mask, stats)
-    return Result(ao, mask, stats, coverage.astype(np.float32) / 255, variance)
+    return Result(ao, mask, stats, coverage.astype(np.float32) / 255, variance, history_length)
 
 
 def _warn_if_closed(scene, ao, mask, stats):
@@ -75,7 +117,7 @@ def _warn_if_closed(scene, ao, mask, stats):
     warnings.warn(f"{scene.name}: {np.mean(covered < 0.01):.0%} of the covered pixels are below 0.01 with "
                   f"max_distance=inf: the scene looks closed, so every AO ray hits something. Give a radius in "
                   f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)",
-                  stacklevel=3)
+                  stacklevel=4)
 
 
 render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
@@ -137,6 +179,14 @@ def _denoise_settings(denoise):
     if not isinstance(denoise, _core.Denoise):
         raise TypeError(f"denoise must be None, True or an mbao.Denoise, got {type(denoise).__name__}")
     return denoise
+
+
+def _temporal_settings(temporal):
+    if temporal is True:
+        return _core.Temporal()
+    if not isinstance(temporal, _core.Temporal):
+        raise TypeError(f"temporal must be True, False or an mbao.Temporal, got {type(temporal).__name__}")
+    return temporal
 
 
 def _hbao_settings(hbao):
