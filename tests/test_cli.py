@@ -153,12 +153,42 @@ def test_help_gives_every_setting_its_default_and_the_engine_options_a_group(tmp
         assert default in render_part, default
 
 
+def test_orbit_writes_the_sequence_as_a_looping_gif(tmp_path):
+    """Each GIF frame is the sequence's frame in 8-bit greys; frames alike in a
+    row may be merged by Pillow, but the loop's length is frames / fps."""
+    from PIL import Image, ImageSequence
+
+    proc = run_mbao("orbit", "--frames", 6, "--fps", 20, "--width", 24, "--height", 16, "--bounces", 2,
+                    "--temporal", "-o", "turn.gif", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert output_lines(proc.stdout)["wrote"].startswith("turn.gif")
+    gif = Image.open(tmp_path / "turn.gif")
+    assert gif.size == (24, 16) and gif.info["loop"] == 0
+    frames = [(np.asarray(frame.convert("L")), frame.info["duration"]) for frame in ImageSequence.Iterator(gif)]
+    assert sum(duration for _, duration in frames) == 6 * 50
+    first = mbao.cornell_box().default_camera(24, 16)
+    expected = next(mbao.render_sequence(mbao.cornell_box(), [first], width=24, height=16, bounces=2))
+    np.testing.assert_array_equal(frames[0][0], np.round(expected.ao * 255).astype(np.uint8))
+
+
+def test_orbit_cameras_turn_the_eye_about_the_target():
+    from mbao.orbit import orbit_cameras
+
+    start = mbao.Camera((0.0, 1.0, 2.0), (0.0, 1.0, 0.0), vfov_deg=45.0, max_distance=3.0)
+    quarter_turns = orbit_cameras(start, 4)
+    np.testing.assert_allclose([c.eye for c in quarter_turns],
+                               [(0, 1, 2), (2, 1, 0), (0, 1, -2), (-2, 1, 0)], atol=1e-6)
+    assert all(c.target == start.target and c.vfov_deg == 45.0 and c.max_distance == 3.0 for c in quarter_turns)
+    with pytest.raises(ValueError, match="frames must be an integer >= 1"):
+        orbit_cameras(start, 0)
+
+
 def test_version(tmp_path):
     proc = run_mbao("--version", cwd=tmp_path)
     assert proc.returncode == 0 and proc.stdout.strip() == f"mbao {mbao.__version__}"
 
 
-@pytest.mark.parametrize("command", ["render", "compare"])
+@pytest.mark.parametrize("command", ["render", "compare", "orbit"])
 def test_every_option_with_a_default_says_it_in_help(tmp_path, command):
     from mbao.cli import _parser
 
@@ -294,8 +324,9 @@ def test_devices_lists_the_devices(tmp_path, device):
         (["render", "--rho", "2"], r"rho"),
         (["render", "--camera", "no_such_camera.json"], r"no_such_camera\.json"),
         (["render", "--bounces", "3", "--samples", "8", "--max-rays", "1000"], r"max_rays=1000.*estimator=\"path\""),
+        (["orbit", "--frames", "2"], r"-o 'x\.png': an orbit is written as \.gif"),
     ],
-    ids=["missing scene", "bounces 0", "unknown estimator", "rho 2", "missing camera", "past max rays"],
+    ids=["missing scene", "bounces 0", "unknown estimator", "rho 2", "missing camera", "past max rays", "orbit to png"],
 )
 def test_bad_input_gives_a_one_line_message(tmp_path, args, message):
     proc = run_mbao(*args, "--width", 4, "--height", 4, "-o", "x.png", cwd=tmp_path)
@@ -305,6 +336,17 @@ def test_bad_input_gives_a_one_line_message(tmp_path, args, message):
     assert len(lines) == 1 and lines[0].startswith("mbao: "), f"stderr is not one 'mbao: ...' line:\n{proc.stderr}"
     assert re.search(message, lines[0]), lines[0]
     assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--fps", "0"], r"fps must be in \(0, 100\]"),
+    (["--temporal", "--samples", "1"], r"temporal accumulation .* samples >= 2"),
+], ids=["0 fps", "temporal with r = 1"])
+def test_a_bad_orbit_gives_a_one_line_message_and_no_gif(tmp_path, args, message):
+    proc = run_mbao("orbit", *args, "--frames", 2, "--width", 4, "--height", 4, "-o", "x.gif", cwd=tmp_path)
+    assert proc.returncode != 0 and "Traceback" not in proc.stderr
+    assert re.fullmatch("mbao: " + message + r".*\n", proc.stderr), proc.stderr
+    assert not (tmp_path / "x.gif").exists()
 
 
 def test_unknown_device_lists_the_devices(tmp_path, device):

@@ -2,6 +2,7 @@
 
     python -m mbao render [scene.glb] [--bounces 2] [--samples 4] [-o ao.png] ...
     python -m mbao bake scene.glb -o baked.glb [--target texture|vertices] ...
+    python -m mbao orbit [scene.glb] -o orbit.gif [--frames 60] [--temporal] [--denoise] ...
     python -m mbao devices
 """
 
@@ -14,7 +15,7 @@ from . import _core
 from .devices import devices
 from . import __version__
 from .images import check_writable, save_image
-from .render import render
+from .render import render, render_sequence
 from .scene import load
 from .settings import ENGINE, RENDER, Engine
 
@@ -104,6 +105,22 @@ def _parser():
     b.add_argument("--quiet", action="store_true", help="no progress bar")
     b.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, "
                    "else the first GPU, else the first device")
+
+    o = commands.add_parser("orbit", help="render a camera's turn around the scene as an animated GIF")
+    o.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
+    o.add_argument("-o", "--output", default="orbit.gif", help="the GIF to write (default: %(default)s)")
+    o.add_argument("--camera", help="camera.json of the first frame (default: the scene's own camera, else one "
+                   "framing it); the eye turns about the vertical line through its target")
+    o.add_argument("--frames", type=int, default=60, help="frames in the turn (default: %(default)s)")
+    o.add_argument("--degrees", type=float, default=360.0, help="the turn's angle (default: %(default)s)")
+    o.add_argument("--fps", type=float, default=25.0, help="frames per second of the GIF (default: %(default)s)")
+    o.add_argument("--temporal", action="store_true",
+                   help="accumulate each frame with the ones before, reprojected (SPEC 7.4; spp 1, samples >= 2)")
+    o.add_argument("--denoise", action="store_true",
+                   help="filter each frame with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)")
+    for spec in RENDER.values():
+        _add_setting(o, spec)
+    o.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
     commands.add_parser("devices", help="list the OpenCL devices")
     return parser
@@ -248,6 +265,28 @@ def _bake(args):
     return 0
 
 
+def _orbit(args):
+    from .orbit import check_gif, orbit_cameras, save_gif
+
+    check_gif(args.output, args.fps, "-o")  # before the frames, not after them
+    scene = load(args.scene) if args.scene else _core.cornell_box()
+    first = _core.Camera.load(args.camera) if args.camera else scene.default_camera(args.width, args.height)
+    frames = list(render_sequence(
+        scene, orbit_cameras(first, args.frames, args.degrees), temporal=args.temporal,
+        denoise=args.denoise or None, device=_device_argument(args.device),
+        **{name: getattr(args, name) for name in RENDER}))
+    save_gif(args.output, [frame.ao for frame in frames], args.fps)
+    frame_ms = [frame.stats["frame_ms"] for frame in frames]
+    print(f"scene        {scene.name} ({scene.triangle_count} triangles)")
+    print(f"device       {frames[0].stats['device']}")
+    print(f"settings     {args.width}x{args.height}, bounces={args.bounces}, samples={args.samples}, {args.estimator}, "
+          f"{args.frames} frames over {args.degrees:g} degrees" + (", temporal" if args.temporal else "")
+          + (", denoised" if args.denoise else ""))
+    print(f"frames       {sum(frame_ms) / len(frame_ms):.1f} ms each on average, {max(frame_ms):.1f} ms at most")
+    print(f"wrote        {args.output} ({args.fps:g} fps)")
+    return 0
+
+
 def _print_warning(message, category, filename, lineno, file=None, line=None):
     """A warning as one line, like the command's errors: no source line."""
     print(f"mbao: warning: {message}", file=sys.stderr)
@@ -266,6 +305,8 @@ def main(argv=None):
                 return _compare(args)
             if args.command == "bake":
                 return _bake(args)
+            if args.command == "orbit":
+                return _orbit(args)
             return _render(args)
     except (ValueError, TypeError, OSError, _core.Error) as error:
         print(f"mbao: {error}", file=sys.stderr)
