@@ -119,3 +119,34 @@ def test_denoised_methods_start_at_two_directions_and_cut_the_error(cornell, ref
     assert [(r["method"], r["cost"]) for r in table] == [
         ("b2 branching", 1), ("b2 branching", 2), ("b2 branching + denoise", 2)]
     assert table[2]["rmse"] < table[1]["rmse"]
+
+
+def test_a_still_cameras_accumulated_frames_are_the_averaged_ones(cornell, reference):
+    """Up to N frames, temporal accumulation of a still camera is the running
+    mean (SPEC 7.4): the same rows as averaging renders with the same seeds."""
+    table = rows(mbao.convergence(cornell, ["b2 branching", "b2 branching + temporal"], reference,
+                                  frame_counts=(1, 3), progress=False, plot=False))
+    assert [(r["method"], r["cost"]) for r in table] == [
+        ("b2 branching", 1), ("b2 branching", 3), ("b2 branching + temporal", 1), ("b2 branching + temporal", 3)]
+    for averaged, accumulated in zip(table[:2], table[2:]):
+        assert accumulated["rmse"] == pytest.approx(averaged["rmse"], abs=1e-6)
+        assert accumulated["block_rmse"] == pytest.approx(averaged["block_rmse"], abs=1e-6)
+
+
+def test_temporal_methods_need_frames_or_budgets(cornell, reference):
+    with pytest.raises(ValueError, match="accumulates the frames of a sequence: give time_budgets"):
+        mbao.convergence(cornell, ["b1 + temporal"], reference, progress=False, plot=False)
+    with pytest.raises(ValueError, match="time_budgets or frame_counts, not both"):
+        mbao.convergence(cornell, ["b1"], reference, time_budgets=(1.0,), frame_counts=(1,), progress=False,
+                         plot=False)
+
+
+def test_block_error_keeps_a_shift_and_averages_out_alternating_noise():
+    from mbao.convergence import _block_rmse
+
+    covered = np.ones((20, 12), bool)  # blocks at the edges smaller
+    assert _block_rmse(np.full((20, 12), 0.25), covered) == pytest.approx(0.25)
+    checkerboard = 0.3 * (-1.0) ** np.add.outer(np.arange(20), np.arange(12))
+    assert _block_rmse(checkerboard, covered) == pytest.approx(0.0, abs=1e-12)
+    covered[:8, :8] = False  # an empty block is left out, not counted as no error
+    assert _block_rmse(np.full((20, 12), 0.25), covered) == pytest.approx(0.25)
