@@ -178,8 +178,31 @@ def bake(run):
     return table(header, rows)
 
 
+def denoise(run):
+    """bench/denoise.py's rows: each image's error against the reference, and the time spent on its frames."""
+    header = ["scene", "b", "method", "frames", "all frames ms", "RMSE", "mean bias", "8x8 block RMSE"]
+    rows = [[result["scene"], result["bounces"], row["method"], row["cost"], ms(row["frame_ms"]), f"{row['rmse']:.3f}",
+             f"{row['bias']:+.4f}", f"{row['block_rmse']:.3f}"] for result in run["denoise"] for row in result["rows"]]
+    return table(header, rows)
+
+
+def denoise_summary(run):
+    """README: raw, denoised, and 16 frames accumulated, with the filter's share of a frame."""
+    header = ["scene", "b", "raw RMSE", "denoised RMSE", "16 frames RMSE", "16 frames + denoise RMSE",
+              "denoising / frame ratio", "reference noise"]
+    rows = []
+    for result in run["denoise"]:
+        rmse = {(row["method"].split(" + ", 1)[1] if " + " in row["method"] else "raw", row["cost"]): row["rmse"]
+                for row in result["rows"]}
+        cost = result["denoise"]
+        rows.append([result["scene"], result["bounces"]] + [f"{rmse[key]:.3f}" for key in (
+            ("raw", 1), ("denoise", 1), ("temporal", 16), ("temporal + denoise", 16))]
+            + [f"{cost['denoise_ms'] / cost['frame_ms']:.2f}", f"{result['rows'][0]['noise_floor']:.3f}"])
+    return table(header, rows)
+
+
 TABLES = {"table1": table1, "embree": embree, "trees": trees, "kd-build": kd_build, "traversals": traversals,
-          "organisation": organisation, "bake": bake}
+          "organisation": organisation, "bake": bake, "denoise": denoise, "denoise-summary": denoise_summary}
 ACROSS_FILES = {"summary": summary, "sources": sources}
 
 
