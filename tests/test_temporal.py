@@ -182,6 +182,13 @@ def test_bad_sequences_are_refused(arguments, error, message):
         sequence(mbao.cornell_box(), [None], width=16, height=16, **arguments)
 
 
+def test_arguments_are_checked_when_the_sequence_is_made_not_at_its_first_frame():
+    with pytest.raises(TypeError, match="temporal must be"):
+        mbao.render_sequence(mbao.cornell_box(), [None], temporal=1)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'bounce'"):
+        mbao.render_sequence(mbao.cornell_box(), [None], bounce=2)
+
+
 def test_max_length_is_checked():
     with pytest.raises(ValueError, match=r"max_length must be in \[1, 65536\]"):
         mbao.Temporal(max_length=0)

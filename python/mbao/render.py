@@ -75,14 +75,20 @@ def render_sequence(scene, cameras, *, temporal=True, denoise=None, engine=None,
     settings: render's; frame k is rendered with seed + k, so that its noise is
         independent of the frames before.
 
-    The sequence is a function of its cameras, its settings and the seed.
+    The sequence is a function of its cameras, its settings and the seed. Its
+    arguments are checked when it is called, each camera as its frame comes.
     """
     scene = as_scene(scene)
     values = _setting_values("render_sequence", _engine(engine, settings), settings)
     history = _core.TemporalHistory(_temporal_settings(temporal)) if temporal is not False else None
-    device = resolve(device)
+    _denoise_settings(denoise)
+    return _frames(scene, cameras, values, resolve(device), denoise, history)
+
+
+def _frames(scene, cameras, values, device, denoise, history):
+    first_seed = values.get("seed", RENDER["seed"]["default"])
     for k, camera in enumerate(cameras):
-        frame = dict(values, seed=values.get("seed", RENDER["seed"]["default"]) + k)
+        frame = dict(values, seed=checked(RENDER["seed"], first_seed + k))
         yield _render(scene, as_camera(camera), frame, device, denoise=denoise, history=history)
 
 
