@@ -150,3 +150,16 @@ def test_block_error_keeps_a_shift_and_averages_out_alternating_noise():
     assert _block_rmse(checkerboard, covered) == pytest.approx(0.0, abs=1e-12)
     covered[:8, :8] = False  # an empty block is left out, not counted as no error
     assert _block_rmse(np.full((20, 12), 0.25), covered) == pytest.approx(0.25)
+
+
+def test_plot_draws_the_bias_as_its_magnitude_and_names_its_errors(study):
+    import matplotlib.pyplot as plt
+
+    figure, ax = plt.subplots()
+    mbao.plot_convergence(study, ax=ax, error="bias")
+    line = ax.get_lines()[0]
+    np.testing.assert_allclose(line.get_ydata(), [abs(r["bias"]) for r in study if r["method"] == line.get_label()])
+    assert ax.get_ylabel() == "|mean bias|"
+    plt.close(figure)
+    with pytest.raises(ValueError, match="error must be one of"):
+        mbao.plot_convergence(study, error="mse")

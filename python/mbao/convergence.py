@@ -247,12 +247,13 @@ def _table(rows):
     return pandas.DataFrame(rows)
 
 
-_ERROR_LABELS = {"rmse": "RMSE against the reference", "block_rmse": "RMSE of 8 x 8 block means"}
+_ERROR_LABELS = {"rmse": "RMSE against the reference", "block_rmse": "RMSE of 8 x 8 block means",
+                 "bias": "|mean bias|"}
 
 
 def plot_convergence(rows, ax=None, title=None, error="rmse"):
-    """An error ("rmse" or "block_rmse") against frame_ms, log-log, one line per
-    method, the reference's noise floor dashed."""
+    """An error ("rmse", "block_rmse", or "bias", drawn as its magnitude)
+    against frame_ms, log-log, one line per method, the reference's noise floor dashed."""
     import matplotlib.pyplot as plt
 
     _checks.choice("error", error, tuple(_ERROR_LABELS))
@@ -261,7 +262,7 @@ def plot_convergence(rows, ax=None, title=None, error="rmse"):
         _, ax = plt.subplots(figsize=(6.4, 4.4))
     for name in dict.fromkeys(row["method"] for row in rows):
         mine = [row for row in rows if row["method"] == name]
-        ax.loglog([r["frame_ms"] for r in mine], [r[error] for r in mine], "o-", label=name)
+        ax.loglog([r["frame_ms"] for r in mine], [abs(r[error]) for r in mine], "o-", label=name)
     ax.axhline(rows[0]["noise_floor"], color="gray", linestyle="--", label="reference noise")
     ax.set_xlabel("frame time [ms]")
     ax.set_ylabel(_ERROR_LABELS[error])
