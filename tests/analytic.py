@@ -19,18 +19,32 @@ def polygon_occlusion(point, normal, polygon):
     return abs(total) / (2.0 * math.pi)
 
 
-def spec_ray_directions(camera, width, height):
-    """Pixel-centre ray directions, (height, width, 3), straight from SPEC 3.1."""
+def _spec_basis(camera):
+    """SPEC 3.1's eye, forward, right, up' and tan(vfov / 2)."""
     eye, target, up = (np.asarray(v, float) for v in (camera.eye, camera.target, camera.up))
     forward = (target - eye) / np.linalg.norm(target - eye)
     right = np.cross(forward, up)
     right /= np.linalg.norm(right)
-    true_up = np.cross(right, forward)
-    tan_half = math.tan(math.radians(camera.vfov_deg) / 2.0)
+    return eye, forward, right, np.cross(right, forward), math.tan(math.radians(camera.vfov_deg) / 2.0)
+
+
+def spec_ray_directions(camera, width, height):
+    """Pixel-centre ray directions, (height, width, 3), straight from SPEC 3.1."""
+    _, forward, right, true_up, tan_half = _spec_basis(camera)
     u = ((np.arange(width) + 0.5) / width) * 2.0 - 1.0
     v = 1.0 - ((np.arange(height) + 0.5) / height) * 2.0
     d = forward + u[None, :, None] * tan_half * (width / height) * right + v[:, None, None] * tan_half * true_up
     return d / np.linalg.norm(d, axis=2, keepdims=True)
+
+
+def spec_image_position(camera, width, height, points):
+    """SPEC 3.1 inverted: the pixel coordinates (x, y) of (N, 3) points, each
+    pixel's centre at its column and row."""
+    eye, forward, right, true_up, tan_half = _spec_basis(camera)
+    d = points - eye
+    depth = d @ forward
+    u, v = (d @ right) / (depth * tan_half * (width / height)), (d @ true_up) / (depth * tan_half)
+    return (u + 1.0) * 0.5 * width - 0.5, (1.0 - v) * 0.5 * height - 0.5
 
 
 def one_pixel_access(scene, eye, target, **settings):

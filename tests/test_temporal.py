@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mbao
-from analytic import spec_ray_directions
+from analytic import spec_image_position, spec_ray_directions
 from meshes import box, merge, plane
 
 SIZE = 64
@@ -99,20 +99,6 @@ def _camera_hits(scene, camera):
     return points, _face(triangle)
 
 
-def _image_position(camera, points):
-    """SPEC 3.1 inverted: each point's pixel coordinates, pixel centres at integers."""
-    eye, target, up = (np.asarray(v, float) for v in (camera.eye, camera.target, camera.up))
-    forward = (target - eye) / np.linalg.norm(target - eye)
-    right = np.cross(forward, up)
-    right /= np.linalg.norm(right)
-    true_up = np.cross(right, forward)
-    tan_half = math.tan(math.radians(camera.vfov_deg) / 2.0)
-    d = points - eye
-    depth = d @ forward
-    u, v = (d @ right) / (depth * tan_half), (d @ true_up) / (depth * tan_half)
-    return (u + 1.0) * 0.5 * SIZE - 0.5, (1.0 - v) * 0.5 * SIZE - 0.5
-
-
 def _reprojected_taps(scene):
     """For each pixel of the second camera: the first camera's 2 x 2 pixels
     around its point, their bilinear weights (one pixel where the point is
@@ -121,7 +107,7 @@ def _reprojected_taps(scene):
     column of centres or of that snapping distance, where the kernel's single
     precision may choose others."""
     points, faces = _camera_hits(scene, SECOND)
-    x, y = _image_position(FIRST, points)
+    x, y = spec_image_position(FIRST, SIZE, SIZE, points)
     snap = (np.abs(x - np.round(x)) <= 1e-2) & (np.abs(y - np.round(y)) <= 1e-2)
     x0, y0 = np.where(snap, np.round(x), np.floor(x)), np.where(snap, np.round(y), np.floor(y))
     fx, fy = np.where(snap, 0.0, x - x0), np.where(snap, 0.0, y - y0)
