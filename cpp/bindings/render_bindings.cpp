@@ -189,6 +189,11 @@ The radius, in world units, is the render's max_distance.)doc")
       .def_readonly("steps", &HbaoSettings::steps)
       .def_readonly("angle_bias_deg", &HbaoSettings::angle_bias_deg)
       .def_readonly("falloff", &HbaoSettings::falloff)
+      .def(py::pickle([](const HbaoSettings& h) { return py::make_tuple(h.directions, h.steps, h.angle_bias_deg, h.falloff); },
+                      [](const py::tuple& t) {
+                        return HbaoSettings{t[0].cast<std::int64_t>(), t[1].cast<std::int64_t>(), t[2].cast<float>(),
+                                            t[3].cast<float>()};
+                      }))
       .def("__repr__", [](const HbaoSettings& h) {
         return "HBAO(directions=" + std::to_string(h.directions) + ", steps=" + std::to_string(h.steps) +
                ", angle_bias_deg=" + std::to_string(h.angle_bias_deg) + ", falloff=" + std::to_string(h.falloff) + ")";
@@ -214,6 +219,14 @@ sigma_value: how far a tap's value may differ, in standard deviations of the pix
       .def_readonly("sigma_plane", &DenoiseSettings::sigma_plane)
       .def_readonly("sigma_normal", &DenoiseSettings::sigma_normal)
       .def_readonly("sigma_value", &DenoiseSettings::sigma_value)
+      .def(py::pickle(
+          [](const DenoiseSettings& d) { return py::make_tuple(d.iterations, d.sigma_plane, d.sigma_normal, d.sigma_value); },
+          [](const py::tuple& t) {
+            const DenoiseSettings d{t[0].cast<std::int64_t>(), t[1].cast<float>(), t[2].cast<std::int64_t>(),
+                                    t[3].cast<float>()};
+            d.validate();
+            return d;
+          }))
       .def("__repr__", [](const DenoiseSettings& d) {
         return "Denoise(iterations=" + std::to_string(d.iterations) + ", sigma_plane=" + std::to_string(d.sigma_plane) +
                ", sigma_normal=" + std::to_string(d.sigma_normal) + ", sigma_value=" + std::to_string(d.sigma_value) +
@@ -232,6 +245,12 @@ max_length: N, 1..65536: a still camera averages its first N frames exactly,
            }),
            py::arg("max_length") = TemporalSettings{}.max_length)
       .def_readonly("max_length", &TemporalSettings::max_length)
+      .def(py::pickle([](const TemporalSettings& t) { return py::make_tuple(t.max_length); },
+                      [](const py::tuple& t) {
+                        const TemporalSettings s{t[0].cast<std::int64_t>()};
+                        s.validate();
+                        return s;
+                      }))
       .def("__repr__", [](const TemporalSettings& t) { return "Temporal(max_length=" + std::to_string(t.max_length) + ")"; });
   py::class_<TemporalHistory>(m, "TemporalHistory",
                               "What a sequence's frames keep on the device for the next (SPEC 7.4); "

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "bindings/bindings.h"
+#include "bindings/pickle.h"
 #include "scene/cornell_box.h"
 #include "scene/gltf_loader.h"
 
@@ -95,6 +96,7 @@ unless you pass it.)doc")
       .def_property_readonly("up", [](const Camera& c) { return to_tuple(c.up); })
       .def_property_readonly("vfov_deg", [](const Camera& c) { return c.vfov_deg; })
       .def_property_readonly("max_distance", [](const Camera& c) { return c.max_distance; })
+      .def(py::pickle(&camera_state, &camera_from_state))
       .def("__repr__", [](const Camera& c) {
         auto v = [](const glm::vec3& p) {
           return "(" + py::repr(py::float_(p.x)).cast<std::string>() + ", " +
@@ -231,6 +233,7 @@ rounding scales with the scene's size wherever it lies.)doc")
           "material its name, occlusion_texcoord (None without an occlusion texture) and wrap (s, t); \"primitives\": "
           "per primitive that brought triangles, its node, mesh, primitive and [first, end) of its vertices and "
           "triangles in the scene.")
+      .def(py::pickle(&scene_state, &scene_from_state))
       .def("__repr__", [](const Scene& s) {
         return "<mbao.Scene '" + s.name() + "': " + std::to_string(s.mesh().triangles.size()) + " triangles>";
       });
@@ -241,7 +244,8 @@ rounding scales with the scene's size wherever it lies.)doc")
                        const std::optional<py::array_t<float, py::array::c_style>>& normals) {
              return std::make_shared<Mesh>(mesh_from_arrays(vertices, indices, normals));
            }),
-           py::arg("vertices"), py::arg("indices"), py::arg("normals") = py::none());
+           py::arg("vertices"), py::arg("indices"), py::arg("normals") = py::none())
+      .def(py::pickle([](const Mesh& m) { return scene_state(m); }, &mesh_from_state));
 
   m.def(
       "load",

@@ -63,7 +63,9 @@ std::vector<std::string> with_placement_warning(std::vector<std::string> warning
             << " from the origin, where float32 vertex coordinates are " << spacing << " apart ("
             << 100.0f * spacing / size << "% of the scene): its shape is already rounded and its AO may be wrong. "
             << "Move it near the origin before its vertices become float32.";
-    warnings.push_back(message.str());
+    // Once: a scene made again from its own warnings (unpickled) already has it.
+    if (std::find(warnings.begin(), warnings.end(), message.str()) == warnings.end())
+      warnings.push_back(message.str());
   }
   return warnings;
 }

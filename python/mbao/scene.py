@@ -43,6 +43,15 @@ class Mesh(_core._Mesh):
     def __repr__(self):
         return f"<mbao.Mesh: {self.triangle_count} triangles, {len(self.vertices)} vertices>"
 
+    # Pickled as the core's state and the UVs, which only this class keeps.
+    def __getstate__(self):
+        return super().__getstate__(), self.texcoords
+
+    def __setstate__(self, state):
+        core, texcoords = state
+        super().__setstate__(core)
+        self.texcoords = texcoords
+
 
 def load(path, *, normals=True, texcoords=False):
     """Loads a glTF 2.0 file (.gltf or .glb): every triangle mesh of the default
