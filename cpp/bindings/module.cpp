@@ -1,7 +1,10 @@
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 #include "bindings/bindings.h"
 #include "core/error.h"
+#include "core/log.h"
 
 namespace py = pybind11;
 
@@ -14,4 +17,10 @@ PYBIND11_MODULE(_core, m) {
   mbao::bindings::bind_devices(m);
   mbao::bindings::bind_render(m);
   mbao::bindings::bind_bake(m);
+  // The core's messages (compiler warnings) go to the logger "mbao", at INFO:
+  // Python shows them only where the application configures logging to.
+  mbao::set_log_sink([](const std::string& message) {
+    py::gil_scoped_acquire gil;
+    py::module_::import("logging").attr("getLogger")("mbao").attr("info")(message);
+  });
 }

@@ -1,11 +1,25 @@
 #include "opencl/program_cache.h"
 
 #include "core/error.h"
+#include "core/log.h"
 #include "core/timer.h"
 #include "opencl/kernel_sources.h"
+#include "opencl/stderr_capture.h"
 
 namespace mbao {
 namespace {
+
+// Builds `program` with what the compiler prints held back, and hands its
+// build log and that text, where there is any, to the log (a failed build
+// throws, its log then going into the error instead).
+void build_quietly(cl::Program& program, const cl::Device& device, const std::string& source_name,
+                   const std::string& options) {
+  StderrCapture capture;
+  program.build(device, options.c_str());
+  const std::string text = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device) + capture.release();
+  if (text.find_first_not_of(" \t\r\n") != std::string::npos)
+    log_message("building kernels/" + source_name + " with options \"" + options + "\":\n" + text);
+}
 
 std::string identity_of(const cl::Device& device) {
   const cl::Platform platform(device.getInfo<CL_DEVICE_PLATFORM>());
@@ -38,7 +52,7 @@ BuiltProgram ProgramCache::get(const std::string& source_name, const std::string
   const std::string disk_key = device_identity_ + "\n" + options + "\n" + key.first;
   BuiltProgram built;
   if (const auto binary = store_.load(disk_key)) {
-    built.program = from_binary(*binary, options);
+    built.program = from_binary(source_name, *binary, options);
     built.origin = ProgramOrigin::Disk;
   }
   if (!built.program()) {  // nothing on disk, or a binary this driver no longer takes
@@ -52,10 +66,11 @@ BuiltProgram ProgramCache::get(const std::string& source_name, const std::string
   return built;
 }
 
-cl::Program ProgramCache::from_binary(const std::vector<unsigned char>& binary, const std::string& options) const {
+cl::Program ProgramCache::from_binary(const std::string& source_name, const std::vector<unsigned char>& binary,
+                                      const std::string& options) const {
   try {
     cl::Program program(context_, {device_}, cl::Program::Binaries{binary});
-    program.build(device_, options.c_str());
+    build_quietly(program, device_, source_name, options);
     return program;
   } catch (const cl::Error&) {
     return {};
@@ -66,7 +81,7 @@ cl::Program ProgramCache::compile(const std::string& source_name, const std::str
                                   const std::string& options) const {
   try {
     cl::Program program(context_, source);
-    program.build(device_, options.c_str());
+    build_quietly(program, device_, source_name, options);
     return program;
   } catch (const cl::BuildError& e) {
     std::string log;

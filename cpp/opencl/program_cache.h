@@ -30,11 +30,13 @@ class ProgramCache {
   ProgramCache(cl::Context context, cl::Device device, ProgramBinaryStore store);
 
   // Builds kernels/<source_name> with `options`, or returns it from a cache.
-  // Throws DeviceError with the compiler's log if the build fails.
+  // Throws DeviceError with the compiler's log if the build fails; a build
+  // that succeeds hands its log, and what the compiler printed, to log_message.
   BuiltProgram get(const std::string& source_name, const std::string& options);
 
  private:
-  cl::Program from_binary(const std::vector<unsigned char>& binary, const std::string& options) const;
+  cl::Program from_binary(const std::string& source_name, const std::vector<unsigned char>& binary,
+                          const std::string& options) const;
   cl::Program compile(const std::string& source_name, const std::string& source, const std::string& options) const;
 
   cl::Context context_;
