@@ -18,7 +18,7 @@ APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbformat python3-ipykernel \
   python3-matplotlib python3-tqdm python3-pil libgtest-dev
 
-.PHONY: demo test bench deps build sanitize-build clean
+.PHONY: demo test bench notebook notebook-kernel deps build sanitize-build clean
 
 demo: build
 	mkdir -p out
@@ -52,6 +52,18 @@ SCENES := ../shared/scenes
 bench: APT_PACKAGES += libembree-dev
 bench: build
 	$(BUILD)/bench/mbao_bench --scenes $(SCENES) --json bench/results/latest.json
+
+# Jupyter from Debian, started on notebooks/ with the venv as the kernel the
+# notebooks name, "mbao". Only this target installs Jupyter, which refuses
+# root unless told (containers and CI machines run as root).
+notebook: APT_PACKAGES += python3-notebook
+notebook: build notebook-kernel
+	cd notebooks && $(PYTHON) -m notebook $(if $(SUDO),,--allow-root)
+
+# The venv as the Jupyter kernel "mbao", in the user's Jupyter data directory
+# ($$JUPYTER_DATA_DIR where set), for any Jupyter on the machine.
+notebook-kernel: $(VENV)/bin/python
+	$(VENV)/bin/python -m ipykernel install --user --name mbao --display-name "Python 3 (mbao)"
 
 deps:
 	@missing=$$(for p in $(APT_PACKAGES); do \

@@ -1,7 +1,9 @@
 """The notebooks run, top to bottom, at a small image size, so they cannot rot."""
 
 import json
+import os
 import pathlib
+import subprocess
 import sys
 
 import nbformat
@@ -45,3 +47,17 @@ def test_notebooks_are_committed_without_outputs():
 
 def test_there_are_notebooks():
     assert NOTEBOOKS
+
+
+def test_make_notebook_kernel_installs_the_kernel_the_notebooks_name(tmp_path):
+    """`make notebook` registers the venv as the Jupyter kernel "mbao"
+    (its notebook-kernel step, here into a scratch Jupyter data directory)."""
+    repo = pathlib.Path(__file__).resolve().parents[1]
+    env = dict(os.environ, JUPYTER_DATA_DIR=str(tmp_path))
+    done = subprocess.run(["make", "-s", "-C", str(repo), "notebook-kernel"], env=env, capture_output=True,
+                          text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    spec = json.loads((tmp_path / "kernels" / "mbao" / "kernel.json").read_text())
+    assert pathlib.Path(spec["argv"][0]) == repo / ".venv" / "bin" / "python"
+    for path in NOTEBOOKS:
+        assert nbformat.read(path, as_version=4).metadata.kernelspec.name == "mbao", path.name
