@@ -269,7 +269,7 @@ def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_sce
         spec, _ = read_image(tmp_path / name)
         assert spec.width > 400 and spec.height > 100
     lines = (tmp_path / "study_error_vs_time.csv").read_text().splitlines()
-    assert lines[0] == "method,cost,frame_ms,rmse,bias,noise_floor"
+    assert lines[0] == "method,cost,frame_ms,rmse,bias,block_rmse,noise_floor"
     methods = [line.split(",")[0] for line in lines[1:]]
     assert methods == [m for m in ("hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit")
                        for _ in (1, 2)] + ["b2 branching + denoise"]  # from r = 2 only

@@ -163,3 +163,18 @@ def test_plot_draws_the_bias_as_its_magnitude_and_names_its_errors(study):
     plt.close(figure)
     with pytest.raises(ValueError, match="error must be one of"):
         mbao.plot_convergence(study, error="mse")
+
+
+def test_a_progress_widget_that_cannot_be_made_falls_back_to_text(monkeypatch):
+    """Debian's ipywidgets 6 lacks what tqdm's widget bar sets; the bar is then text."""
+    import tqdm.auto
+    import tqdm.std
+
+    from mbao._progress import progress_bar
+
+    def widget_bar(**arguments):
+        raise AttributeError("'FloatProgress' object has no attribute 'style'")
+
+    monkeypatch.setattr(tqdm.auto, "tqdm", widget_bar)
+    with progress_bar(True, 3, "study", "render") as bar:
+        assert type(bar) is tqdm.std.tqdm and bar.total == 3

@@ -32,6 +32,10 @@ def test_notebook_runs(path, kernel_of_this_python, monkeypatch):
     client = NotebookClient(
         notebook, timeout=600, kernel_name=kernel_of_this_python, resources={"metadata": {"path": str(path.parent)}}
     )
+    # Where Debian's ipywidgets 6 is installed (python3-notebook, which `make
+    # notebook` installs, brings it), the progress bars are widgets, whose comms
+    # lack the state nbclient 0.7 reads; a run without a browser ignores them.
+    client.comm_open_handlers.pop("jupyter.widget", None)
     client.execute()
     outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]

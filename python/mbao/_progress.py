@@ -7,9 +7,7 @@ class progress_bar:
     def __init__(self, enabled, total, description, unit):
         self._bar = None
         if enabled:
-            from tqdm.auto import tqdm
-
-            self._bar = tqdm(total=total, desc=description, unit=unit)
+            self._bar = _tqdm(total=total, desc=description, unit=unit)
 
     def __enter__(self):
         return self._bar
@@ -17,3 +15,17 @@ class progress_bar:
     def __exit__(self, *exc):
         if self._bar is not None:
             self._bar.close()
+
+
+def _tqdm(**arguments):
+    """tqdm.auto's bar: a widget in Jupyter, else text. Debian's ipywidgets 6
+    (which its Jupyter brings) lacks what tqdm's widget sets (a progress bar's
+    style), so there the bar is text."""
+    from tqdm.auto import tqdm
+
+    try:
+        return tqdm(**arguments)
+    except AttributeError:
+        from tqdm.std import tqdm as text_tqdm
+
+        return text_tqdm(**arguments)
