@@ -9,6 +9,7 @@
 #include "bindings/bindings.h"
 #include "bindings/pickle.h"
 #include "scene/cornell_box.h"
+#include "scene/assimp_loader.h"
 #include "scene/gltf_loader.h"
 
 namespace py = pybind11;
@@ -253,7 +254,7 @@ rounding scales with the scene's size wherever it lies.)doc")
         LoadOptions options;
         options.normals = normals;
         options.texcoords = texcoords;
-        return load_gltf(path.string(), options);
+        return load_scene(path.string(), options);
       },
       py::arg("path"), py::arg("normals") = true, py::arg("texcoords") = false,
       py::call_guard<py::gil_scoped_release>());

@@ -80,7 +80,7 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
 
-    scene: an mbao.Scene (mbao.load, mbao.Mesh) or the path of a glTF file; a
+    scene: an mbao.Scene (mbao.load, mbao.Mesh) or the path of a scene file; a
         texture bake of a loaded file into its own UV sets needs
         mbao.load(path, texcoords=True).
     target: "vertices": a value per vertex of scene.vertices; "texture": a

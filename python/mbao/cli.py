@@ -32,7 +32,7 @@ def _parser():
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     r = commands.add_parser("render", help="render a scene (the built-in Cornell box by default) to an image")
-    r.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
+    r.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
     r.add_argument("-o", "--output", default="ao.png",
                    help="image to write: .png (8-bit) or .exr (float) (default: %(default)s)")
     r.add_argument("--no-alpha", action="store_true",
@@ -59,7 +59,7 @@ def _parser():
 
     c = commands.add_parser("compare", formatter_class=argparse.ArgumentDefaultsHelpFormatter, help="the paper's Figure 2 (HBAO | 1 bounce | 2 bounces | difference) "
                                             "and error against time for every method")
-    c.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
+    c.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
     c.add_argument("-o", "--output", default="compare", help="file name prefix")
     c.add_argument("--camera", help="camera.json; None: the scene's own camera, else one framing it")
     c.add_argument("--width", type=int, default=256, help="image width in pixels")
@@ -107,7 +107,7 @@ def _parser():
                    "else the first GPU, else the first device")
 
     o = commands.add_parser("orbit", help="render a camera's turn around the scene as an animated GIF")
-    o.add_argument("scene", nargs="?", help="a .glb or .gltf file; omitted: the built-in Cornell box")
+    o.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
     o.add_argument("-o", "--output", default="orbit.gif", help="the GIF to write (default: %(default)s)")
     o.add_argument("--camera", help="camera.json of the first frame (default: the scene's own camera, else one "
                    "framing it); the eye turns about the vertical line through its target")

@@ -129,7 +129,8 @@ def _warn_if_closed(scene, ao, mask, stats):
 render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
 
 scene: an mbao.Scene (mbao.load, mbao.Mesh, mbao.cornell_box()), or the path of a
-    glTF file, loaded for this call (load it once with mbao.load to render it again).
+    scene file (mbao.load's formats), loaded for this call (load it once with mbao.load
+    to render it again).
 camera: an mbao.Camera or the path of a camera.json file; by default the scene's
     own (the Cornell box's, a glTF file's first perspective camera), else one
     framing the scene's bounds.

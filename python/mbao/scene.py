@@ -62,6 +62,11 @@ def load(path, *, normals=True, texcoords=False):
     texcoords=True also reads every UV set, the triangles' materials and their
     occlusion textures (scene.uv_sets), which texture bakes use.
 
+    Every other format Assimp reads (.obj, .ply, .stl, .fbx, .dae, .3ds, ...)
+    gives the triangles of its node tree in world space, their normals where
+    the file has them and its first perspective camera, but no materials: no
+    alpha masks, and no UV sets for texture bakes (SPEC 3.2).
+
     What is skipped (other primitive modes, ...) is reported as a warning and
     listed in scene.warnings. Raises mbao.LoadError naming the file and element.
     """
@@ -80,7 +85,7 @@ def as_scene(scene):
         return scene
     if isinstance(scene, (str, os.PathLike)):
         return load(scene)
-    raise TypeError(f"scene must be an mbao.Scene, an mbao.Mesh or the path of a glTF file, got {type(scene).__name__}")
+    raise TypeError(f"scene must be an mbao.Scene, an mbao.Mesh or the path of a scene file, got {type(scene).__name__}")
 
 
 def as_camera(camera):

@@ -1,0 +1,27 @@
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "scene/gltf_loader.h"
+#include "scene/scene.h"
+
+namespace mbao {
+
+// Whether Assimp reads files with this path's extension (.obj, .ply, .stl,
+// .fbx, .dae, .3ds, ...), case aside.
+bool assimp_reads(const std::string& path);
+
+// Loads a file through Assimp (SPEC 3.2): every mesh of the file's node tree,
+// triangulated, in world space (the nodes' transforms applied), vertex normals
+// where the file has them and options.normals asks, and the file's first
+// perspective camera. Points and lines are dropped, with a warning. Throws
+// LoadError naming the file and what Assimp found wrong.
+std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options = {});
+
+// mbao.load's reader: glTF (.gltf, .glb, and files whose extension Assimp
+// does not know, which the glTF loader tells apart by their content) through
+// tinygltf, every other format Assimp reads through Assimp.
+std::shared_ptr<Scene> load_scene(const std::string& path, const LoadOptions& options = {});
+
+}  // namespace mbao

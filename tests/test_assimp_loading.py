@@ -1,0 +1,145 @@
+"""mbao.load reads every format Assimp reads but glTF (SPEC 3.2): OBJ, PLY,
+STL, Collada, FBX, ... with the nodes' transforms applied, triangles only,
+normals where the file has them. The tests write the files they read."""
+
+import struct
+
+import numpy as np
+import pytest
+
+import mbao
+from conftest import shared_scene
+
+
+@pytest.fixture(scope="module")
+def bunny():
+    return mbao.load(shared_scene("bunny") / "scene.glb")
+
+
+def write_obj(path, vertices, triangles, normals=None):
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in vertices.tolist()]
+    if normals is None:
+        lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles.tolist()]
+    else:
+        lines += [f"vn {x!r} {y!r} {z!r}" for x, y, z in normals.tolist()]
+        lines += [f"f {a + 1}//{a + 1} {b + 1}//{b + 1} {c + 1}//{c + 1}" for a, b, c in triangles.tolist()]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def write_ply(path, vertices, triangles, binary):
+    header = (f"ply\nformat {'binary_little_endian' if binary else 'ascii'} 1.0\nelement vertex {len(vertices)}\n"
+              "property float x\nproperty float y\nproperty float z\n"
+              f"element face {len(triangles)}\nproperty list uchar int vertex_indices\nend_header\n")
+    if binary:
+        body = vertices.astype("<f4").tobytes() + b"".join(struct.pack("<B3i", 3, *t) for t in triangles.tolist())
+        path.write_bytes(header.encode() + body)
+    else:
+        rows = [f"{x!r} {y!r} {z!r}" for x, y, z in vertices.tolist()] + [f"3 {a} {b} {c}" for a, b, c in triangles.tolist()]
+        path.write_text(header + "\n".join(rows) + "\n")
+
+
+def corners(scene):
+    return scene.vertices[scene.indices]
+
+
+@pytest.mark.parametrize("name, write", [
+    ("bunny.obj", lambda p, v, t: write_obj(p, v, t)),
+    ("bunny.ply", lambda p, v, t: write_ply(p, v, t, binary=False)),
+    ("bunny_binary.ply", lambda p, v, t: write_ply(p, v, t, binary=True)),
+])
+def test_the_bunny_in_other_formats_has_the_glbs_triangles(tmp_path, bunny, name, write):
+    """The same triangles, corner for corner: exactly from binary PLY, within
+    one unit in the last place from text (Assimp's decimal parser rounds so)."""
+    path = tmp_path / name
+    write(path, bunny.vertices, bunny.indices)
+    loaded = mbao.load(path)
+    assert loaded.triangle_count == bunny.triangle_count and loaded.name == str(path)
+    if name.endswith("binary.ply"):
+        np.testing.assert_array_equal(corners(loaded), corners(bunny))
+    else:
+        np.testing.assert_array_max_ulp(corners(loaded), corners(bunny), maxulp=1)
+
+
+def test_a_ply_renders_as_its_glb_does(tmp_path, bunny):
+    """With the same triangles and geometric normals (the PLY has no others), the same image."""
+    write_ply(tmp_path / "bunny.ply", bunny.vertices, bunny.indices, binary=True)
+    settings = dict(width=32, height=32, bounces=2, seed=1, camera=bunny.default_camera(32, 32), normals="geometric")
+    np.testing.assert_array_equal(mbao.render(tmp_path / "bunny.ply", **settings).ao,
+                                  mbao.render(bunny, **settings).ao)
+
+
+def test_normals_are_read_where_the_file_has_them(tmp_path):
+    vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    normals = np.array([[0.0, 0.0, 1.0], [0.0, 0.6, 0.8], [0.6, 0.0, 0.8]])
+    write_obj(tmp_path / "with.obj", vertices, np.array([[0, 1, 2]]), normals)
+    np.testing.assert_allclose(mbao.load(tmp_path / "with.obj").normals, normals, atol=1e-6)
+    assert mbao.load(tmp_path / "with.obj", normals=False).normals is None
+    write_obj(tmp_path / "without.obj", vertices, np.array([[0, 1, 2]]))
+    assert mbao.load(tmp_path / "without.obj").normals is None
+
+
+COLLADA = """<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
+  <library_cameras><camera id="cam"><optics><technique_common><perspective>
+    <yfov>40</yfov><aspect_ratio>1.5</aspect_ratio><znear>0.1</znear><zfar>100</zfar>
+  </perspective></technique_common></optics></camera></library_cameras>
+  <library_geometries><geometry id="tri"><mesh>
+    <source id="pos"><float_array id="pos-array" count="9">0 0 0 1 0 0 0 1 0</float_array>
+      <technique_common><accessor source="#pos-array" count="3" stride="3">
+        <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+      </accessor></technique_common></source>
+    <vertices id="verts"><input semantic="POSITION" source="#pos"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#verts" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="scene">
+    <node id="outer" name="outer"><translate>10 20 30</translate>
+      <node id="inner" name="inner"><scale>2 2 2</scale><instance_geometry url="#tri"/></node>
+    </node>
+    <node id="eye" name="eye"><translate>0 1 5</translate><instance_camera url="#cam"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+"""
+
+
+def test_nodes_place_their_meshes(tmp_path):
+    """A triangle under two nodes, translated and then scaled: world = outer x inner."""
+    path = tmp_path / "placed.dae"
+    path.write_text(COLLADA)
+    with pytest.warns(UserWarning, match="camera 'eye' skipped: Assimp gives no aspect ratio"):
+        scene = mbao.load(path)
+    np.testing.assert_allclose(corners(scene)[0], [[10, 20, 30], [12, 20, 30], [10, 22, 30]])
+    assert scene.camera is None
+
+
+def test_points_and_lines_are_skipped_with_a_warning(tmp_path):
+    path = tmp_path / "mixed.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nl 3 4\n")
+    with pytest.warns(UserWarning, match=r"1 points and lines skipped"):
+        scene = mbao.load(path)
+    assert scene.triangle_count == 1
+
+
+@pytest.mark.parametrize("name, content, message", [
+    ("truncated.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                      b"property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\0\0",
+     "out of range"),
+    ("bad_index.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 7\n", "vertex index out of range"),
+    ("garbage.fbx", b"garbage", "FBX"),
+    ("truncated.stl", b"solid x\nfacet normal 0 0 1\n outer loop\n vertex 0 0 0\n", "STL"),
+    ("noise.dae", bytes(range(256)) * 2, "XML"),
+    ("empty.obj", b"", "too small"),
+    ("lines_only.obj", b"v 0 0 0\nv 1 0 0\nl 1 2\n", "no triangles"),
+])
+def test_a_bad_file_raises_load_error_naming_it(tmp_path, name, content, message):
+    path = tmp_path / name
+    path.write_bytes(content)
+    with pytest.raises(mbao.LoadError, match=message) as error:
+        mbao.load(path)
+    assert str(path) in str(error.value)
+
+
+def test_a_missing_file_is_named(tmp_path):
+    with pytest.raises(mbao.LoadError, match="no_such.obj"):
+        mbao.load(tmp_path / "no_such.obj")
