@@ -1,7 +1,6 @@
 #include "scene/gltf_alpha_masks.h"
 
 #include <cctype>
-#include <limits>
 
 #include "core/error.h"
 #include "scene/gltf_files.h"
@@ -36,7 +35,7 @@ bool keep_data_uri_images(tinygltf::Image* image, const int, std::string*, std::
 
 GltfAlphaMasks::GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path,
                                std::filesystem::path base_dir)
-    : model_(model), accessors_(accessors), path_(std::move(path)), base_dir_(std::move(base_dir)) {}
+    : model_(model), accessors_(accessors), path_(std::move(path)), base_dir_(std::move(base_dir)), builder_(path_) {}
 
 GltfAlphaMasks::Material GltfAlphaMasks::material(int index) {
   const auto found = materials_.find(index);
@@ -90,20 +89,7 @@ std::uint32_t GltfAlphaMasks::mask_texture(int texture_index, float alpha_factor
   const std::string image_name = "image " + std::to_string(texture.source);
   const std::vector<unsigned char> encoded = encoded_image(texture.source, image_name);
   const AlphaImage image = decode_alpha(encoded.data(), encoded.size(), path_ + ": " + image_name);
-  if (!image.has_alpha) return textures_[key] = MBAO_NOT_MASKED;
-  if (image.alpha.size() > std::numeric_limits<std::uint32_t>::max() - masks_.texels.size())
-    throw LoadError(path_ + ": " + image_name +
-                    " brings the alpha masks past 2^32 texels, more than 32-bit offsets reach");
-  MaskTexture mask{};
-  mask.first_texel = std::uint32_t(masks_.texels.size());
-  mask.width = std::uint32_t(image.width);
-  mask.height = std::uint32_t(image.height);
-  mask.wrap = wrap;
-  mask.alpha_factor = alpha_factor;
-  mask.cutoff = cutoff;
-  masks_.texels.insert(masks_.texels.end(), image.alpha.begin(), image.alpha.end());
-  masks_.textures.push_back(mask);
-  return textures_[key] = std::uint32_t(masks_.textures.size() - 1);
+  return textures_[key] = builder_.add_texture(image, wrap, alpha_factor, cutoff, image_name);
 }
 
 std::vector<unsigned char> GltfAlphaMasks::encoded_image(int image_index, const std::string& what) const {
@@ -111,33 +97,6 @@ std::vector<unsigned char> GltfAlphaMasks::encoded_image(int image_index, const 
   if (image.bufferView >= 0) return accessors_.view_bytes(image.bufferView, what);
   if (image.uri.empty()) return image.image;  // a data URI, kept by keep_data_uri_images
   return read_regular_file(base_dir_ / percent_decoded(image.uri), path_ + ": " + what);
-}
-
-void GltfAlphaMasks::reserve(std::size_t masked, std::size_t triangles) {
-  masks_.triangles.reserve(masked);
-  expected_triangles_ = triangles;
-}
-
-void GltfAlphaMasks::add_opaque(std::size_t count) {
-  triangles_ += count;
-  if (!masks_.triangle_mask.empty()) masks_.triangle_mask.resize(triangles_, MBAO_NOT_MASKED);
-}
-
-void GltfAlphaMasks::add_masked(const std::vector<std::uint32_t>& indices, const std::vector<float>& uv,
-                                std::uint32_t texture) {
-  if (masks_.triangle_mask.empty()) masks_.triangle_mask.reserve(expected_triangles_);
-  masks_.triangle_mask.resize(triangles_, MBAO_NOT_MASKED);
-  for (std::size_t t = 0; t < indices.size(); t += 3) {
-    MaskedTriangle triangle{};
-    for (int k = 0; k < 3; ++k) {
-      triangle.uv[2 * k] = uv[2 * std::size_t(indices[t + std::size_t(k)])];
-      triangle.uv[2 * k + 1] = uv[2 * std::size_t(indices[t + std::size_t(k)]) + 1];
-    }
-    triangle.texture = texture;
-    masks_.triangle_mask.push_back(std::uint32_t(masks_.triangles.size()));
-    masks_.triangles.push_back(triangle);
-  }
-  triangles_ += indices.size() / 3;
 }
 
 }  // namespace mbao

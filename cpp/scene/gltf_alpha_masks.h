@@ -9,6 +9,7 @@
 #include <tuple>
 #include <vector>
 
+#include "scene/alpha_mask_builder.h"
 #include "scene/alpha_masks.h"
 #include "scene/gltf_accessor_reader.h"
 
@@ -33,15 +34,10 @@ class GltfAlphaMasks {
   // material with an alpha texture, or with a constant alpha below the cutoff, is opaque.
   Material material(int index);
 
-  // Room for the masks of `masked` of the scene's `triangles` triangles.
-  void reserve(std::size_t masked, std::size_t triangles);
-  // The next `count` triangles of the scene are opaque.
-  void add_opaque(std::size_t count);
-  // The next triangles are masked: their corners are `indices` into `uv`
-  // (2 floats per vertex), sampled from `texture`.
-  void add_masked(const std::vector<std::uint32_t>& indices, const std::vector<float>& uv, std::uint32_t texture);
+  // The triangles' masks, added in the scene's order.
+  AlphaMaskBuilder& triangles() { return builder_; }
 
-  AlphaMasks take() { return std::move(masks_); }
+  AlphaMasks take() { return builder_.take(); }
 
  private:
   Material resolve(int index);
@@ -52,9 +48,7 @@ class GltfAlphaMasks {
   const AccessorReader& accessors_;
   std::string path_;
   std::filesystem::path base_dir_;
-  AlphaMasks masks_;
-  std::size_t triangles_ = 0;
-  std::size_t expected_triangles_ = 0;
+  AlphaMaskBuilder builder_;
   std::map<int, Material> materials_;
   // (image, wrap, alpha factor, cutoff) -> MaskTexture, so an image decodes once per use.
   std::map<std::tuple<int, std::uint32_t, float, float>, std::uint32_t> textures_;

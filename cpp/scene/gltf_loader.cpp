@@ -192,7 +192,7 @@ class SceneAssembler {
     }
     mesh_.positions.reserve(std::min(vertices, buffer_bytes / 12));
     mesh_.triangles.reserve(std::min(indices / 3, buffer_bytes / 3));
-    masks_.reserve(std::min(masked_indices / 3, buffer_bytes / 3), std::min(indices / 3, buffer_bytes / 3));
+    masks_.triangles().reserve(std::min(masked_indices / 3, buffer_bytes / 3), std::min(indices / 3, buffer_bytes / 3));
   }
 
   void add_primitive(const tinygltf::Primitive& primitive, const glm::dmat4& world, const std::string& what) {
@@ -230,9 +230,9 @@ class SceneAssembler {
     if (options_.normals) add_normals(primitive, world, what, vertex_count);
     if (options_.texcoords) add_uv_sets(primitive, what, vertex_count, indices.size() / 3);
     if (material.coverage == GltfAlphaMasks::Coverage::Masked)
-      masks_.add_masked(indices, texcoords(primitive, material.texcoord_set, vertex_count, what), material.texture);
+      masks_.triangles().add_masked(indices, texcoords(primitive, material.texcoord_set, vertex_count, what), material.texture);
     else
-      masks_.add_opaque(indices.size() / 3);
+      masks_.triangles().add_opaque(indices.size() / 3);
   }
 
   // The primitive's triangles as vertex indices, checked against its vertex count.
