@@ -9,6 +9,7 @@ import pytest
 
 import mbao
 from conftest import shared_scene
+from gltf_writer import png_bytes
 
 
 @pytest.fixture(scope="module")
@@ -143,3 +144,57 @@ def test_a_bad_file_raises_load_error_naming_it(tmp_path, name, content, message
 def test_a_missing_file_is_named(tmp_path):
     with pytest.raises(mbao.LoadError, match="no_such.obj"):
         mbao.load(tmp_path / "no_such.obj")
+
+
+# Alpha masks from an OBJ's materials: the square of tests/test_alpha_masks.py,
+# its UVs written with v up as OBJ has them.
+def masked_obj(tmp_path, material_lines, images):
+    from test_alpha_masks import SQUARE, SQUARE_TRIANGLES, SQUARE_UV
+
+    for name, pixels in images.items():
+        (tmp_path / name).write_bytes(png_bytes(pixels, tmp_path))
+    (tmp_path / "square.mtl").write_text("newmtl cut\n" + "".join(line + "\n" for line in material_lines))
+    lines = ["mtllib square.mtl", "usemtl cut"]
+    lines += [f"v {x} {y} {z}" for x, y, z in SQUARE]
+    lines += [f"vt {u} {1.0 - v}" for u, v in SQUARE_UV]
+    lines += [f"f {a + 1}/{a + 1} {b + 1}/{b + 1} {c + 1}/{c + 1}" for a, b, c in SQUARE_TRIANGLES]
+    (tmp_path / "square.obj").write_text("\n".join(lines) + "\n")
+    return mbao.load(tmp_path / "square.obj")
+
+
+@pytest.mark.parametrize("material, images", [
+    (["map_Kd colour.png"], {"colour.png": "rgba"}),  # the diffuse map's alpha
+    (["map_d opacity.png"], {"opacity.png": "grey"}),  # an opacity map's grey
+    (["map_Kd colour.png", "map_d opacity.png"], {"colour.png": "opaque rgb", "opacity.png": "grey"}),
+], ids=["map_Kd alpha", "map_d grey", "map_d over an opaque map_Kd"])
+def test_an_obj_material_cuts_its_surface_as_a_gltf_mask_does(tmp_path, material, images):
+    from test_alpha_masks import checkerboard, expected_checker_mask, image_with_alpha, render_square
+
+    alpha = checkerboard()
+    pixels = {"rgba": image_with_alpha(alpha, 4), "grey": alpha,
+              "opaque rgb": np.full(alpha.shape + (3,), 200, np.uint8)}
+    scene = masked_obj(tmp_path, material, {name: pixels[kind] for name, kind in images.items()})
+    assert scene.alpha_masks["textures"] == 1 and scene.alpha_masks["masked_triangles"] == 2
+    opaque, clear = expected_checker_mask(48, 48)
+    np.testing.assert_array_equal(render_square(scene).mask[clear], opaque[clear])
+
+
+def test_an_obj_material_below_half_opacity_leaves_no_surface(tmp_path):
+    from meshes import plane
+
+    vertices, triangles = plane(1.0)
+    (tmp_path / "glass.mtl").write_text("newmtl glass\nd 0.3\nnewmtl wall\nd 1.0\n")
+    lines = ["mtllib glass.mtl", "usemtl glass"] + [f"v {x} {y} {z}" for x, y, z in vertices]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles]
+    lines += ["usemtl wall", "v 0 1 0", "v 1 1 0", "v 0 2 0", "f 5 6 7"]
+    (tmp_path / "glass.obj").write_text("\n".join(lines) + "\n")
+    scene = mbao.load(tmp_path / "glass.obj")
+    assert scene.triangle_count == 1 and scene.alpha_masks is None
+
+
+def test_a_mask_image_that_is_not_there_is_named(tmp_path):
+    (tmp_path / "lost.mtl").write_text("newmtl lost\nmap_d missing.png\n")
+    (tmp_path / "lost.obj").write_text("mtllib lost.mtl\nusemtl lost\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\n"
+                                       "vt 0 1\nf 1/1 2/2 3/3\n")
+    with pytest.raises(mbao.LoadError, match=r"lost.obj.*missing.png"):
+        mbao.load(tmp_path / "lost.obj")

@@ -7,6 +7,8 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <utility>
 #include <stdexcept>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -18,9 +20,93 @@
 #include <vector>
 
 #include "core/error.h"
+#include "scene/alpha_mask_builder.h"
+#include "scene/gltf_files.h"
+#include "scene/image_alpha.h"
 
 namespace mbao {
 namespace {
+
+// The cutoff of a glTF MASK material by default, which masks from other formats take.
+constexpr float kMaskCutoff = 0.5f;
+
+std::uint32_t wrap_of(aiTextureMapMode mode) {
+  switch (mode) {
+    case aiTextureMapMode_Clamp:
+    case aiTextureMapMode_Decal: return MBAO_WRAP_CLAMP_TO_EDGE;
+    case aiTextureMapMode_Mirror: return MBAO_WRAP_MIRRORED_REPEAT;
+    default: return MBAO_WRAP_REPEAT;
+  }
+}
+
+// The alpha masks of a file's materials (SPEC 3.2): a material's opacity map
+// (OBJ map_d: its alpha, else its first channel), else the alpha of its
+// diffuse map (map_Kd), times its opacity (OBJ d), cuts the surface where it
+// is below 0.5, as a glTF MASK material with the default cutoff does.
+class AssimpMasks {
+ public:
+  enum class Coverage { Opaque, Transparent, Masked };
+  struct Material {
+    Coverage coverage = Coverage::Opaque;
+    std::uint32_t texture = MBAO_NOT_MASKED;
+    unsigned uv_channel = 0;
+  };
+
+  AssimpMasks(const aiScene& scene, std::string path)
+      : scene_(scene), path_(std::move(path)), base_dir_(std::filesystem::path(path_).parent_path()), builder_(path_) {}
+
+  Material material(unsigned index) {
+    if (const auto found = materials_.find(index); found != materials_.end()) return found->second;
+    return materials_[index] = resolve(index);
+  }
+
+  AlphaMaskBuilder& triangles() { return builder_; }
+  AlphaMasks take() { return builder_.take(); }
+
+ private:
+  Material resolve(unsigned index) {
+    if (index >= scene_.mNumMaterials) return {};
+    const aiMaterial& m = *scene_.mMaterials[index];
+    float opacity = 1.0f;
+    m.Get(AI_MATKEY_OPACITY, opacity);
+    const std::string what = std::string("material '") + m.GetName().C_Str() + "'";
+    for (const auto [type, first_channel] : {std::pair{aiTextureType_OPACITY, true}, {aiTextureType_DIFFUSE, false}}) {
+      aiString file;
+      aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+      unsigned uv_channel = 0;
+      if (m.GetTexture(type, 0, &file, nullptr, &uv_channel, nullptr, nullptr, modes) != AI_SUCCESS) continue;
+      const std::string image_name = what + "'s image " + file.C_Str();
+      const AlphaImage image = alpha_of(file, first_channel, image_name);
+      if (!image.has_alpha) continue;
+      const std::uint32_t wrap = wrap_of(modes[0]) | (wrap_of(modes[1]) << 2);
+      return {Coverage::Masked, builder_.add_texture(image, wrap, opacity, kMaskCutoff, image_name), uv_channel};
+    }
+    Material constant;
+    constant.coverage = opacity < kMaskCutoff ? Coverage::Transparent : Coverage::Opaque;
+    return constant;
+  }
+
+  // An image embedded in the file ("*n", or named by its file name) or a file beside it.
+  AlphaImage alpha_of(const aiString& file, bool first_channel, const std::string& what) const {
+    if (const aiTexture* embedded = scene_.GetEmbeddedTexture(file.C_Str())) {
+      if (embedded->mHeight == 0)  // compressed: mWidth bytes of an encoded image
+        return decode_alpha(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth,
+                            path_ + ": " + what, first_channel);
+      AlphaImage image{int(embedded->mWidth), int(embedded->mHeight), true, {}};
+      for (std::size_t i = 0; i < std::size_t(embedded->mWidth) * embedded->mHeight; ++i)
+        image.alpha.push_back(embedded->pcData[i].a);
+      return image;
+    }
+    const std::vector<unsigned char> bytes = read_regular_file(base_dir_ / file.C_Str(), path_ + ": " + what);
+    return decode_alpha(bytes.data(), bytes.size(), path_ + ": " + what, first_channel);
+  }
+
+  const aiScene& scene_;
+  std::string path_;
+  std::filesystem::path base_dir_;
+  AlphaMaskBuilder builder_;
+  std::map<unsigned, Material> materials_;
+};
 
 glm::mat4 to_glm(const aiMatrix4x4& m) {
   // aiMatrix4x4 is row-major (a1..a4 the first row); glm's constructor takes columns.
@@ -29,10 +115,12 @@ glm::mat4 to_glm(const aiMatrix4x4& m) {
 
 glm::vec3 to_glm(const aiVector3D& v) { return {v.x, v.y, v.z}; }
 
-// What the node tree puts into the scene: triangles in world space.
+// What the node tree puts into the scene: triangles in world space, and
+// their alpha masks.
 class Gatherer {
  public:
-  Gatherer(const aiScene& scene, bool normals) : scene_(scene), normals_(normals) {}
+  Gatherer(const aiScene& scene, const std::string& path, bool normals)
+      : scene_(scene), path_(path), normals_(normals), masks_(scene, path) {}
 
   void node(const aiNode& n, const glm::mat4& parent) {
     const glm::mat4 world = parent * to_glm(n.mTransformation);
@@ -40,14 +128,17 @@ class Gatherer {
     for (unsigned i = 0; i < n.mNumChildren; ++i) node(*n.mChildren[i], world);
   }
 
-  TriangleMesh take() {
+  TriangleMesh take_mesh() {
     if (!any_normals_) mesh_.normals.clear();
     return std::move(mesh_);
   }
+  AlphaMasks take_masks() { return masks_.take(); }
 
  private:
   void mesh(const aiMesh& m, const glm::mat4& world) {
     if (!(m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;  // points and lines, sorted apart
+    const AssimpMasks::Material material = masks_.material(m.mMaterialIndex);
+    if (material.coverage == AssimpMasks::Coverage::Transparent) return;  // cut away everywhere: no triangles
     const auto base = std::uint32_t(mesh_.positions.size());
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
     const bool with_normals = normals_ && m.HasNormals();
@@ -62,16 +153,38 @@ class Gatherer {
       }
       mesh_.normals.push_back(normal);
     }
+    std::vector<std::uint32_t> corners;  // the mesh's own vertex indices, for its masks
     for (unsigned f = 0; f < m.mNumFaces; ++f) {
       const aiFace& face = m.mFaces[f];
-      if (face.mNumIndices == 3)
-        mesh_.triangles.push_back(glm::uvec3(face.mIndices[0], face.mIndices[1], face.mIndices[2]) + base);
+      if (face.mNumIndices != 3) continue;
+      mesh_.triangles.push_back(glm::uvec3(face.mIndices[0], face.mIndices[1], face.mIndices[2]) + base);
+      corners.insert(corners.end(), face.mIndices, face.mIndices + 3);
     }
+    if (material.coverage == AssimpMasks::Coverage::Masked)
+      masks_.triangles().add_masked(corners, texcoords(m, material.uv_channel), material.texture);
+    else
+      masks_.triangles().add_opaque(corners.size() / 3);
+  }
+
+  // UV set `channel` of the mesh, 2 floats per vertex, v down the image (aiProcess_FlipUVs).
+  std::vector<float> texcoords(const aiMesh& m, unsigned channel) const {
+    if (channel >= AI_MAX_NUMBER_OF_TEXTURECOORDS || !m.HasTextureCoords(channel))
+      throw LoadError(path_ + ": mesh '" + m.mName.C_Str() + "' has an alpha mask but no texture coordinates " +
+                      std::to_string(channel) + " to look it up with");
+    std::vector<float> uv;
+    uv.reserve(2 * std::size_t(m.mNumVertices));
+    for (unsigned v = 0; v < m.mNumVertices; ++v) {
+      uv.push_back(m.mTextureCoords[channel][v].x);
+      uv.push_back(m.mTextureCoords[channel][v].y);
+    }
+    return uv;
   }
 
   const aiScene& scene_;
+  const std::string& path_;
   bool normals_, any_normals_ = false;
   TriangleMesh mesh_;
+  AssimpMasks masks_;
 };
 
 // The world transform of the node named `name`, where there is one.
@@ -126,22 +239,23 @@ bool assimp_reads(const std::string& path) {
 std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options) {
   Assimp::Importer importer;
   // Polygons become triangles; points and lines are sorted into meshes of their own.
+  // UVs with v down the image, as glTF's and the mask kernels' are.
   const unsigned steps = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
-                         aiProcess_ValidateDataStructure;
+                         aiProcess_ValidateDataStructure | aiProcess_FlipUVs;
   const aiScene* scene = importer.ReadFile(path, steps);
   if (!scene) throw LoadError(path + ": " + importer.GetErrorString());
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
     throw LoadError(path + ": Assimp read no complete scene from it");
-  Gatherer gatherer(*scene, options.normals);
+  Gatherer gatherer(*scene, path, options.normals);
   gatherer.node(*scene->mRootNode, glm::mat4(1.0f));
   std::vector<std::string> warnings;
   if (const std::size_t dropped = dropped_primitives(*scene))
     warnings.push_back(path + ": " + std::to_string(dropped) + " points and lines skipped; only triangles render");
   std::optional<Camera> camera = first_camera(*scene, path, warnings);
-  TriangleMesh mesh = gatherer.take();
+  TriangleMesh mesh = gatherer.take_mesh();
   if (mesh.triangles.empty()) throw LoadError(path + ": no triangles in it");
   try {
-    return std::make_shared<Scene>(std::move(mesh), path, camera, std::move(warnings));
+    return std::make_shared<Scene>(std::move(mesh), path, camera, std::move(warnings), gatherer.take_masks());
   } catch (const std::invalid_argument& e) {  // a mesh that cannot render, named by the path
     throw LoadError(e.what());
   }

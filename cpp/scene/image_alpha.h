@@ -21,7 +21,10 @@ struct AlphaImage {
 constexpr std::size_t kMaxAlphaTexels = std::size_t(1) << 28;
 
 // Decodes an encoded image (PNG, JPEG, ... with 8 or 16 bits per channel)
-// keeping only its alpha. Throws LoadError naming `what` when it cannot.
-AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std::string& what);
+// keeping only its alpha; with `first_channel_without_alpha`, an image
+// without alpha gives its first channel instead (an OBJ opacity map is a
+// grey image). Throws LoadError naming `what` when it cannot.
+AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std::string& what,
+                        bool first_channel_without_alpha = false);
 
 }  // namespace mbao

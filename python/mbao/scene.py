@@ -64,8 +64,9 @@ def load(path, *, normals=True, texcoords=False):
 
     Every other format Assimp reads (.obj, .ply, .stl, .fbx, .dae, .3ds, ...)
     gives the triangles of its node tree in world space, their normals where
-    the file has them and its first perspective camera, but no materials: no
-    alpha masks, and no UV sets for texture bakes (SPEC 3.2).
+    the file has them, its first perspective camera, and alpha masks from its
+    materials' opacity maps (OBJ map_d) or the alpha of their diffuse maps, cut
+    at 0.5; not the UV sets texture bakes read (SPEC 3.2).
 
     What is skipped (other primitive modes, ...) is reported as a warning and
     listed in scene.warnings. Raises mbao.LoadError naming the file and element.
