@@ -26,7 +26,7 @@ demo: build
 	$(VENV)/bin/python -m mbao render --bounces 2 -o out/cornell_b2.png
 
 # Last, the sanitizer build's CTest: the C++ tests under AddressSanitizer and
-# UBSan, and the glTF loader's fuzzer for 60 s (fuzz/run_gltf_fuzzer.sh). Only
+# UBSan, and the glTF and Assimp loaders' fuzzers for 60 s each (fuzz/run_fuzzer.sh). Only
 # the tests need clang, its sanitizer and libFuzzer runtimes and llvm-symbolizer
 # (for readable reports): the target-specific value reaches `deps`.
 SANITIZE_PACKAGES := clang libclang-rt-14-dev llvm

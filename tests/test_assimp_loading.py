@@ -2,41 +2,18 @@
 STL, Collada, FBX, ... with the nodes' transforms applied, triangles only,
 normals where the file has them. The tests write the files they read."""
 
-import struct
-
 import numpy as np
 import pytest
 
 import mbao
 from conftest import shared_scene
 from gltf_writer import png_bytes
+from scene_files import COLLADA, write_obj, write_ply
 
 
 @pytest.fixture(scope="module")
 def bunny():
     return mbao.load(shared_scene("bunny") / "scene.glb")
-
-
-def write_obj(path, vertices, triangles, normals=None):
-    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in vertices.tolist()]
-    if normals is None:
-        lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles.tolist()]
-    else:
-        lines += [f"vn {x!r} {y!r} {z!r}" for x, y, z in normals.tolist()]
-        lines += [f"f {a + 1}//{a + 1} {b + 1}//{b + 1} {c + 1}//{c + 1}" for a, b, c in triangles.tolist()]
-    path.write_text("\n".join(lines) + "\n")
-
-
-def write_ply(path, vertices, triangles, binary):
-    header = (f"ply\nformat {'binary_little_endian' if binary else 'ascii'} 1.0\nelement vertex {len(vertices)}\n"
-              "property float x\nproperty float y\nproperty float z\n"
-              f"element face {len(triangles)}\nproperty list uchar int vertex_indices\nend_header\n")
-    if binary:
-        body = vertices.astype("<f4").tobytes() + b"".join(struct.pack("<B3i", 3, *t) for t in triangles.tolist())
-        path.write_bytes(header.encode() + body)
-    else:
-        rows = [f"{x!r} {y!r} {z!r}" for x, y, z in vertices.tolist()] + [f"3 {a} {b} {c}" for a, b, c in triangles.tolist()]
-        path.write_text(header + "\n".join(rows) + "\n")
 
 
 def corners(scene):
@@ -79,29 +56,6 @@ def test_normals_are_read_where_the_file_has_them(tmp_path):
     assert mbao.load(tmp_path / "without.obj").normals is None
 
 
-COLLADA = """<?xml version="1.0" encoding="utf-8"?>
-<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
-  <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
-  <library_cameras><camera id="cam"><optics><technique_common><perspective>
-    <yfov>40</yfov><aspect_ratio>1.5</aspect_ratio><znear>0.1</znear><zfar>100</zfar>
-  </perspective></technique_common></optics></camera></library_cameras>
-  <library_geometries><geometry id="tri"><mesh>
-    <source id="pos"><float_array id="pos-array" count="9">0 0 0 1 0 0 0 1 0</float_array>
-      <technique_common><accessor source="#pos-array" count="3" stride="3">
-        <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
-      </accessor></technique_common></source>
-    <vertices id="verts"><input semantic="POSITION" source="#pos"/></vertices>
-    <triangles count="1"><input semantic="VERTEX" source="#verts" offset="0"/><p>0 1 2</p></triangles>
-  </mesh></geometry></library_geometries>
-  <library_visual_scenes><visual_scene id="scene">
-    <node id="outer" name="outer"><translate>10 20 30</translate>
-      <node id="inner" name="inner"><scale>2 2 2</scale><instance_geometry url="#tri"/></node>
-    </node>
-    <node id="eye" name="eye"><translate>0 1 5</translate><instance_camera url="#cam"/></node>
-  </visual_scene></library_visual_scenes>
-  <scene><instance_visual_scene url="#scene"/></scene>
-</COLLADA>
-"""
 
 
 def test_nodes_place_their_meshes(tmp_path):
@@ -139,6 +93,20 @@ def test_a_bad_file_raises_load_error_naming_it(tmp_path, name, content, message
     with pytest.raises(mbao.LoadError, match=message) as error:
         mbao.load(path)
     assert str(path) in str(error.value)
+
+
+def test_a_file_that_makes_assimp_abort_is_a_load_error(tmp_path, capfd):
+    """Debian's Assimp asserts, and so aborts, in its triangulation on this
+    PLY (a fuzzer's find); it runs in a process of its own, so the caller gets
+    an error naming the file, with the assertion, instead of losing its own
+    process, and nothing reaches stderr."""
+    path = tmp_path / "aborts.ply"
+    path.write_bytes(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                     b"property(float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                     b"0\x000 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+    with pytest.raises(mbao.LoadError, match=r"aborts.ply: the importer stopped on it \(signal 6.*ai_assert"):
+        mbao.load(path)
+    assert capfd.readouterr().err == ""
 
 
 def test_a_missing_file_is_named(tmp_path):

@@ -23,6 +23,7 @@
 #include "scene/alpha_mask_builder.h"
 #include "scene/gltf_files.h"
 #include "scene/image_alpha.h"
+#include "scene/isolated_import.h"
 
 namespace mbao {
 namespace {
@@ -70,7 +71,7 @@ class AssimpMasks {
     float opacity = 1.0f;
     m.Get(AI_MATKEY_OPACITY, opacity);
     const std::string what = std::string("material '") + m.GetName().C_Str() + "'";
-    for (const auto [type, first_channel] : {std::pair{aiTextureType_OPACITY, true}, {aiTextureType_DIFFUSE, false}}) {
+    for (const auto& [type, first_channel] : {std::pair{aiTextureType_OPACITY, true}, {aiTextureType_DIFFUSE, false}}) {
       aiString file;
       aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
       unsigned uv_channel = 0;
@@ -229,20 +230,20 @@ std::size_t dropped_primitives(const aiScene& scene) {
   return count;
 }
 
-}  // namespace
+// Polygons become triangles; points and lines are sorted into meshes of their
+// own; UVs have v down the image, as glTF's and the mask kernels' do.
+constexpr unsigned kImportSteps = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
+                                  aiProcess_ValidateDataStructure | aiProcess_FlipUVs;
 
-bool assimp_reads(const std::string& path) {
-  const std::string extension = std::filesystem::path(path).extension().string();
-  return !extension.empty() && Assimp::Importer().IsExtensionSupported(extension);
+// The importer's time for a file of `bytes`: options.import_seconds, else a
+// minute and 10 s per MiB, far more than Assimp takes on any file that ends.
+double time_limit(const LoadOptions& options, std::uintmax_t bytes) {
+  return options.import_seconds > 0.0 ? options.import_seconds : 60.0 + 10.0 * double(bytes) / double(1 << 20);
 }
 
-std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options) {
-  Assimp::Importer importer;
-  // Polygons become triangles; points and lines are sorted into meshes of their own.
-  // UVs with v down the image, as glTF's and the mask kernels' are.
-  const unsigned steps = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices |
-                         aiProcess_ValidateDataStructure | aiProcess_FlipUVs;
-  const aiScene* scene = importer.ReadFile(path, steps);
+// What `importer` read (`scene`: null where it failed), `path` naming it.
+ImportedScene imported(const Assimp::Importer& importer, const aiScene* scene, const std::string& path,
+                       const LoadOptions& options) {
   if (!scene) throw LoadError(path + ": " + importer.GetErrorString());
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
     throw LoadError(path + ": Assimp read no complete scene from it");
@@ -254,11 +255,46 @@ std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptio
   std::optional<Camera> camera = first_camera(*scene, path, warnings);
   TriangleMesh mesh = gatherer.take_mesh();
   if (mesh.triangles.empty()) throw LoadError(path + ": no triangles in it");
+  return {std::move(mesh), gatherer.take_masks(), camera, std::move(warnings)};
+}
+
+std::shared_ptr<Scene> scene_of(ImportedScene s, const std::string& path) {
   try {
-    return std::make_shared<Scene>(std::move(mesh), path, camera, std::move(warnings), gatherer.take_masks());
+    return std::make_shared<Scene>(std::move(s.mesh), path, s.camera, std::move(s.warnings), std::move(s.masks));
   } catch (const std::invalid_argument& e) {  // a mesh that cannot render, named by the path
     throw LoadError(e.what());
   }
+}
+
+
+}  // namespace
+
+bool assimp_reads(const std::string& path) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  return !extension.empty() && Assimp::Importer().IsExtensionSupported(extension);
+}
+
+// Assimp runs in a process of its own (import_isolated): Debian's build aborts
+// on some malformed files.
+std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options) {
+  const auto import = [&] {
+    Assimp::Importer importer;
+    return imported(importer, importer.ReadFile(path, kImportSteps), path, options);
+  };
+  std::error_code unknown;
+  const std::uintmax_t bytes = std::filesystem::file_size(path, unknown);
+  return scene_of(import_isolated(import, path, time_limit(options, unknown ? 0 : bytes)), path);
+}
+
+std::shared_ptr<Scene> load_with_assimp_from_memory(const unsigned char* bytes, std::size_t size,
+                                                    const std::string& name, const std::string& extension,
+                                                    const LoadOptions& options) {
+  const auto import = [&] {
+    Assimp::Importer importer;
+    return imported(importer, importer.ReadFileFromMemory(bytes, size, kImportSteps, extension.c_str()), name,
+                    options);
+  };
+  return scene_of(import_isolated(import, name, time_limit(options, size)), name);
 }
 
 std::shared_ptr<Scene> load_scene(const std::string& path, const LoadOptions& options) {

@@ -19,6 +19,14 @@ bool assimp_reads(const std::string& path);
 // LoadError naming the file and what Assimp found wrong.
 std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options = {});
 
+// The same from a file's bytes in memory, read as `extension` ("obj", "ply",
+// ...) says; `name` stands for the file in messages and names the scene.
+// Files it refers to (an OBJ's materials, images) are looked up from the
+// working directory.
+std::shared_ptr<Scene> load_with_assimp_from_memory(const unsigned char* bytes, std::size_t size,
+                                                    const std::string& name, const std::string& extension,
+                                                    const LoadOptions& options = {});
+
 // mbao.load's reader: glTF (.gltf, .glb, and files whose extension Assimp
 // does not know, which the glTF loader tells apart by their content) through
 // tinygltf, every other format Assimp reads through Assimp.

@@ -11,6 +11,8 @@ namespace mbao {
 struct LoadOptions {
   bool normals = true;     // read vertex normals (what normals="shading" uses)
   bool texcoords = false;  // read every UV set, the triangles' materials and their occlusion textures (Scene::uv_sets)
+  // Assimp's formats: how long the importer may take, in seconds; 0: 60 s and 10 s more per MiB of the file.
+  double import_seconds = 0.0;
 };
 
 // Loads a glTF 2.0 file (.gltf or .glb) per SPEC 3.2: every triangle mesh of

@@ -1,0 +1,92 @@
+// An import run in a process of its own: its result comes back whole, its
+// LoadError as it was, and its crash as a LoadError naming the file and what
+// it printed last, and its hang as one once its time is up.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <unistd.h>
+
+#include "core/error.h"
+#include "scene/isolated_import.h"
+
+namespace mbao {
+namespace {
+
+ImportedScene everything() {
+  ImportedScene s;
+  s.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  s.mesh.triangles = {{0, 1, 2}};
+  s.mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 0}};
+  s.masks.textures = {MaskTexture{0, 2, 1, 0, 1.0f, 0.5f, {0, 0}}};
+  s.masks.texels = {0, 255};
+  s.masks.triangles = {MaskedTriangle{{0, 0, 1, 0, 0, 1}, 0, 0}};
+  s.masks.triangle_mask = {0};
+  s.camera = Camera{{1, 2, 3}, {0, 0, 0}, {0, 1, 0}, 35.0f, {}};
+  s.warnings = {"one", ""};
+  return s;
+}
+
+TEST(IsolatedImport, BringsTheResultBackWhole) {
+  const ImportedScene s = import_isolated(everything, "file.obj", 60.0), expected = everything();
+  EXPECT_EQ(s.mesh.positions, expected.mesh.positions);
+  EXPECT_EQ(s.mesh.triangles, expected.mesh.triangles);
+  EXPECT_EQ(s.mesh.normals, expected.mesh.normals);
+  EXPECT_EQ(s.masks.texels, expected.masks.texels);
+  EXPECT_EQ(s.masks.triangle_mask, expected.masks.triangle_mask);
+  ASSERT_EQ(s.masks.textures.size(), 1u);
+  EXPECT_EQ(s.masks.textures[0].width, 2u);
+  ASSERT_EQ(s.masks.triangles.size(), 1u);
+  EXPECT_EQ(s.masks.triangles[0].uv[2], 1.0f);
+  ASSERT_TRUE(s.camera.has_value());
+  EXPECT_EQ(s.camera->eye, expected.camera->eye);
+  EXPECT_EQ(s.camera->vfov_deg, 35.0f);
+  EXPECT_EQ(s.warnings, expected.warnings);
+}
+
+TEST(IsolatedImport, PassesTheImportsLoadErrorOn) {
+  try {
+    import_isolated([]() -> ImportedScene { throw LoadError("file.obj: line 3 is bad"); }, "file.obj", 60.0);
+    FAIL() << "no error";
+  } catch (const LoadError& e) {
+    EXPECT_STREQ(e.what(), "file.obj: line 3 is bad");
+  }
+}
+
+TEST(IsolatedImport, TurnsACrashIntoALoadErrorNamingTheFile) {
+  try {
+    import_isolated(
+        []() -> ImportedScene {
+          std::fprintf(stderr, "first\nassertion failed: x > 0\n");
+          std::abort();
+        },
+        "file.ply", 60.0);
+    FAIL() << "no error";
+  } catch (const LoadError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind("file.ply: the importer stopped on it (signal " + std::to_string(SIGABRT), 0), 0u)
+        << message;
+    EXPECT_NE(message.find(": assertion failed: x > 0"), std::string::npos) << message;
+    EXPECT_EQ(message.find("first"), std::string::npos) << message;
+  }
+}
+
+TEST(IsolatedImport, StopsAnImportThatRunsPastItsTime) {
+  try {
+    import_isolated(
+        []() -> ImportedScene {
+          for (;;) pause();  // as Assimp's PLY parser loops on some malformed headers
+        },
+        "file.ply", 0.2);
+    FAIL() << "no error";
+  } catch (const LoadError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("file.ply: the importer ran past 0.2 s on it and was stopped", 0), 0u)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace mbao
