@@ -277,6 +277,52 @@ def test_the_command_line_bakes_a_file(tmp_path):
                               "--vertex-colors", "--samples", "2", "--quiet"], capture_output=True, text=True)
     assert colored.returncode == 0, colored.stderr
     assert "darkens direct light too" in colored.stdout and validation_errors(tmp_path / "c.glb") == []
+    obj = subprocess.run([sys.executable, "-m", "mbao", "bake", str(floor_and_wall_obj(tmp_path)), "-o",
+                          str(tmp_path / "o.gltf"), "--samples", "2", "--quiet"], capture_output=True, text=True)
+    assert obj.returncode == 0, obj.stderr
+    assert validation_errors(tmp_path / "o.gltf") == []
     refused = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "x.gltf")],
                              capture_output=True, text=True)
     assert refused.returncode == 2 and refused.stderr.startswith("mbao: output") and "must be a .glb" in refused.stderr
+
+
+def floor_and_wall_obj(tmp_path):
+    """The floor and the wall standing on it as an OBJ with vertex normals."""
+    from scene_files import write_obj
+
+    floor, floor_indices = plane(1.0, divisions=4)
+    wall = np.array([[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0], [0.5, 1.0, 0.0], [-0.5, 1.0, 0.0]])
+    vertices = np.concatenate([floor, wall])
+    triangles = np.concatenate([floor_indices, np.array([[0, 1, 2], [0, 2, 3]]) + len(floor)])
+    normals = np.concatenate([np.tile([0.0, 1.0, 0.0], (len(floor), 1)), np.tile([0.0, 0.0, 1.0], (4, 1))])
+    write_obj(tmp_path / "floor_and_wall.obj", vertices, triangles, normals)
+    return tmp_path / "floor_and_wall.obj"
+
+
+@pytest.mark.parametrize("output", ["baked.glb", "baked.gltf"])
+def test_a_file_of_another_format_is_written_as_gltf_with_its_bake(tmp_path, output):
+    """An OBJ's vertex bake: a valid glTF of its triangles in world space and
+    its normals, each vertex with the value mbao.bake gives the loaded file."""
+    source = floor_and_wall_obj(tmp_path)
+    result = mbao.bake_file(source, tmp_path / output, samples=8, progress=False)
+    assert validation_errors(tmp_path / output) == []
+    written = mbao.load(tmp_path / output)
+    loaded = mbao.load(source)
+    np.testing.assert_array_equal(written.vertices[written.indices], loaded.vertices[loaded.indices])
+    np.testing.assert_array_equal(written.normals, loaded.normals)
+    np.testing.assert_array_equal(result.values, mbao.bake(loaded, samples=8, progress=False).values)
+    document = GltfDocument(tmp_path / output)
+    primitive = document.doc["meshes"][0]["primitives"][0]
+    occlusion = document.elements(primitive["attributes"]["_OCCLUSION"]).view("<f4").ravel()
+    np.testing.assert_array_equal(occlusion, result.values)
+
+
+def test_a_texture_bake_of_another_format_needs_generated_uvs(tmp_path):
+    source = floor_and_wall_obj(tmp_path)
+    with pytest.raises(ValueError, match='no UV sets from this format; bake it with texcoord="generate"'):
+        mbao.bake_file(source, tmp_path / "t.glb", target="texture")
+    mbao.bake_file(source, tmp_path / "t.glb", target="texture", texcoord="generate", resolution=32, samples=2,
+                   progress=False)
+    assert validation_errors(tmp_path / "t.glb") == []
+    material = GltfDocument(tmp_path / "t.glb").doc["materials"][0]
+    assert material["occlusionTexture"]["texCoord"] == 0

@@ -35,6 +35,42 @@ class GltfDocument:
         self.added = bytearray()
         self._added_views = []
 
+    @classmethod
+    def of_mesh(cls, path, vertices, indices, normals, glb):
+        """A document of one mesh placed by one node, without materials, its
+        data in buffer 0 (the GLB's binary chunk, or a data URI): what
+        bake_file writes a file of another format as (`path` names it in
+        messages). normals: (N, 3) unit vectors or None."""
+        self = cls.__new__(cls)
+        self.path, self.glb = os.fspath(path), glb
+        vertices = np.ascontiguousarray(vertices, "<f4")
+        arrays = [("POSITION", vertices, dict(type="VEC3", min=vertices.min(axis=0).tolist(),
+                                               max=vertices.max(axis=0).tolist()))]
+        if normals is not None:
+            arrays.append(("NORMAL", np.ascontiguousarray(normals, "<f4"), dict(type="VEC3")))
+        arrays.append(("indices", np.ascontiguousarray(indices, "<u4").ravel(), dict(type="SCALAR")))
+        binary, views, accessors, primitive = bytearray(), [], [], {"attributes": {}, "mode": 4}
+        for name, array, accessor in arrays:
+            views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": array.nbytes})
+            binary.extend(array.tobytes())
+            binary.extend(b"\0" * (-len(binary) % 4))
+            component = 5126 if array.dtype.kind == "f" else 5125
+            accessors.append(dict(bufferView=len(views) - 1, componentType=component, count=len(array), **accessor))
+            if name == "indices":
+                primitive["indices"] = len(accessors) - 1
+            else:
+                primitive["attributes"][name] = len(accessors) - 1
+        buffer = {"byteLength": len(binary)}
+        if not glb:
+            buffer["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(binary)).decode("ascii")
+        self.bin = bytes(binary) if glb else b""
+        self.doc = {"asset": {"version": "2.0", "generator": "mbao"}, "scene": 0, "scenes": [{"nodes": [0]}],
+                    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [primitive]}], "buffers": [buffer],
+                    "bufferViews": views, "accessors": accessors}
+        self.original = copy.deepcopy(self.doc)
+        self.added, self._added_views = bytearray(), []
+        return self
+
     def _read_json(self, data):
         try:
             return json.loads(data)

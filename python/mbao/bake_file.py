@@ -36,9 +36,14 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, vertex_colors=Fa
         COLOR_0 darkens direct light too, which occlusion should not.
 
     output is .glb where input is, else .gltf (relative URIs rewritten for its
-    folder; new data in data URIs). settings: those of mbao.bake. Returns the
-    mbao.Bake, with stats["replaced_occlusion"]: the materials whose occlusion
-    texture was replaced.
+    folder; new data in data URIs). An input of another format mbao.load reads
+    (OBJ, PLY, FBX, ...) is written as glTF, .glb or .gltf as output says: its
+    triangles in world space as one mesh, with its normals where every vertex
+    has one and no materials, plus the bake (its alpha masks cut the bake's
+    rays all the same); its texture bakes need texcoord="generate". settings:
+    those of mbao.bake. Returns the mbao.Bake, with
+    stats["replaced_occlusion"]: the materials whose occlusion texture was
+    replaced.
     """
     vertex_colors = _checks.boolean("vertex_colors", vertex_colors)
     if vertex_colors and target != "vertices":
@@ -46,10 +51,18 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, vertex_colors=Fa
     bit_depth = _checks.integer("bit_depth", bit_depth)
     if bit_depth not in (8, 16):
         raise ValueError(f"bit_depth must be 8 or 16, got {bit_depth}")
-    scene = load(input, texcoords=True)  # the loader's checks and errors first
-    document = GltfDocument(input)
-    document.check_output(output)  # before the bake, not after it
-    result = bake(scene, target=target, **settings)
+    if _is_gltf(input):
+        scene = load(input, texcoords=True)  # the loader's checks and errors first
+        document = GltfDocument(input)
+        document.check_output(output)  # before the bake, not after it
+        result = bake(scene, target=target, **settings)
+    else:
+        baked = load(input)
+        if target == "texture" and settings.get("texcoord") != "generate":
+            raise ValueError(f"{os.fspath(input)}: mbao reads no UV sets from this format; bake it with "
+                             f"texcoord=\"generate\", or give its glTF")
+        document, scene = _converted(baked, input, output)
+        result = bake(baked, target=target, **settings)
     meshes = _MeshesPerNode(document)
     if target == "texture":
         generated_sets = {}
@@ -62,6 +75,27 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, vertex_colors=Fa
     document.write(output)
     result.stats["replaced_occlusion"] = replaced
     return result
+
+
+def _is_gltf(path):
+    return os.fspath(path).lower().endswith((".gltf", ".glb"))
+
+
+def _converted(scene, input, output):
+    """A glTF document of `scene` (a file of another format: its triangles in
+    world space, one mesh, its normals where every vertex has one) in the
+    output's container, and that document loaded as a scene: what the bake is
+    written into, vertex for vertex and triangle for triangle."""
+    normals = scene.normals
+    if normals is not None and not np.allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-3):
+        normals = None  # a vertex without a normal: glTF's NORMAL has one for every vertex
+    glb = os.fspath(output).lower().endswith(".glb")
+    document = GltfDocument.of_mesh(input, scene.vertices, scene.indices, normals, glb)
+    document.check_output(output)
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "converted.glb" if glb else "converted.gltf")
+        document.write(path)
+        return document, load(path, texcoords=True)
 
 
 class _MeshesPerNode:

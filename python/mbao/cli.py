@@ -78,9 +78,10 @@ def _parser():
 
     b = commands.add_parser("bake", formatter_class=argparse.ArgumentDefaultsHelpFormatter,
                             help="bake AO into a glTF file's occlusion textures or vertices (SPEC 6)")
-    b.add_argument("input", help="a .glb or .gltf file")
+    b.add_argument("input", help="a scene file: glTF, or another format mbao.load reads (OBJ, PLY, FBX, ...)")
     b.add_argument("-o", "--output", required=True,
-                   help="the baked file, everything else in it kept: .glb for a .glb input, .gltf for a .gltf one")
+                   help="the baked file, everything else in it kept: .glb for a .glb input, .gltf for a .gltf one; "
+                        "another format is written as a new glTF, .glb or .gltf")
     b.add_argument("--target", choices=["texture", "vertices"], default="vertices",
                    help="an occlusion texture per material, or an _OCCLUSION attribute per primitive")
     b.add_argument("--texcoord", type=_texcoord_argument,
