@@ -1,6 +1,11 @@
 #include "render/device_scene.h"
 
+#include <iomanip>
+#include <sstream>
+#include <string>
+
 #include "accel/kd_device_layout.h"
+#include "core/error.h"
 #include "opencl/launch.h"
 
 
@@ -9,7 +14,49 @@ namespace {
 
 cl_float4 to_float4(const glm::vec3& v) { return {{v.x, v.y, v.z, 0.0f}}; }
 
+std::string in_units(std::size_t bytes) {
+  if (bytes < (std::size_t(1) << 20)) return std::to_string(bytes) + " bytes";
+  const bool gib = bytes >= (std::size_t(1) << 30);
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(2) << double(bytes) / double(gib ? 1ull << 30 : 1ull << 20)
+       << (gib ? " GiB" : " MiB");
+  return text.str();
+}
+
+// Throws where `bytes` for `what` of `scene` pass `limit`, the largest buffer of `device_name`.
+void check_buffer(std::size_t bytes, std::size_t limit, const std::string& device_name, const Scene& scene,
+                  const std::string& what) {
+  if (bytes <= limit) return;
+  const std::size_t triangles = scene.mesh().triangles.size();
+  const std::size_t fit = std::size_t(double(triangles) * double(limit) / double(bytes));
+  throw DeviceError(scene.name() + ": its " + what + " need one device buffer of " + in_units(bytes) + " (" +
+                    std::to_string(triangles) + " triangles), more than the " + in_units(limit) + " that " + device_name +
+                    " allocates at most (CL_DEVICE_MAX_MEM_ALLOC_SIZE): about " + std::to_string(fit) +
+                    " triangles fit");
+}
+
+std::size_t largest_buffer(const cl::Device& device) { return device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>(); }
+
 }  // namespace
+
+void DeviceScene::check_fits(const Scene& scene, const cl::Device& device, bool with_normals) {
+  check_fits(scene, largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), with_normals);
+}
+
+void DeviceScene::check_fits(const Scene& scene, std::size_t limit, const std::string& device_name,
+                             bool with_normals) {
+  const TriangleMesh& mesh = scene.mesh();
+  const std::size_t triangles = mesh.triangles.size();
+  check_buffer(triangles * 3 * sizeof(cl_float4), limit, device_name, scene, "triangles' corners");
+  if (with_normals && mesh.has_normals()) {
+    check_buffer(triangles * 3 * sizeof(cl_uint), limit, device_name, scene, "triangles' vertex indices");
+    check_buffer(mesh.normals.size() * sizeof(cl_float4), limit, device_name, scene, "vertex normals");
+  }
+  const AlphaMasks& masks = scene.masks();
+  check_buffer(masks.triangle_mask.size() * sizeof(std::uint32_t), limit, device_name, scene, "triangles' masks");
+  check_buffer(masks.triangles.size() * sizeof(MaskedTriangle), limit, device_name, scene, "masked triangles");
+  check_buffer(masks.texels.size(), limit, device_name, scene, "alpha mask texels");
+}
 
 template <typename T>
 cl::Buffer DeviceScene::upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data) {
@@ -35,7 +82,11 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
   }
 
   try {
-    nodes_ = upload(context, queue, kd_device_layout(tree, scene.masks().triangle_mask));
+    const auto nodes = kd_device_layout(tree, scene.masks().triangle_mask);
+    const cl::Device device = queue.getInfo<CL_QUEUE_DEVICE>();
+    check_buffer(nodes.size() * sizeof(nodes[0]), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), scene,
+                 "kd-tree's nodes");
+    nodes_ = upload(context, queue, nodes);
     triangles_ = upload(context, queue, triangles);
     if (with_normals && mesh.has_normals()) {
       std::vector<cl_uint> vertices;

@@ -21,6 +21,14 @@ class DeviceScene {
   DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
               bool with_normals);
 
+  // Refuses, before its tree is built, a scene one of whose buffers the device
+  // cannot allocate (CL_DEVICE_MAX_MEM_ALLOC_SIZE): a DeviceError naming the
+  // buffer, its bytes, the limit, the device and the most triangles that fit.
+  // The tree's nodes, known only once built, are checked as they are uploaded.
+  static void check_fits(const Scene& scene, const cl::Device& device, bool with_normals);
+  // The same for a device named `device_name` that allocates at most `limit` bytes at once.
+  static void check_fits(const Scene& scene, std::size_t limit, const std::string& device_name, bool with_normals);
+
   // The kernels' leading scene parameters (MBAO_SCENE_PARAMS), for set_kernel_args.
   void append_to(KernelArgs& args) const;
   std::size_t bytes() const { return bytes_; }
