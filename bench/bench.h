@@ -23,6 +23,7 @@ struct Options {
   mbao::RenderSettings settings;  // the Table 1 configuration, with --width/--height/--samples/--traversal
   std::vector<std::string> sections;           // --sections; empty: all of them
   std::vector<std::size_t> work_groups = {0};  // --work-groups, for the organisation section; 0: the default
+  std::vector<std::size_t> scale_sizes = {1000000, 4000000, 16000000, 32000000};  // --scale-sizes: triangles
   std::string self;               // this executable, for the measurements that need a fresh process
   std::string command_line;
 };
@@ -60,6 +61,11 @@ json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, cons
 // What the child processes run (mbao_bench --child-load / --child-build-kernels).
 int child_load(const std::string& path, bool everything);
 int child_build_kernels(const std::string& device);
+int child_scale(std::size_t triangles, const mbao::DeviceInfo& device, int width, int height);
+
+// Growth with the scene: build, frame and peak memory of generated scenes of
+// options.scale_sizes triangles, each in a fresh process, beside Embree's build.
+json scale(const Options& options);
 
 // Shared helpers.
 double median(std::vector<double> values);
@@ -77,6 +83,8 @@ json per_ray_counts(const mbao::RenderStats& counted);
 // kernels and uploads the scene.
 json measure_frames(mbao::Renderer& renderer, const BenchScene& scene, const mbao::RenderSettings& settings,
                     int frames);
+// The process's peak resident set size so far (getrusage's ru_maxrss), in KiB.
+long peak_rss_kb();
 // Runs `command` in a shell and parses the last line it prints as JSON.
 json run_child(const std::string& command);
 std::string shell_quoted(const std::string& text);

@@ -1,7 +1,5 @@
 // Loading only what AO uses, against loading everything: time and peak memory
 // of each glTF scene, each load in a process of its own.
-#include <sys/resource.h>
-
 #include <iostream>
 
 #include "bench.h"
@@ -38,12 +36,6 @@ EverythingLoaded load_everything(const std::string& path) {
       if (primitive.indices >= 0) loaded.indices.push_back(reader.indices(primitive.indices, "indices"));
     }
   return loaded;
-}
-
-long peak_rss_kb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss;
 }
 
 }  // namespace

@@ -16,13 +16,14 @@
 //   2048x2048), and the texture bake's stages.
 // Prints markdown tables and writes everything as JSON. --sections picks some
 // of table1, traversals, embree, masks, kernel-builds, loading, organisation,
-// kd-build, bake (default: all).
+// kd-build, bake, scale (default: all).
 //
 //   mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]
 //              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack|lanes]
-//              [--sections A,B,...] [--work-groups N,M,...] [--origin-paths on|off]
+//              [--sections A,B,...] [--work-groups N,M,...] [--origin-paths on|off] [--scale-sizes N,M,...]
 //
-// --origin-paths overrides the renderer's choice (RenderSettings::origin_paths).
+// --origin-paths overrides the renderer's choice (RenderSettings::origin_paths);
+// --scale-sizes gives the scale section's triangle counts.
 #include <algorithm>
 #include <ctime>
 #include <filesystem>
@@ -46,11 +47,11 @@ namespace {
   std::cerr << "mbao_bench: " << problem
             << "\nusage: mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]"
                " [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack|lanes]"
-               " [--sections A,B,...] [--work-groups N,M,...] [--origin-paths on|off]\n";
+               " [--sections A,B,...] [--work-groups N,M,...] [--origin-paths on|off] [--scale-sizes N,M,...]\n";
   std::exit(2);
 }
 
-const std::vector<std::string> kSections = {"table1", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation", "kd-build", "bake"};
+const std::vector<std::string> kSections = {"table1", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation", "kd-build", "bake", "scale"};
 
 std::vector<std::string> split_commas(const std::string& list) {
   std::vector<std::string> items;
@@ -66,10 +67,10 @@ std::vector<std::string> parse_sections(const std::string& list) {
   return sections;
 }
 
-std::vector<std::size_t> parse_work_groups(const std::string& list) {
+std::vector<std::size_t> parse_sizes(const std::string& flag, const std::string& list) {
   std::vector<std::size_t> sizes;
   for (const std::string& size : split_commas(list)) sizes.push_back(std::size_t(std::stoul(size)));
-  if (sizes.empty()) usage("--work-groups needs at least one size");
+  if (sizes.empty()) usage(flag + " needs at least one size");
   return sizes;
 }
 
@@ -100,7 +101,8 @@ bench::Options parse(int argc, char** argv) {
       else if (flag == "--samples") options.settings.samples = std::stoi(value);
       else if (flag == "--traversal") options.settings.traversal = mbao::parse_traversal(value);
       else if (flag == "--sections") options.sections = parse_sections(value);
-      else if (flag == "--work-groups") options.work_groups = parse_work_groups(value);
+      else if (flag == "--work-groups") options.work_groups = parse_sizes(flag, value);
+      else if (flag == "--scale-sizes") options.scale_sizes = parse_sizes(flag, value);
       else if (flag == "--origin-paths") options.settings.origin_paths = parse_on_off(flag, value);
       else usage("unknown option " + flag);
     } catch (const std::logic_error&) {
@@ -181,6 +183,7 @@ int run(bench::Options options) {
   if (wanted(options, "organisation")) report["organisation"] = bench::organisation(renderer, scenes, options);
   if (wanted(options, "kd-build")) report["kd_build"] = bench::kd_builds(renderer, scenes, options);
   if (wanted(options, "bake")) report["bake"] = bench::bakes(renderer, scenes, options);
+  if (wanted(options, "scale")) report["scale"] = bench::scale(options);
   if (!options.json_path.empty()) {
     const fs::path path(options.json_path);
     if (path.has_parent_path()) fs::create_directories(path.parent_path());
@@ -198,6 +201,9 @@ int main(int argc, char** argv) {
     if (argc >= 3 && std::string(argv[1]) == "--child-load")
       return bench::child_load(argv[2], argc >= 4 && std::string(argv[3]) == "--everything");
     if (argc >= 3 && std::string(argv[1]) == "--child-build-kernels") return bench::child_build_kernels(argv[2]);
+    if (argc >= 6 && std::string(argv[1]) == "--child-scale")
+      return bench::child_scale(std::stoul(argv[2]), pick_device(argv[3] == std::string("-") ? "" : argv[3]),
+                                std::stoi(argv[4]), std::stoi(argv[5]));
     return run(parse(argc, argv));
   } catch (const std::exception& e) {
     std::cerr << "mbao_bench: " << e.what() << "\n";

@@ -178,6 +178,19 @@ def bake(run):
     return table(header, rows)
 
 
+def scale(run):
+    """mbao_bench --sections scale: build, frame and peak memory as the generated scene grows, beside Embree."""
+    header = ["triangles", "mbao build ms", "Embree build ms", "build ratio", "frame ms", "peak MiB",
+              "peak bytes per triangle"]
+    rows = []
+    for row in run["scale"]:
+        embree = row.get("embree_build_ms")
+        rows.append([row["triangles"], ms(row["build_ms"]), ms(embree) if embree else "",
+                     f"{row['build_ms'] / embree:.2f}" if embree else "", ms(row["frame_ms"]),
+                     f"{row['peak_rss_kb'] / 1024:.0f}", f"{row['peak_bytes_per_triangle']:.0f}"])
+    return table(header, rows)
+
+
 def denoise(run):
     """bench/denoise.py's rows: each image's error against the reference, and the time spent on its frames."""
     header = ["scene", "b", "method", "frames", "all frames ms", "RMSE", "mean bias", "8x8 block RMSE"]
@@ -202,7 +215,8 @@ def denoise_summary(run):
 
 
 TABLES = {"table1": table1, "embree": embree, "trees": trees, "kd-build": kd_build, "traversals": traversals,
-          "organisation": organisation, "bake": bake, "denoise": denoise, "denoise-summary": denoise_summary}
+          "organisation": organisation, "bake": bake, "denoise": denoise, "denoise-summary": denoise_summary,
+          "scale": scale}
 ACROSS_FILES = {"summary": summary, "sources": sources}
 
 
