@@ -1,5 +1,6 @@
 #include "accel/kd_device_layout.h"
 
+#include <algorithm>
 #include <string>
 
 #include "core/error.h"
@@ -22,19 +23,31 @@ std::uint32_t leaf_entry(std::uint32_t triangle, const std::vector<std::uint32_t
 
 }  // namespace
 
-std::vector<KdNode> kd_device_layout(const KdTree& tree, const std::vector<std::uint32_t>& triangle_mask) {
-  std::vector<std::size_t> placed(tree.nodes.size());
+std::size_t kd_device_layout_size(const KdTree& tree) {
   std::size_t slots = 0;
-  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
-    placed[i] = slots;
-    slots += 1 + list_slots(tree.nodes[i]);
-  }
+  for (const KdNode node : tree.nodes) slots += 1 + list_slots(node);
   // Leaves address their lists in 32-bit words, two per node.
   if (slots > MBAO_KD_MAX_INDEX)
     throw Error("kd-tree: " + std::to_string(slots) + " nodes with the leaves' lists inlined, more than the node " +
                 "format can address (" + std::to_string(MBAO_KD_MAX_INDEX) + ")");
+  return slots;
+}
 
-  std::vector<KdNode> layout(slots, KdNode{0, 0});
+std::vector<KdNode> kd_device_layout(const KdTree& tree, const std::vector<std::uint32_t>& triangle_mask) {
+  std::vector<KdNode> layout(kd_device_layout_size(tree));
+  kd_device_layout_into(tree, triangle_mask, layout.data());
+  return layout;
+}
+
+void kd_device_layout_into(const KdTree& tree, const std::vector<std::uint32_t>& triangle_mask, KdNode* layout) {
+  // Each node's slot; 32 bits hold every index the format can address.
+  std::vector<std::uint32_t> placed(tree.nodes.size());
+  std::uint32_t slots = 0;
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    placed[i] = slots;
+    slots += std::uint32_t(1 + list_slots(tree.nodes[i]));
+  }
+  std::fill(layout, layout + slots, KdNode{0, 0});
   for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
     const KdNode node = tree.nodes[i];
     const auto at = std::uint32_t(placed[i]);
@@ -50,7 +63,6 @@ std::vector<KdNode> kd_device_layout(const KdTree& tree, const std::vector<std::
       (k % 2 ? pair.payload : pair.header) = entry;
     }
   }
-  return layout;
 }
 
 }  // namespace mbao

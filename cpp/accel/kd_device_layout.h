@@ -20,4 +20,10 @@ namespace mbao {
 // node can address, or an id needs the flag's bit.
 std::vector<KdNode> kd_device_layout(const KdTree& tree, const std::vector<std::uint32_t>& triangle_mask = {});
 
+// The layout's length in nodes; throws as kd_device_layout does.
+std::size_t kd_device_layout_size(const KdTree& tree);
+// The layout written into `layout`, kd_device_layout_size(tree) nodes: into a
+// mapped device buffer, with no copy of it in host memory.
+void kd_device_layout_into(const KdTree& tree, const std::vector<std::uint32_t>& triangle_mask, KdNode* layout);
+
 }  // namespace mbao

@@ -1,5 +1,6 @@
 #include "render/device_scene.h"
 
+#include <algorithm>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -68,35 +69,45 @@ cl::Buffer DeviceScene::upload(const cl::Context& context, cl::CommandQueue& que
   return buffer;
 }
 
+template <typename T, typename Fill>
+cl::Buffer DeviceScene::upload_filled(const cl::Context& context, cl::CommandQueue& queue, std::size_t count,
+                                      const Fill& fill) {
+  const std::size_t size = std::max<std::size_t>(count, 1) * sizeof(T);
+  cl::Buffer buffer(context, CL_MEM_READ_ONLY, size);
+  auto* items = static_cast<T*>(queue.enqueueMapBuffer(buffer, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, size));
+  fill(items);
+  queue.enqueueUnmapMemObject(buffer, items);
+  bytes_ += size;
+  return buffer;
+}
+
 DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
                          bool with_normals) {
   const TriangleMesh& mesh = scene.mesh();
   const glm::vec3 origin = scene.render_origin();  // the tree's frame
-  // Per triangle and axis, its corners' coordinates (TriangleCoordinates in kernels/geometry.h).
-  std::vector<cl_float4> triangles;
-  triangles.reserve(mesh.triangles.size() * 3);
-  for (const glm::uvec3& t : mesh.triangles) {
-    glm::vec3 p[3];
-    for (int k = 0; k < 3; ++k) p[k] = mesh.positions[t[k]] - origin;
-    for (int axis = 0; axis < 3; ++axis) triangles.push_back({{p[0][axis], p[1][axis], p[2][axis], 0.0f}});
-  }
-
   try {
-    const auto nodes = kd_device_layout(tree, scene.masks().triangle_mask);
+    const std::size_t nodes = kd_device_layout_size(tree);
     const cl::Device device = queue.getInfo<CL_QUEUE_DEVICE>();
-    check_buffer(nodes.size() * sizeof(nodes[0]), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), scene,
+    check_buffer(nodes * sizeof(KdNode), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), scene,
                  "kd-tree's nodes");
-    nodes_ = upload(context, queue, nodes);
-    triangles_ = upload(context, queue, triangles);
+    nodes_ = upload_filled<KdNode>(context, queue, nodes, [&](KdNode* out) {
+      kd_device_layout_into(tree, scene.masks().triangle_mask, out);
+    });
+    // Per triangle and axis, its corners' coordinates (TriangleCoordinates in kernels/geometry.h).
+    triangles_ = upload_filled<cl_float4>(context, queue, mesh.triangles.size() * 3, [&](cl_float4* out) {
+      for (const glm::uvec3& t : mesh.triangles) {
+        glm::vec3 p[3];
+        for (int k = 0; k < 3; ++k) p[k] = mesh.positions[t[k]] - origin;
+        for (int axis = 0; axis < 3; ++axis) *out++ = {{p[0][axis], p[1][axis], p[2][axis], 0.0f}};
+      }
+    });
     if (with_normals && mesh.has_normals()) {
-      std::vector<cl_uint> vertices;
-      vertices.reserve(mesh.triangles.size() * 3);
-      for (const glm::uvec3& t : mesh.triangles) vertices.insert(vertices.end(), {t.x, t.y, t.z});
-      std::vector<cl_float4> normals;
-      normals.reserve(mesh.normals.size());
-      for (const glm::vec3& n : mesh.normals) normals.push_back(to_float4(n));
-      triangle_vertices_ = upload(context, queue, vertices);
-      vertex_normals_ = upload(context, queue, normals);
+      triangle_vertices_ = upload_filled<cl_uint>(context, queue, mesh.triangles.size() * 3, [&](cl_uint* out) {
+        for (const glm::uvec3& t : mesh.triangles) out = std::copy_n(&t.x, 3, out);
+      });
+      vertex_normals_ = upload_filled<cl_float4>(context, queue, mesh.normals.size(), [&](cl_float4* out) {
+        for (const glm::vec3& n : mesh.normals) *out++ = to_float4(n);
+      });
     }
     const AlphaMasks& masks = scene.masks();
     if (!masks.empty()) {

@@ -36,6 +36,10 @@ class DeviceScene {
  private:
   template <typename T>
   cl::Buffer upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data);
+  // A buffer of `count` T that fill(T*) writes in place, through a map: the
+  // items never exist as a whole in host memory besides the buffer.
+  template <typename T, typename Fill>
+  cl::Buffer upload_filled(const cl::Context& context, cl::CommandQueue& queue, std::size_t count, const Fill& fill);
 
   cl::Buffer nodes_, triangles_, triangle_vertices_, vertex_normals_;
   cl::Buffer triangle_masks_, masked_triangles_, mask_textures_, mask_texels_;
