@@ -166,3 +166,19 @@ def test_a_mask_image_that_is_not_there_is_named(tmp_path):
                                        "vt 0 1\nf 1/1 2/2 3/3\n")
     with pytest.raises(mbao.LoadError, match=r"lost.obj.*missing.png"):
         mbao.load(tmp_path / "lost.obj")
+
+
+@pytest.mark.parametrize("alpha, triangles", [(200, 2), (100, 0)], ids=["opaque everywhere", "clear everywhere"])
+def test_a_map_whose_alpha_is_on_one_side_of_the_cutoff_everywhere_is_no_mask(tmp_path, alpha, triangles):
+    """An alpha map at 200/255 everywhere keeps the surface whole, one at
+    100/255 removes it: no texel need be looked up (bilinear values stay
+    between the texels'), so neither becomes a mask texture."""
+    from test_alpha_masks import image_with_alpha
+
+    rgba = image_with_alpha(np.full((8, 8), alpha, np.uint8), 4)
+    if triangles:
+        scene = masked_obj(tmp_path, ["map_Kd colour.png"], {"colour.png": rgba})
+        assert scene.triangle_count == triangles and scene.alpha_masks is None
+    else:
+        with pytest.raises(mbao.LoadError, match="no triangles in it"):
+            masked_obj(tmp_path, ["map_Kd colour.png"], {"colour.png": rgba})

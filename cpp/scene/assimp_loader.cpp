@@ -4,6 +4,7 @@
 #include <assimp/scene.h>
 
 #include <assimp/Importer.hpp>
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -79,12 +80,21 @@ class AssimpMasks {
       const std::string image_name = what + "'s image " + file.C_Str();
       const AlphaImage image = alpha_of(file, first_channel, image_name);
       if (!image.has_alpha) continue;
+      // Bilinear lookups stay between the texels' least and greatest alpha:
+      // where the cutoff does not fall between them, no texel needs looking up.
+      const auto [least, most] = std::minmax_element(image.alpha.begin(), image.alpha.end());
+      if (opacity * float(*least) / 255.0f >= kMaskCutoff) return constant(1.0f);
+      if (opacity * float(*most) / 255.0f < kMaskCutoff) return constant(0.0f);
       const std::uint32_t wrap = wrap_of(modes[0]) | (wrap_of(modes[1]) << 2);
       return {Coverage::Masked, builder_.add_texture(image, wrap, opacity, kMaskCutoff, image_name), uv_channel};
     }
-    Material constant;
-    constant.coverage = opacity < kMaskCutoff ? Coverage::Transparent : Coverage::Opaque;
-    return constant;
+    return constant(opacity);
+  }
+
+  static Material constant(float opacity) {
+    Material m;
+    m.coverage = opacity < kMaskCutoff ? Coverage::Transparent : Coverage::Opaque;
+    return m;
   }
 
   // An image embedded in the file ("*n", or named by its file name) or a file beside it.
@@ -93,9 +103,13 @@ class AssimpMasks {
       if (embedded->mHeight == 0)  // compressed: mWidth bytes of an encoded image
         return decode_alpha(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth,
                             path_ + ": " + what, first_channel);
+      const std::size_t texels = std::size_t(embedded->mWidth) * embedded->mHeight;
+      if (texels > kMaxAlphaTexels)
+        throw LoadError(path_ + ": " + what + " is " + std::to_string(embedded->mWidth) + " x " +
+                        std::to_string(embedded->mHeight) + " texels; a mask texture may have at most 2^28");
       AlphaImage image{int(embedded->mWidth), int(embedded->mHeight), true, {}};
-      for (std::size_t i = 0; i < std::size_t(embedded->mWidth) * embedded->mHeight; ++i)
-        image.alpha.push_back(embedded->pcData[i].a);
+      image.alpha.reserve(texels);
+      for (std::size_t i = 0; i < texels; ++i) image.alpha.push_back(embedded->pcData[i].a);
       return image;
     }
     const std::vector<unsigned char> bytes = read_regular_file(base_dir_ / file.C_Str(), path_ + ": " + what);
