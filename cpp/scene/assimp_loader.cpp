@@ -103,10 +103,8 @@ class AssimpMasks {
       if (embedded->mHeight == 0)  // compressed: mWidth bytes of an encoded image
         return decode_alpha(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth,
                             path_ + ": " + what, first_channel);
+      check_alpha_texels(embedded->mWidth, embedded->mHeight, path_ + ": " + what);
       const std::size_t texels = std::size_t(embedded->mWidth) * embedded->mHeight;
-      if (texels > kMaxAlphaTexels)
-        throw LoadError(path_ + ": " + what + " is " + std::to_string(embedded->mWidth) + " x " +
-                        std::to_string(embedded->mHeight) + " texels; a mask texture may have at most 2^28");
       AlphaImage image{int(embedded->mWidth), int(embedded->mHeight), true, {}};
       image.alpha.reserve(texels);
       for (std::size_t i = 0; i < texels; ++i) image.alpha.push_back(embedded->pcData[i].a);

@@ -26,6 +26,12 @@ std::vector<std::uint8_t> one_channel(const T* pixels, std::size_t texels, int c
 
 }  // namespace
 
+void check_alpha_texels(std::size_t width, std::size_t height, const std::string& what) {
+  if (width * height > kMaxAlphaTexels)
+    throw LoadError(what + ": the image is " + std::to_string(width) + " x " + std::to_string(height) +
+                    " texels; a mask texture may have at most 2^28 (16384 x 16384)");
+}
+
 AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std::string& what,
                         bool first_channel_without_alpha) {
   if (size == 0 || size > std::size_t(INT_MAX)) throw LoadError(what + ": image data is empty or too large");
@@ -38,10 +44,8 @@ AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std:
   image.has_alpha = alpha_channel || first_channel_without_alpha;
   if (!image.has_alpha) return image;  // alpha 1 everywhere: no texels needed
   const int channel = alpha_channel ? channels - 1 : 0;
+  check_alpha_texels(std::size_t(image.width), std::size_t(image.height), what);
   const std::size_t texels = std::size_t(image.width) * std::size_t(image.height);
-  if (texels > kMaxAlphaTexels)
-    throw LoadError(what + ": the image is " + std::to_string(image.width) + " x " + std::to_string(image.height) +
-                    " texels; a mask texture may have at most 2^28 (16384 x 16384)");
   int w = 0, h = 0;
   // The alpha is read for the size and channels stbi_info reported, so the decoded image must have them.
   const auto check_decoded = [&](const void* pixels) {

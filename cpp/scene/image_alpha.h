@@ -20,6 +20,9 @@ struct AlphaImage {
 // so a small file that declares a huge image is refused without the memory.
 constexpr std::size_t kMaxAlphaTexels = std::size_t(1) << 28;
 
+// Throws LoadError naming `what` for an image of more texels than kMaxAlphaTexels.
+void check_alpha_texels(std::size_t width, std::size_t height, const std::string& what);
+
 // Decodes an encoded image (PNG, JPEG, ... with 8 or 16 bits per channel)
 // keeping only its alpha; with `first_channel_without_alpha`, an image
 // without alpha gives its first channel instead (an OBJ opacity map is a
