@@ -60,7 +60,9 @@ struct KdTree {
 };
 
 // Builds the tree in O(N log N) with sorted split events (Wald and Havran 2006),
-// subtrees in parallel.
-KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {});
+// subtrees in parallel. The tree's frame is the mesh's moved by -origin: its
+// bounds and planes are those of the positions less `origin`, in float.
+KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {},
+                     const glm::vec3& origin = glm::vec3(0.0f));
 
 }  // namespace mbao

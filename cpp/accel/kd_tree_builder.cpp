@@ -69,17 +69,6 @@ struct Split {
   }
 };
 
-// Exact for float input: the differences and products of floats are exact in
-// double, so only a triangle whose corners are collinear gets a zero cross product.
-// No ray can hit such a triangle, so it stays out of the tree.
-bool has_zero_area(const TriangleMesh& mesh, std::uint32_t t) {
-  const glm::dvec3 p0 = mesh.positions[mesh.triangles[t][0]];
-  const glm::dvec3 e1 = glm::dvec3(mesh.positions[mesh.triangles[t][1]]) - p0;
-  const glm::dvec3 e2 = glm::dvec3(mesh.positions[mesh.triangles[t][2]]) - p0;
-  const glm::dvec3 n = glm::cross(e1, e2);
-  return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
-}
-
 // What a thread needs while it splits a node, reused from node to node.
 struct Scratch {
   // `side` is zeroed once (classify reads a triangle's side before it
@@ -106,9 +95,14 @@ struct Scratch {
   }
 };
 
+// A split's children: first their triangle counts (from partition or
+// partition_cutting_boxes), then their events (fill_children).
 struct Children {
   NodeEvents below, above;
   std::size_t n_below = 0, n_above = 0;
+  // The split axis where straddlers' boxes were cut (their events along the
+  // other axes then go to both children), or -1 where they were clipped.
+  int cut_axis = -1;
 };
 
 // A node's triangles and the leaf entries its subtree may hold.
@@ -232,16 +226,18 @@ class AxisCost {
 
 class Builder {
  public:
-  Builder(const TriangleMesh& mesh, const KdBuildOptions& options)
-      : mesh_(mesh),
+  Builder(const TriangleMesh& mesh, const KdBuildOptions& options, const glm::vec3& origin)
+      : positions_(mesh.positions),
+        triangles_(mesh.triangles),
+        origin_(origin),
         options_(options),
         threads_(options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()))) {}
 
   KdTree build() {
     Stopwatch clock;
     KdTree tree;
-    tree.bounds = mesh_.bounds();
-    const std::size_t n = mesh_.triangles.size();
+    for (const glm::vec3& p : positions_) tree.bounds.extend(p - origin_);
+    const std::size_t n = triangles_.size();
     if (n > std::size_t(kMaxEventTriangle) + 1) throw Error("kd-tree: more than 2^30 triangles");
     max_depth_ = options_.max_depth > 0
                      ? options_.max_depth
@@ -256,7 +252,7 @@ class Builder {
     root_area_ = tree.bounds.surface_area();
 
     std::size_t placed = 0;
-    NodeEvents events = root_events(placed);
+    NodeEvents events = root_events(tree.bounds, placed);
     tree.stats.degenerate_triangles = n - placed;
     Scratch scratch(n);
     if (threads_ > 1) {
@@ -280,44 +276,56 @@ class Builder {
   }
 
  private:
-  Bounds3 triangle_box(std::uint32_t t) const {
-    Bounds3 box;
-    for (int k = 0; k < 3; ++k) box.extend(mesh_.positions[mesh_.triangles[t][k]]);
-    return box;
-  }
+  // The tree's frame: positions less the origin.
+  glm::vec3 position(std::uint32_t vertex) const { return positions_[vertex] - origin_; }
 
   std::array<glm::vec3, 3> corners(std::uint32_t t) const {
-    const glm::uvec3& v = mesh_.triangles[t];
-    return {mesh_.positions[v[0]], mesh_.positions[v[1]], mesh_.positions[v[2]]};
+    const glm::uvec3& v = triangles_[t];
+    return {position(v[0]), position(v[1]), position(v[2])};
   }
 
-  // Every triangle of non-zero area, its events made in triangle order and
-  // sorted. The boxes are made on every thread, each axis's events on one:
-  // with a single thread for all of it, this took 45-55 ms of Sponza's
-  // two-thread build while the other thread waited.
-  NodeEvents root_events(std::size_t& placed) const {
-    const std::size_t n = mesh_.triangles.size();
-    const bool parallel = threads_ > 1 && n >= kMinTrianglesToOffer;  // else threads cost more than they save
-    std::unique_ptr<Bounds3[]> boxes(new Bounds3[n]);  // by triangle; left empty where it has no area
+  // Exact for float input: the differences and products of floats are exact
+  // in double, so only a triangle whose corners are collinear gets a zero
+  // cross product. No ray can hit such a triangle, so it stays out of the tree.
+  bool has_zero_area(std::uint32_t t) const {
+    const std::array<glm::vec3, 3> p = corners(t);
+    const glm::dvec3 n = glm::cross(glm::dvec3(p[1]) - glm::dvec3(p[0]), glm::dvec3(p[2]) - glm::dvec3(p[0]));
+    return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
+  }
+
+  // The triangles of non-zero area, in order.
+  std::vector<std::uint32_t> triangles_with_area(bool parallel) const {
+    const std::size_t n = triangles_.size();
+    std::unique_ptr<bool[]> has_area(new bool[n]);
     for_each_range(n, parallel ? threads_ : 1, [&](std::size_t first, std::size_t last) {
-      for (std::size_t t = first; t < last; ++t)
-        if (!has_zero_area(mesh_, std::uint32_t(t))) boxes[t] = triangle_box(std::uint32_t(t));
+      for (std::size_t t = first; t < last; ++t) has_area[t] = !has_zero_area(std::uint32_t(t));
     });
     std::vector<std::uint32_t> kept;
     kept.reserve(n);
-    std::array<std::size_t, 3> events_per_axis{};
-    for (std::uint32_t t = 0; t < n; ++t) {
-      if (boxes[t].empty()) continue;
-      kept.push_back(t);
-      for (int axis = 0; axis < 3; ++axis) events_per_axis[std::size_t(axis)] += box_event_count(axis, boxes[t]);
-    }
+    for (std::uint32_t t = 0; t < n; ++t)
+      if (has_area[t]) kept.push_back(t);
+    return kept;
+  }
+
+  // The root's events: those of every triangle of non-zero area, sorted, each
+  // axis's on a thread of its own. They are made from the corners as they are
+  // sorted (make_sorted_events), with no boxes kept: those took 24 bytes a
+  // triangle at the build's peak.
+  NodeEvents root_events(const Bounds3& bounds, std::size_t& placed) const {
+    const bool parallel = threads_ > 1 && triangles_.size() >= kMinTrianglesToOffer;  // else threads cost more
+    const std::vector<std::uint32_t> kept = triangles_with_area(parallel);
     placed = kept.size();
-    NodeEvents events(6 * kept.size());
-    events.lay_out(events_per_axis);
+    NodeEvents events(2 * kept.size());
     for_each_axis(parallel, [&](int axis) {
-      Event* slot = events.begin(axis);
-      for (const std::uint32_t t : kept) for_box_events(axis, boxes[t], t, [&slot](const Event& e) { *slot++ = e; });
-      sort_events_made_by_triangle(events.begin(axis), events.end(axis));
+      const auto make = [&](auto&& push) {
+        for (const std::uint32_t t : kept) {
+          const std::array<glm::vec3, 3> p = corners(t);
+          const float lo = std::min({p[0][axis], p[1][axis], p[2][axis]});
+          const float hi = std::max({p[0][axis], p[1][axis], p[2][axis]});
+          for_interval_events(lo, hi, t, push);
+        }
+      };
+      events.close_axis(axis, make_sorted_events(make, bounds.lo[axis], bounds.hi[axis], events.begin(axis)));
     });
     return events;
   }
@@ -353,7 +361,11 @@ class Builder {
       make_leaf(tree, box, events);
       return;
     }
-    if (one_sided) (empty_below ? children.above : children.below) = std::move(events);
+    if (one_sided) {
+      (empty_below ? children.above : children.below) = std::move(events);
+    } else {
+      fill_children(events, scratch, children);
+    }
     events = NodeEvents{};  // release the parent's events before going deeper
 
     tree.stats.sah_cost += area_fraction(box) * options_.traversal_cost;
@@ -514,10 +526,10 @@ class Builder {
     }
   }
 
-  // Splits the events between the children, keeping their order. A triangle
-  // on both sides is clipped to each child: where it misses a child's cell it
-  // stays out of it, elsewhere it gets new events for its clipped box, sorted
-  // and merged in.
+  // Which side of the split each triangle goes to (in scratch.side), and the
+  // children's triangle counts. A triangle on both sides is clipped to each
+  // child: where it misses a child's cell it stays out of it, elsewhere it
+  // gets new events for its clipped box (in scratch, for fill_children).
   Children partition(const NodeEvents& events, const Split& split, const Bounds3& below_box,
                      const Bounds3& above_box, Scratch& scratch) const {
     Side* side = scratch.side.get();
@@ -544,7 +556,6 @@ class Builder {
       children.n_below += add_events(t, below_part, scratch.clipped_below);
       children.n_above += add_events(t, above_part, scratch.clipped_above);
     }
-    fill_children(events, side, -1, scratch, children);
     return children;
   }
 
@@ -576,6 +587,7 @@ class Builder {
     std::vector<Event>& below = scratch.clipped_below[std::size_t(split.axis)];
     std::vector<Event>& above = scratch.clipped_above[std::size_t(split.axis)];
     Children children;
+    children.cut_axis = split.axis;
     for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
       const std::uint32_t t = e->triangle();
       const EventType type = e->type();
@@ -602,7 +614,6 @@ class Builder {
         above.push_back(Event::make(split.position, EventType::Planar, t));
       }
     }
-    fill_children(events, side, split.axis, scratch, children);
     return children;
   }
 
@@ -615,16 +626,19 @@ class Builder {
     return true;
   }
 
-  // Allocates the children's events and merges them in, axis by axis.
-  // `cut_axis`: the split axis where straddlers' boxes were cut (their events
-  // along the other axes then go to both children), or -1 where they were clipped.
-  static void fill_children(const NodeEvents& events, const Side* side, int cut_axis, Scratch& scratch,
-                            Children& children) {
-    children.below = NodeEvents(6 * children.n_below);
-    children.above = NodeEvents(6 * children.n_above);
-    for (int axis = 0; axis < 3; ++axis)
-      merge_sides(events, axis, side, scratch.clipped_below[std::size_t(axis)],
-                  scratch.clipped_above[std::size_t(axis)], children, cut_axis >= 0 && axis != cut_axis);
+  // Allocates the children's events and merges them in, axis by axis, from
+  // the parent's events and the sides and new events that partition or
+  // partition_cutting_boxes left in scratch. Each of the parent's axes is
+  // released once merged.
+  static void fill_children(NodeEvents& parent, Scratch& scratch, Children& children) {
+    children.below = NodeEvents(2 * children.n_below);
+    children.above = NodeEvents(2 * children.n_above);
+    for (int axis = 0; axis < 3; ++axis) {
+      merge_sides(parent, axis, scratch.side.get(), scratch.clipped_below[std::size_t(axis)],
+                  scratch.clipped_above[std::size_t(axis)], children,
+                  children.cut_axis >= 0 && axis != children.cut_axis);
+      parent.release(axis);
+    }
   }
 
   // The children's events along `axis`: the parent's events of triangles
@@ -639,8 +653,8 @@ class Builder {
       clipped->push_back(Event::after_all());
     }
     const Event *extra_below = clipped_below.data(), *extra_above = clipped_above.data();
-    Event* below = children.below.next_slot();
-    Event* above = children.above.next_slot();
+    Event* below = children.below.begin(axis);
+    Event* above = children.above.begin(axis);
     // The side an event goes to is a coin flip to the branch predictor: each
     // event is written to both children and kept where it belongs.
     const std::array<std::uint8_t, 3> keep_below{1, 0, both_to_both}, keep_above{0, 1, both_to_both};  // by Side
@@ -673,7 +687,9 @@ class Builder {
     tree.stats.sah_cost += area_fraction(box) * options_.intersection_cost * double(count);
   }
 
-  const TriangleMesh& mesh_;
+  const std::vector<glm::vec3>& positions_;
+  const std::vector<glm::uvec3>& triangles_;
+  const glm::vec3 origin_;
   const KdBuildOptions& options_;
   const int threads_;
   int max_depth_ = 0;
@@ -687,8 +703,8 @@ class Builder {
 
 }  // namespace
 
-KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options) {
-  return Builder(mesh, options).build();
+KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options, const glm::vec3& origin) {
+  return Builder(mesh, options, origin).build();
 }
 
 }  // namespace mbao

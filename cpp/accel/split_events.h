@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/page_block.h"
 #include "core/sorting_network.h"
 #include "scene/bounds.h"
 
@@ -123,60 +124,118 @@ inline void sort_events(Event* first, Event* last) {
   }
 }
 
-// How many events `box` has along `axis`: a start and an end, or one planar
-// event where it is flat.
-inline std::size_t box_event_count(int axis, const Bounds3& box) { return box.lo[axis] == box.hi[axis] ? 1 : 2; }
-
-// Hands `push` the box_event_count(axis, box) events of `box` along `axis`.
+// Hands `push` the events of a triangle whose box spans [lo, hi] along an
+// axis: a start and an end, or one planar event where it is flat.
 template <class Push>
-void for_box_events(int axis, const Bounds3& box, std::uint32_t triangle, Push&& push) {
-  if (box_event_count(axis, box) == 1) {
-    push(Event::make(box.lo[axis], EventType::Planar, triangle));
+void for_interval_events(float lo, float hi, std::uint32_t triangle, Push&& push) {
+  if (lo == hi) {
+    push(Event::make(lo, EventType::Planar, triangle));
   } else {
-    push(Event::make(box.lo[axis], EventType::Start, triangle));
-    push(Event::make(box.hi[axis], EventType::End, triangle));
+    push(Event::make(lo, EventType::Start, triangle));
+    push(Event::make(hi, EventType::End, triangle));
   }
 }
 
-// The events of one node: one sorted run per axis, the three runs in one
-// buffer of a capacity fixed up front (six per triangle at most). Not a
-// vector: the build pushes each event once per level, and the buffer needs
-// neither zeroing nor capacity checks.
+template <class Push>
+void for_box_events(int axis, const Bounds3& box, std::uint32_t triangle, Push&& push) {
+  for_interval_events(box.lo[axis], box.hi[axis], triangle, push);
+}
+
+// Writes the events that make(push) hands to `push` into `out` in the events'
+// order, and returns the end. `make` is called twice and must hand over the
+// same events each time, in increasing triangle order (as the root's are
+// made), at positions from `lowest` to `highest`.
+//
+// With no buffer of the events' size: the first call counts the events by the
+// top bits of their position's order above `lowest`'s, the second puts each
+// in its bucket, in the order made, and each bucket is then sorted with a
+// buffer of the bucket's size. (A buffer for each axis's events, sorted on
+// their own thread, was the build's peak memory.)
+template <class MakeEvents>
+Event* make_sorted_events(const MakeEvents& make, float lowest, float highest, Event* out) {
+  constexpr int kBucketBits = 12;
+  const std::uint32_t low = Event::make(lowest, EventType::End, 0).position_order();
+  const std::uint32_t range = Event::make(highest, EventType::End, 0).position_order() - low;
+  int shift = 0;
+  while ((range >> shift) >= (1u << kBucketBits)) ++shift;
+  const auto bucket = [&](const Event& e) {
+    assert(e.position_order() - low <= range);
+    return std::size_t((e.position_order() - low) >> shift);
+  };
+  std::vector<std::size_t> next((range >> shift) + 1, 0);  // counts, then each bucket's next slot
+  make([&](const Event& e) { ++next[bucket(e)]; });
+  std::size_t start = 0;
+  for (std::size_t& slot : next) start += std::exchange(slot, start);
+  make([&](const Event& e) { out[next[bucket(e)]++] = e; });
+  std::size_t first = 0;
+  for (const std::size_t end : next) {
+    sort_events_made_by_triangle(out + first, out + end);
+    first = end;
+  }
+  return out + first;
+}
+
+// The events of one node: one sorted run per axis, each in room for two
+// events per triangle, fixed up front. Not vectors: the build pushes each
+// event once per level, and the runs need neither zeroing nor capacity checks.
+//
+// A large node's runs have a block each, so that its split can free them one
+// by one as it fills the children (release): the root's split would
+// otherwise hold the root's events and both children's at once. Those blocks
+// are mapped pages of their own, which go back to the system when freed: from
+// malloc, blocks of a few MiB stayed in the threads' heaps, hundreds of MB at
+// the end of a large build. Smaller nodes' runs share one block, one
+// allocation instead of three.
 class NodeEvents {
  public:
   NodeEvents() = default;
-  // One slot more than asked for: a writer may store an event before it knows
-  // whether to keep it (see next_slot).
-  explicit NodeEvents(std::size_t capacity) : events_(new Event[capacity + 1]), capacity_(capacity) {}
-
-  const Event* begin(int axis) const { return events_.get() + start_[std::size_t(axis)]; }
-  const Event* end(int axis) const { return events_.get() + start_[std::size_t(axis) + 1]; }
-  Event* begin(int axis) { return events_.get() + start_[std::size_t(axis)]; }
-  Event* end(int axis) { return events_.get() + start_[std::size_t(axis) + 1]; }
-  std::size_t size(int axis) const { return start_[std::size_t(axis) + 1] - start_[std::size_t(axis)]; }
-
-  // Filling one axis after the other: write from next_slot() on, then close
-  // the axis at the pointer past the last event kept.
-  Event* next_slot() { return events_.get() + size_; }
-  void close_axis(int axis, const Event* filled_to) {
-    size_ = std::size_t(filled_to - events_.get());
-    assert(size_ <= capacity_);
-    start_[std::size_t(axis) + 1] = size_;
+  // Room for `capacity` events along each axis, and one slot more: a writer
+  // may store an event before it knows whether to keep it.
+  explicit NodeEvents(std::size_t capacity) : room_(capacity + 1) {
+    apart_ = 3 * room_ * sizeof(Event) >= kMinBytesApart;
+    if (!apart_) {
+      shared_.reset(new Event[3 * room_]);
+      for (std::size_t axis = 0; axis < 3; ++axis) first_[axis] = shared_.get() + axis * room_;
+    } else {
+      for (std::size_t axis = 0; axis < 3; ++axis) {
+        pages_[axis] = PageBlock(room_ * sizeof(Event));
+        first_[axis] = static_cast<Event*>(pages_[axis].data());
+      }
+    }
   }
 
-  // Filling in place, the axes at once: lay the runs out with these sizes,
-  // then write each from begin(axis).
-  void lay_out(const std::array<std::size_t, 3>& sizes) {
-    for (std::size_t axis = 0; axis < 3; ++axis) start_[axis + 1] = start_[axis] + sizes[axis];
-    size_ = start_[3];
-    assert(size_ <= capacity_);
+  const Event* begin(int axis) const { return first_[std::size_t(axis)]; }
+  const Event* end(int axis) const { return begin(axis) + size(axis); }
+  Event* begin(int axis) { return first_[std::size_t(axis)]; }
+  Event* end(int axis) { return begin(axis) + size(axis); }
+  std::size_t size(int axis) const { return size_[std::size_t(axis)]; }
+
+  // Filling an axis: write from begin(axis), then close it at the pointer
+  // past the last event kept.
+  void close_axis(int axis, const Event* filled_to) {
+    size_[std::size_t(axis)] = std::size_t(filled_to - begin(axis));
+    assert(size(axis) < room_);
+  }
+
+  // The axis's events are no longer needed: frees them where they have a block
+  // of their own. The axis is empty after.
+  void release(int axis) {
+    size_[std::size_t(axis)] = 0;
+    if (!apart_) return;
+    pages_[std::size_t(axis)] = PageBlock();
+    first_[std::size_t(axis)] = nullptr;
   }
 
  private:
-  std::unique_ptr<Event[]> events_;
-  [[maybe_unused]] std::size_t capacity_ = 0;  // for the asserts
-  std::size_t size_ = 0;
-  std::array<std::size_t, 4> start_{};
+  // A node's events from this size on get a block per axis.
+  static constexpr std::size_t kMinBytesApart = std::size_t(1) << 20;
+
+  std::unique_ptr<Event[]> shared_;
+  std::array<PageBlock, 3> pages_;
+  std::array<Event*, 3> first_{};
+  std::array<std::size_t, 3> size_{};
+  std::size_t room_ = 0;  // events each run has room for
+  bool apart_ = false;    // a block per axis
 };
 
 }  // namespace mbao

@@ -112,13 +112,8 @@ Camera Scene::default_camera(float aspect) const { return camera_ ? *camera_ : C
 
 std::shared_ptr<const KdTree> Scene::kd_tree() const {
   std::lock_guard<std::mutex> lock(tree_mutex_);
-  if (!tree_) {
-    TriangleMesh local;  // the tree is in the device's frame
-    local.positions.reserve(mesh_.positions.size());
-    for (const glm::vec3& p : mesh_.positions) local.positions.push_back(p - render_origin_);
-    local.triangles = mesh_.triangles;
-    tree_ = std::make_shared<const KdTree>(build_kd_tree(local, kd_build_options_));
-  }
+  // In the device's frame.
+  if (!tree_) tree_ = std::make_shared<const KdTree>(build_kd_tree(mesh_, kd_build_options_, render_origin_));
   return tree_;
 }
 

@@ -225,27 +225,60 @@ TEST(SplitEvent, IntegerOrderIsPositionThenTypeThenTriangle) {
   EXPECT_LT(events.back(), Event::after_all());
 }
 
-// The root's events are made triangle by triangle and radix-sorted on their
-// position and type alone: the result must be the full order all the same,
-// with many equal positions (grid values, both zeros) and planar events.
-TEST(SplitEvent, RadixSortOfEventsMadeByTriangleIsTheFullOrder) {
+// Boxes along one axis around `centre`, with many equal positions (grid
+// values; both zeros where the centre is 0), planar ones, and a third
+// anywhere within `spread`, their events made triangle by triangle.
+std::vector<Event> root_like_events(std::uint32_t triangles, float centre, float spread) {
   std::mt19937 random(7);
   std::uniform_int_distribution<int> grid(-40, 40);
-  std::uniform_real_distribution<float> anywhere(-1e6f, 1e6f);
+  std::uniform_real_distribution<float> anywhere(-spread, spread);
+  const auto on_grid = [&] { return centre + spread / 64.0f * float(grid(random)); };
   std::vector<Event> events;
-  for (std::uint32_t t = 0; t < 20000; ++t) {
-    Bounds3 box;
-    const float a = t % 3 == 0 ? anywhere(random) : 0.25f * float(grid(random));
-    const float b = t % 5 == 0 ? a : (t % 7 == 0 ? -0.0f : 0.25f * float(grid(random)));
-    box.lo = glm::vec3(std::min(a, b));
-    box.hi = glm::vec3(std::max(a, b));
-    for_box_events(0, box, t, [&events](const Event& e) { events.push_back(e); });
+  for (std::uint32_t t = 0; t < triangles; ++t) {
+    const float a = t % 3 == 0 ? centre + anywhere(random) : on_grid();
+    const float b = t % 5 == 0 ? a : (t % 7 == 0 && centre == 0.0f ? -0.0f : on_grid());
+    for_interval_events(std::min(a, b), std::max(a, b), t, [&events](const Event& e) { events.push_back(e); });
   }
+  return events;
+}
+
+// The root's events are made triangle by triangle and radix-sorted on their
+// position and type alone: the result must be the full order all the same.
+TEST(SplitEvent, RadixSortOfEventsMadeByTriangleIsTheFullOrder) {
+  std::vector<Event> events = root_like_events(20000, 0.0f, 1e6f);
   std::vector<Event> expected = events;
   std::sort(expected.begin(), expected.end());
   sort_events_made_by_triangle(events.data(), events.data() + events.size());
   ASSERT_EQ(events.size(), expected.size());
   for (std::size_t i = 0; i < events.size(); ++i) ASSERT_EQ(events[i].bits, expected[i].bits) << "at " << i;
+}
+
+// make_sorted_events buckets the events by the top bits of their position
+// before sorting each bucket: the full order too, whether the positions span
+// many binades and both signs (crowded buckets) or a few float steps (a
+// position to a bucket), and `make` is called twice over the same events.
+TEST(SplitEvent, MakingSortedEventsGivesTheFullOrder) {
+  for (const auto& [centre, spread] : {std::pair{0.0f, 1e6f}, {0.0f, 10.0f}, {1.0f, 1e-5f}}) {
+    const std::vector<Event> made = root_like_events(20000, centre, spread);
+    float lowest = made.front().position(), highest = lowest;
+    for (const Event& e : made) {
+      lowest = std::min(lowest, e.position());
+      highest = std::max(highest, e.position());
+    }
+    int calls = 0;
+    const auto make = [&](auto&& push) {
+      ++calls;
+      for (const Event& e : made) push(e);
+    };
+    std::vector<Event> events(made.size());
+    const Event* end = make_sorted_events(make, lowest, highest, events.data());
+    std::vector<Event> expected = made;
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(calls, 2);
+    ASSERT_EQ(std::size_t(end - events.data()), expected.size()) << centre << " +- " << spread;
+    for (std::size_t i = 0; i < events.size(); ++i)
+      ASSERT_EQ(events[i].bits, expected[i].bits) << centre << " +- " << spread << ", at " << i;
+  }
 }
 
 // A network sorts every input if it sorts every input of 0s and 1s (Knuth's
