@@ -111,7 +111,8 @@ struct EmbreeAo::Impl {
   }
 };
 
-EmbreeAo::EmbreeAo(std::shared_ptr<const mbao::Scene> scene, unsigned threads) : impl_(std::make_unique<Impl>()) {
+EmbreeAo::EmbreeAo(std::shared_ptr<const mbao::Scene> scene, unsigned threads, bool robust)
+    : impl_(std::make_unique<Impl>()) {
   impl_->scene = std::move(scene);
   impl_->threads = std::max(1u, threads);
   const std::string config = "threads=" + std::to_string(impl_->threads);
@@ -119,6 +120,7 @@ EmbreeAo::EmbreeAo(std::shared_ptr<const mbao::Scene> scene, unsigned threads) :
   if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
   mbao::Stopwatch clock;
   impl_->rtc_scene = rtcNewScene(impl_->device);
+  if (robust) rtcSetSceneFlags(impl_->rtc_scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(impl_->rtc_scene, RTC_BUILD_QUALITY_HIGH);  // a static scene: Embree at its best
   const mbao::TriangleMesh& mesh = impl_->scene->mesh();
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
