@@ -192,15 +192,20 @@ def test_build_returns_the_tree_stats():
 
 def test_kd_tree_arrays(cornell):
     tree = cornell.kd_tree()
-    assert {"nodes", "leaf_triangles", "bounds", "origin", "stats"} <= set(tree)
-    nodes, leaf_triangles = tree["nodes"], tree["leaf_triangles"]
+    assert {"nodes", "node_rows", "bounds", "origin", "stats"} <= set(tree)
+    nodes, rows = tree["nodes"], tree["node_rows"]
     assert nodes.dtype == np.uint32 and nodes.ndim == 2 and nodes.shape[1] == 2
-    assert len(nodes) == tree["stats"]["nodes"] >= 1
-    assert leaf_triangles.dtype == np.uint32 and leaf_triangles.ndim == 1
-    assert len(leaf_triangles) == tree["stats"]["leaf_references"]
-    assert leaf_triangles.max() < cornell.triangle_count
+    assert len(rows) == tree["stats"]["nodes"] >= 1 and rows[0] == 0
+    assert len(nodes) * 8 == tree["stats"]["memory_bytes"]
+    leaves = rows[(nodes[rows, 0] & 3) == 3]
+    counts, firsts = nodes[leaves, 0] >> 2, nodes[leaves, 1]
+    assert np.all(firsts == 2 * (leaves + 1))  # each leaf's entries follow it
+    words = nodes.ravel()
+    entries = np.concatenate([words[first:first + count] for first, count in zip(firsts, counts)])
+    assert len(entries) == tree["stats"]["leaf_references"]
+    assert entries.max() < cornell.triangle_count  # no masks: no flags
     # Every triangle is in some leaf.
-    assert set(leaf_triangles.tolist()) == set(range(cornell.triangle_count))
+    assert set(entries.tolist()) == set(range(cornell.triangle_count))
     origin = np.asarray(tree["origin"])
     lo, hi = (np.asarray(corner) + origin for corner in tree["bounds"])
     scene_lo, scene_hi = (np.asarray(corner) for corner in cornell.bounds)

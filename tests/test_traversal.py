@@ -15,7 +15,8 @@ TRAVERSALS = ("pushdown", "restart", "short-stack", "stack", "lanes")
 
 def split_planes(scene):
     """(axis, position) of every interior node of the scene's kd-tree."""
-    nodes = scene.kd_tree()["nodes"]
+    tree = scene.kd_tree()
+    nodes = tree["nodes"][tree["node_rows"]]
     interior = (nodes[:, 0] & 3) != 3
     return (nodes[interior, 0] & 3).astype(int), nodes[interior, 1].view(np.float32)
 

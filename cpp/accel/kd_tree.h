@@ -36,33 +36,54 @@ struct KdBuildOptions {
 };
 
 struct KdTreeStats {
-  std::size_t nodes = 0;
+  std::size_t nodes = 0;  // interior nodes and leaves, not counting the leaves' lists
   std::size_t leaves = 0;
   std::size_t empty_leaves = 0;
   int max_depth = 0;
   double mean_triangles_per_leaf = 0.0;  // over non-empty leaves
-  std::size_t leaf_references = 0;       // entries in the leaf triangle list
+  std::size_t leaf_references = 0;       // entries in the leaves' lists
   std::size_t degenerate_triangles = 0;  // zero-area triangles, left out: no ray can hit them
   double sah_cost = 0.0;                 // expected cost of a random ray, in K units
   double build_ms = 0.0;
-  std::size_t memory_bytes = 0;  // nodes and leaf lists
+  std::size_t memory_bytes = 0;  // nodes and the leaves' lists
 };
 
-// A kd-tree in the device's layout: nodes depth first, each interior node's
-// "below" child right after it. Every leaf lists every triangle of non-zero
-// area that touches its closed cell (and none whose box misses the cell), so a
-// point on a cell boundary is found from either side.
+// A kd-tree in the layout the kernels read (kernels/mbao/kd_node.h), on the
+// host as on the device, so that a device that shares host memory reads
+// these very nodes: depth first, each interior node's "below" child right
+// after it, and each leaf's entries right after the leaf, two to a node's 8
+// bytes. A leaf's fetch then brings its first entries in the same cache line,
+// where a separate list cost a walk a second dependent miss per leaf
+// (docs/traversal.md). An entry is a triangle id, with MBAO_KD_ENTRY_MASKED
+// set where the triangle has an alpha mask.
+//
+// Every leaf lists every triangle of non-zero area that touches its closed
+// cell (and none whose box misses the cell), so a point on a cell boundary is
+// found from either side.
 struct KdTree {
-  std::vector<KdNode> nodes;
-  std::vector<std::uint32_t> leaf_triangles;
+  std::vector<KdNode> nodes;  // the tree's nodes and the leaves' entries
   Bounds3 bounds;
   KdTreeStats stats;
 };
 
+// The nodes a leaf's entries take after it.
+inline std::size_t kd_list_nodes(KdNode node) {
+  return kd_is_leaf(node) ? (std::size_t(kd_triangle_count(node)) + 1) / 2 : 0;
+}
+
+// Entry k of `leaf`'s list in `nodes`: its payload counts 32-bit words from the start.
+inline std::uint32_t kd_leaf_entry(const std::vector<KdNode>& nodes, KdNode leaf, std::uint32_t k) {
+  const std::size_t word = std::size_t(kd_first_index(leaf)) + k;
+  const KdNode& pair = nodes[word / 2];
+  return word % 2 ? pair.payload : pair.header;
+}
+
 // Builds the tree in O(N log N) with sorted split events (Wald and Havran 2006),
 // subtrees in parallel. The tree's frame is the mesh's moved by -origin: its
 // bounds and planes are those of the positions less `origin`, in float.
+// triangle_mask (AlphaMasks::triangle_mask; empty: no masks) flags the entries
+// of masked triangles.
 KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {},
-                     const glm::vec3& origin = glm::vec3(0.0f));
+                     const glm::vec3& origin = glm::vec3(0.0f), const std::vector<std::uint32_t>& triangle_mask = {});
 
 }  // namespace mbao

@@ -35,6 +35,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "accel/kd_tree.h"
@@ -43,6 +44,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "core/work_sharing.h"
+#include "mbao/alpha_mask.h"
 #include "mbao/limits.h"
 
 namespace mbao {
@@ -82,6 +84,7 @@ struct Scratch {
   std::unique_ptr<std::uint32_t[]> straddlers;  // of a node, to be clipped
   // New events of straddling triangles, by axis, before they are merged in.
   std::array<std::vector<Event>, 3> clipped_below, clipped_above;
+  std::vector<std::uint32_t> leaf_entries;  // of a leaf, before they are sorted
   // The sweep's blocks of events: counts before each (ends also past the
   // last), and the least cost of a plane in each.
   std::vector<std::size_t> starts_before_block, ends_before_block;
@@ -119,20 +122,29 @@ struct Subtree {
   int depth = 0;
 };
 
-// Appends a subtree built in arrays of its own: its child and leaf-list
-// indices move by the sizes of what is already there. (Indices past the
-// format's range wrap here; build() then throws.)
+// Appends a subtree built in an array of its own: its child indices move by
+// the size of what is already there, and its leaves' lists, which follow them,
+// by twice that in words. (Indices past the format's range wrap here; build()
+// then throws.)
 void append_subtree(KdTree& tree, const KdTree& part) {
-  const auto node_offset = std::uint32_t(tree.nodes.size());
-  const auto leaf_offset = std::uint32_t(tree.leaf_triangles.size());
+  const auto offset = std::uint32_t(tree.nodes.size());
   tree.nodes.reserve(tree.nodes.size() + part.nodes.size());
-  for (const KdNode node : part.nodes)
-    tree.nodes.push_back(kd_is_leaf(node)
-                             ? kd_make_leaf(kd_triangle_count(node), kd_first_index(node) + leaf_offset)
-                             : kd_make_interior(kd_axis(node), kd_split(node), kd_above_child(node) + node_offset));
-  tree.leaf_triangles.insert(tree.leaf_triangles.end(), part.leaf_triangles.begin(), part.leaf_triangles.end());
+  for (std::size_t i = 0; i < part.nodes.size(); ++i) {
+    const KdNode node = part.nodes[i];
+    if (!kd_is_leaf(node)) {
+      tree.nodes.push_back(kd_make_interior(kd_axis(node), kd_split(node), kd_above_child(node) + offset));
+      continue;
+    }
+    tree.nodes.push_back(kd_make_leaf(kd_triangle_count(node), kd_first_index(node) + 2 * offset));
+    const std::size_t list = kd_list_nodes(node);
+    tree.nodes.insert(tree.nodes.end(), part.nodes.begin() + std::ptrdiff_t(i + 1),
+                      part.nodes.begin() + std::ptrdiff_t(i + 1 + list));
+    i += list;
+  }
+  tree.stats.nodes += part.stats.nodes;
   tree.stats.leaves += part.stats.leaves;
   tree.stats.empty_leaves += part.stats.empty_leaves;
+  tree.stats.leaf_references += part.stats.leaf_references;
   tree.stats.max_depth = std::max(tree.stats.max_depth, part.stats.max_depth);
   tree.stats.sah_cost += part.stats.sah_cost;
 }
@@ -226,10 +238,12 @@ class AxisCost {
 
 class Builder {
  public:
-  Builder(const TriangleMesh& mesh, const KdBuildOptions& options, const glm::vec3& origin)
+  Builder(const TriangleMesh& mesh, const KdBuildOptions& options, const glm::vec3& origin,
+          const std::vector<std::uint32_t>& triangle_mask)
       : positions_(mesh.positions),
         triangles_(mesh.triangles),
         origin_(origin),
+        triangle_mask_(triangle_mask),
         options_(options),
         threads_(options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()))) {}
 
@@ -263,14 +277,13 @@ class Builder {
     build_node(tree, scratch, tree.bounds, std::move(events), {placed, options_.reference_budget * double(placed)}, 0);
     sharing_.reset();
 
-    if (tree.nodes.size() > MBAO_KD_MAX_INDEX) throw Error("kd-tree: more nodes than the node format can address");
-    if (tree.leaf_triangles.size() > std::numeric_limits<std::uint32_t>::max())
-      throw Error("kd-tree: more leaf entries than the node format can address");
-    tree.stats.nodes = tree.nodes.size();
-    tree.stats.leaf_references = tree.leaf_triangles.size();
+    // Leaves address their lists in 32-bit words, two per node.
+    if (tree.nodes.size() > MBAO_KD_MAX_INDEX)
+      throw Error("kd-tree: " + std::to_string(tree.nodes.size()) + " nodes with the leaves' lists, more than the " +
+                  "node format can address (" + std::to_string(MBAO_KD_MAX_INDEX) + ")");
     const std::size_t filled = tree.stats.leaves - tree.stats.empty_leaves;
-    tree.stats.mean_triangles_per_leaf = filled ? double(tree.leaf_triangles.size()) / double(filled) : 0.0;
-    tree.stats.memory_bytes = tree.nodes.size() * sizeof(KdNode) + tree.leaf_triangles.size() * sizeof(std::uint32_t);
+    tree.stats.mean_triangles_per_leaf = filled ? double(tree.stats.leaf_references) / double(filled) : 0.0;
+    tree.stats.memory_bytes = tree.nodes.size() * sizeof(KdNode);
     tree.stats.build_ms = clock.elapsed_ms();
     return tree;
   }
@@ -337,7 +350,7 @@ class Builder {
     const std::size_t n = share.triangles;
     const Split split = n > 0 && depth < max_depth_ ? find_split(box, events, n, scratch) : Split{};
     if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
-      make_leaf(tree, box, events);
+      make_leaf(tree, scratch, box, events);
       return;
     }
     Bounds3 below_box = box, above_box = box;
@@ -358,7 +371,7 @@ class Builder {
     }
     const double entries = double(children.n_below) + double(children.n_above);
     if (entries > share.budget) {
-      make_leaf(tree, box, events);
+      make_leaf(tree, scratch, box, events);
       return;
     }
     if (one_sided) {
@@ -369,6 +382,7 @@ class Builder {
     events = NodeEvents{};  // release the parent's events before going deeper
 
     tree.stats.sah_cost += area_fraction(box) * options_.traversal_cost;
+    ++tree.stats.nodes;
     const std::size_t index = tree.nodes.size();
     tree.nodes.push_back(kd_make_interior(std::uint32_t(split.axis), split.position, 0));
     const Share below{children.n_below, share.budget * double(children.n_below) / entries};
@@ -674,22 +688,37 @@ class Builder {
     children.above.close_axis(axis, above);
   }
 
-  void make_leaf(KdTree& tree, const Bounds3& box, const NodeEvents& events) const {
-    const std::size_t first = tree.leaf_triangles.size();
+  // The leaf's node, then its entries two to a node (the last one's second
+  // word 0 where they are odd), ordered by triangle and flagged where the
+  // triangle has an alpha mask.
+  void make_leaf(KdTree& tree, Scratch& scratch, const Bounds3& box, const NodeEvents& events) const {
+    std::vector<std::uint32_t>& entries = scratch.leaf_entries;
+    entries.clear();
     for (const Event *e = events.begin(0), *end = events.end(0); e != end; ++e)
-      if (begins_triangle(e->type())) tree.leaf_triangles.push_back(e->triangle());
-    std::sort(tree.leaf_triangles.begin() + std::ptrdiff_t(first), tree.leaf_triangles.end());
-    const std::size_t count = tree.leaf_triangles.size() - first;
+      if (begins_triangle(e->type())) entries.push_back(e->triangle());
+    std::sort(entries.begin(), entries.end());
+    const std::size_t count = entries.size();
     if (count > MBAO_KD_MAX_INDEX) throw Error("kd-tree: leaf too large for the node format");
-    tree.nodes.push_back(kd_make_leaf(std::uint32_t(count), std::uint32_t(first)));
+    const auto at = std::uint32_t(tree.nodes.size());  // build() throws where the nodes outgrow 32-bit words
+    tree.nodes.push_back(kd_make_leaf(std::uint32_t(count), 2 * (at + 1)));
+    for (std::size_t k = 0; k < count; k += 2)
+      tree.nodes.push_back({leaf_entry(entries[k]), k + 1 < count ? leaf_entry(entries[k + 1]) : 0u});
+    ++tree.stats.nodes;
     ++tree.stats.leaves;
     tree.stats.empty_leaves += count == 0;
+    tree.stats.leaf_references += count;
     tree.stats.sah_cost += area_fraction(box) * options_.intersection_cost * double(count);
+  }
+
+  std::uint32_t leaf_entry(std::uint32_t triangle) const {
+    const bool masked = triangle < triangle_mask_.size() && triangle_mask_[triangle] != MBAO_NOT_MASKED;
+    return masked ? triangle | MBAO_KD_ENTRY_MASKED : triangle;
   }
 
   const std::vector<glm::vec3>& positions_;
   const std::vector<glm::uvec3>& triangles_;
   const glm::vec3 origin_;
+  const std::vector<std::uint32_t>& triangle_mask_;
   const KdBuildOptions& options_;
   const int threads_;
   int max_depth_ = 0;
@@ -703,8 +732,9 @@ class Builder {
 
 }  // namespace
 
-KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options, const glm::vec3& origin) {
-  return Builder(mesh, options, origin).build();
+KdTree build_kd_tree(const TriangleMesh& mesh, const KdBuildOptions& options, const glm::vec3& origin,
+                     const std::vector<std::uint32_t>& triangle_mask) {
+  return Builder(mesh, options, origin, triangle_mask).build();
 }
 
 }  // namespace mbao

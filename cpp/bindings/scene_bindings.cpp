@@ -180,15 +180,20 @@ so later renders of the same scene do not rebuild it.)doc")
             py::array_t<std::uint32_t> nodes({py::ssize_t(tree->nodes.size()), py::ssize_t(2)});
             std::memcpy(nodes.mutable_data(), tree->nodes.data(), tree->nodes.size() * sizeof(KdNode));
             d["nodes"] = nodes;
-            d["leaf_triangles"] = py::array_t<std::uint32_t>(py::ssize_t(tree->leaf_triangles.size()),
-                                                             tree->leaf_triangles.data());
+            std::vector<std::uint32_t> node_rows;
+            for (std::size_t i = 0; i < tree->nodes.size(); i += 1 + kd_list_nodes(tree->nodes[i]))
+              node_rows.push_back(std::uint32_t(i));
+            d["node_rows"] = py::array_t<std::uint32_t>(py::ssize_t(node_rows.size()), node_rows.data());
             d["bounds"] = py::make_tuple(to_tuple(tree->bounds.lo), to_tuple(tree->bounds.hi));
             d["origin"] = to_tuple(s.render_origin());
             d["stats"] = tree_stats_dict(tree->stats);
             return d;
           },
-          R"doc(The kd-tree as the device gets it (kernels/mbao/kd_node.h), for inspection:
-"nodes" (K, 2) uint32 words (header, payload), "leaf_triangles", "bounds", "stats", and
+          R"doc(The kd-tree as the kernels read it (kernels/mbao/kd_node.h), for inspection:
+"nodes" (K, 2) uint32 words (header, payload): the nodes depth first, each leaf's entries
+(triangle ids, the top bit set where the triangle has an alpha mask) in the words after it,
+where its payload counts them from the start; "node_rows", the rows of "nodes" that are
+the tree's nodes, depth first; "bounds", "stats", and
 "origin": the tree (its bounds and split planes) is in coordinates relative to this point,
 a corner of the scene where it lies far from the world origin (Scene::render_origin), so that
 rounding scales with the scene's size wherever it lies.)doc")

@@ -5,7 +5,6 @@
 #include <sstream>
 #include <string>
 
-#include "accel/kd_device_layout.h"
 #include "core/error.h"
 #include "opencl/launch.h"
 
@@ -62,7 +61,7 @@ void DeviceScene::check_fits(const Scene& scene, std::size_t limit, const std::s
 template <typename T>
 cl::Buffer DeviceScene::upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data) {
   const std::size_t size = data.size() * sizeof(T);
-  // OpenCL has no empty buffers; an empty tree list still gets one element.
+  // OpenCL has no empty buffers; an empty list still gets one element.
   cl::Buffer buffer(context, CL_MEM_READ_ONLY, std::max<std::size_t>(size, sizeof(T)));
   if (size) queue.enqueueWriteBuffer(buffer, CL_TRUE, 0, size, data.data());  // blocking: data is a temporary
   bytes_ += std::max<std::size_t>(size, sizeof(T));
@@ -81,18 +80,24 @@ cl::Buffer DeviceScene::upload_filled(const cl::Context& context, cl::CommandQue
   return buffer;
 }
 
-DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
-                         bool with_normals) {
+cl::Buffer DeviceScene::nodes_for(const cl::Context& context, cl::CommandQueue& queue, const cl::Device& device) {
+  if (device.getInfo<CL_DEVICE_TYPE>() != CL_DEVICE_TYPE_CPU) return upload(context, queue, tree_->nodes);
+  const std::size_t size = tree_->nodes.size() * sizeof(KdNode);  // never 0: a tree has a root
+  bytes_ += size;
+  // Read only, so the const_cast hands OpenCL nothing it writes.
+  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, size, const_cast<KdNode*>(tree_->nodes.data()));
+}
+
+DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
+                         std::shared_ptr<const KdTree> tree, bool with_normals)
+    : tree_(std::move(tree)) {
   const TriangleMesh& mesh = scene.mesh();
   const glm::vec3 origin = scene.render_origin();  // the tree's frame
   try {
-    const std::size_t nodes = kd_device_layout_size(tree);
     const cl::Device device = queue.getInfo<CL_QUEUE_DEVICE>();
-    check_buffer(nodes * sizeof(KdNode), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), scene,
-                 "kd-tree's nodes");
-    nodes_ = upload_filled<KdNode>(context, queue, nodes, [&](KdNode* out) {
-      kd_device_layout_into(tree, scene.masks().triangle_mask, out);
-    });
+    check_buffer(tree_->nodes.size() * sizeof(KdNode), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(),
+                 scene, "kd-tree's nodes");
+    nodes_ = nodes_for(context, queue, device);
     // Per triangle and axis, its corners' coordinates (TriangleCoordinates in kernels/geometry.h).
     triangles_ = upload_filled<cl_float4>(context, queue, mesh.triangles.size() * 3, [&](cl_float4* out) {
       for (const glm::uvec3& t : mesh.triangles) {
@@ -119,8 +124,8 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
   } catch (const cl::Error& e) {
     throw_device_error("uploading " + scene.name() + " (" + std::to_string(mesh.triangles.size()) + " triangles)", e);
   }
-  bounds_lo_ = to_float4(tree.bounds.lo);
-  bounds_hi_ = to_float4(tree.bounds.hi);
+  bounds_lo_ = to_float4(tree_->bounds.lo);
+  bounds_hi_ = to_float4(tree_->bounds.hi);
 }
 
 void DeviceScene::append_to(KernelArgs& args) const {
@@ -139,8 +144,8 @@ std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute
   for (auto it = entries_.begin(); it != entries_.end();) it = it->second.scene.expired() ? entries_.erase(it) : ++it;
   Entry& entry = entries_[{scene->id(), with_normals}];
   if (!entry.device_scene) {
-    const std::shared_ptr<const KdTree> tree = scene->kd_tree();
-    entry.device_scene = std::make_shared<const DeviceScene>(compute.context(), compute.queue(), *scene, *tree, with_normals);
+    entry.device_scene =
+        std::make_shared<const DeviceScene>(compute.context(), compute.queue(), *scene, scene->kd_tree(), with_normals);
     entry.scene = scene;
   }
   return entry.device_scene;

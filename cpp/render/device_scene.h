@@ -15,11 +15,13 @@ namespace mbao {
 
 // A scene's kd-tree and triangles in device memory, in the order the kernels'
 // MBAO_SCENE_PARAMS expect. Vertex normals are uploaded only when the render
-// uses them, alpha masks only when the scene has them.
+// uses them, alpha masks only when the scene has them. A CPU device reads the
+// tree's nodes where they are, in host memory (CL_MEM_USE_HOST_PTR), which
+// this object keeps: a copy would double the tree's memory.
 class DeviceScene {
  public:
-  DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene, const KdTree& tree,
-              bool with_normals);
+  DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
+              std::shared_ptr<const KdTree> tree, bool with_normals);
 
   // Refuses, before its tree is built, a scene one of whose buffers the device
   // cannot allocate (CL_DEVICE_MAX_MEM_ALLOC_SIZE): a DeviceError naming the
@@ -36,11 +38,14 @@ class DeviceScene {
  private:
   template <typename T>
   cl::Buffer upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data);
+  // The tree's nodes: shared with a CPU device, uploaded to any other.
+  cl::Buffer nodes_for(const cl::Context& context, cl::CommandQueue& queue, const cl::Device& device);
   // A buffer of `count` T that fill(T*) writes in place, through a map: the
   // items never exist as a whole in host memory besides the buffer.
   template <typename T, typename Fill>
   cl::Buffer upload_filled(const cl::Context& context, cl::CommandQueue& queue, std::size_t count, const Fill& fill);
 
+  std::shared_ptr<const KdTree> tree_;
   cl::Buffer nodes_, triangles_, triangle_vertices_, vertex_normals_;
   cl::Buffer triangle_masks_, masked_triangles_, mask_textures_, mask_texels_;
   cl_float4 bounds_lo_{}, bounds_hi_{};

@@ -113,7 +113,9 @@ Camera Scene::default_camera(float aspect) const { return camera_ ? *camera_ : C
 std::shared_ptr<const KdTree> Scene::kd_tree() const {
   std::lock_guard<std::mutex> lock(tree_mutex_);
   // In the device's frame.
-  if (!tree_) tree_ = std::make_shared<const KdTree>(build_kd_tree(mesh_, kd_build_options_, render_origin_));
+  if (!tree_)
+    tree_ = std::make_shared<const KdTree>(
+        build_kd_tree(mesh_, kd_build_options_, render_origin_, masks_.triangle_mask));
   return tree_;
 }
 

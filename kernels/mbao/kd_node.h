@@ -1,13 +1,12 @@
-// The kd-tree node as stored on the device: 8 bytes, after pbrt's layout.
+// The kd-tree node, on the host as on the device: 8 bytes, after pbrt's layout.
 //   header, low 2 bits: split axis 0..2, or 3 for a leaf.
 //   header, upper 30 bits: interior -> index of the child above the split
 //                          (the child below is always the next node);
 //                          leaf -> number of triangles.
 //   payload: interior -> split position (float bits);
-//            leaf -> where the leaf's entries start, counted in 32-bit words:
-//            on the device, from the start of the node array, where they
-//            follow the leaf's node (cpp/accel/kd_device_layout.h); in KdTree,
-//            in the separate list leaf_triangles.
+//            leaf -> where the leaf's entries start, counted in 32-bit words
+//            from the start of the node array, where they follow the leaf's
+//            node (cpp/accel/kd_tree.h).
 #ifndef MBAO_KD_NODE_H
 #define MBAO_KD_NODE_H
 
@@ -35,9 +34,9 @@ MBAO_FN KdNode kd_make_leaf(mbao_u32 triangle_count, mbao_u32 first_index) {
   return node;
 }
 
-// A leaf's entry on the device (cpp/accel/kd_device_layout.h): the triangle id
-// in the low 31 bits, the top bit set where the triangle has an alpha mask, so
-// that a walk looks up the masks of those triangles only.
+// A leaf's entry: the triangle id in the low 31 bits, the top bit set where
+// the triangle has an alpha mask, so that a walk looks up the masks of those
+// triangles only.
 #define MBAO_KD_ENTRY_MASKED 0x80000000u
 
 MBAO_FN int kd_is_leaf(KdNode node) { return (node.header & 3u) == MBAO_KD_LEAF; }

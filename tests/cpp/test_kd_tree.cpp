@@ -13,6 +13,7 @@
 #include "accel/kd_tree.h"
 #include "accel/split_events.h"
 #include "accel/triangle_clip.h"
+#include "mbao/alpha_mask.h"
 #include "mbao/limits.h"
 #include "random_soup.h"
 #include "scene/cornell_box.h"
@@ -59,12 +60,30 @@ bool triangle_touches_box(const TriangleMesh& mesh, std::size_t t, const Bounds3
   return true;
 }
 
+// The tree's nodes in order, without the leaves' lists.
+std::vector<KdNode> tree_nodes(const KdTree& tree) {
+  std::vector<KdNode> nodes;
+  for (std::size_t i = 0; i < tree.nodes.size(); i += 1 + kd_list_nodes(tree.nodes[i])) nodes.push_back(tree.nodes[i]);
+  return nodes;
+}
+
+// The triangles a leaf lists.
+std::vector<std::uint32_t> leaf_triangles(const KdTree& tree, KdNode leaf) {
+  EXPECT_TRUE(kd_is_leaf(leaf));
+  std::vector<std::uint32_t> triangles;
+  for (std::uint32_t k = 0; k < kd_triangle_count(leaf); ++k)
+    triangles.push_back(kd_entry_triangle(kd_leaf_entry(tree.nodes, leaf, k)));
+  return triangles;
+}
+
 struct Walk {
   const TriangleMesh& mesh;
   const KdTree& tree;
   const KdBuildOptions options;
+  const std::vector<std::uint32_t>& triangle_mask;
   double sah = 0.0;
-  std::size_t leaves = 0, empty_leaves = 0;
+  std::size_t nodes = 0, leaves = 0, empty_leaves = 0, references = 0;
+  std::size_t slots = 0;  // nodes and their lists' nodes
   int depth = 0;
 
   void visit(std::uint32_t index, const Bounds3& cell, int level) {
@@ -72,8 +91,10 @@ struct Walk {
     depth = std::max(depth, level);
     const KdNode node = tree.nodes[index];
     const double area = cell.surface_area() / tree.bounds.surface_area();
+    ++nodes;
+    slots += 1 + kd_list_nodes(node);
     if (kd_is_leaf(node)) {
-      check_leaf(node, cell);
+      check_leaf(index, node, cell);
       ++leaves;
       empty_leaves += kd_triangle_count(node) == 0;
       sah += area * options.intersection_cost * kd_triangle_count(node);
@@ -91,11 +112,22 @@ struct Walk {
     visit(kd_above_child(node), above, level + 1);
   }
 
-  void check_leaf(KdNode node, const Bounds3& cell) {
-    const std::uint32_t first = kd_first_index(node), count = kd_triangle_count(node);
-    ASSERT_LE(std::size_t(first) + count, tree.leaf_triangles.size());
-    const std::vector<std::uint32_t> listed(tree.leaf_triangles.begin() + first,
-                                            tree.leaf_triangles.begin() + first + count);
+  // The leaf's entries follow it, sorted, flagged where masked, and list
+  // every triangle that touches its cell and none whose box misses it.
+  void check_leaf(std::uint32_t index, KdNode node, const Bounds3& cell) {
+    const std::uint32_t count = kd_triangle_count(node);
+    ASSERT_EQ(kd_first_index(node), 2 * (index + 1)) << "leaf " << index << ": its entries follow it";
+    ASSERT_LE(index + 1 + kd_list_nodes(node), tree.nodes.size());
+    references += count;
+    std::vector<std::uint32_t> listed;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t entry = kd_leaf_entry(tree.nodes, node, k), t = kd_entry_triangle(entry);
+      ASSERT_LT(t, mesh.triangles.size());
+      ASSERT_EQ(kd_entry_masked(entry), t < triangle_mask.size() && triangle_mask[t] != MBAO_NOT_MASKED)
+          << "triangle " << t;
+      listed.push_back(t);
+    }
+    if (count % 2) ASSERT_EQ(kd_leaf_entry(tree.nodes, node, count), 0u) << "the unused word of leaf " << index;
     ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end()));
     const std::set<std::uint32_t> in_leaf(listed.begin(), listed.end());
     ASSERT_EQ(in_leaf.size(), listed.size()) << "a triangle listed twice";
@@ -115,18 +147,22 @@ struct Walk {
 };
 
 // Checks the whole contract for `mesh` and returns the tree.
-KdTree checked_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {}) {
-  const KdTree tree = build_kd_tree(mesh, options);
+KdTree checked_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {},
+                    const std::vector<std::uint32_t>& triangle_mask = {}) {
+  const KdTree tree = build_kd_tree(mesh, options, glm::vec3(0.0f), triangle_mask);
   EXPECT_EQ(tree.bounds.lo, mesh.bounds().lo);
   EXPECT_EQ(tree.bounds.hi, mesh.bounds().hi);
-  Walk walk{mesh, tree, options};
+  Walk walk{mesh, tree, options, triangle_mask};
   walk.visit(0, tree.bounds, 0);
-  EXPECT_EQ(tree.stats.nodes, tree.nodes.size());
+  // Every node and list node is reached once from the root: nothing is left over.
+  EXPECT_EQ(walk.slots, tree.nodes.size());
+  EXPECT_EQ(tree.stats.memory_bytes, tree.nodes.size() * sizeof(KdNode));
+  EXPECT_EQ(tree.stats.nodes, walk.nodes);
   EXPECT_EQ(tree.stats.leaves, walk.leaves);
   EXPECT_EQ(tree.stats.empty_leaves, walk.empty_leaves);
   EXPECT_EQ(tree.stats.max_depth, walk.depth);
-  EXPECT_EQ(tree.stats.leaf_references, tree.leaf_triangles.size());
-  EXPECT_EQ(tree.nodes.size(), 2 * walk.leaves - 1);  // every interior node has two children
+  EXPECT_EQ(tree.stats.leaf_references, walk.references);
+  EXPECT_EQ(walk.nodes, 2 * walk.leaves - 1);  // every interior node has two children
   if (tree.bounds.surface_area() > 0) {
     EXPECT_NEAR(tree.stats.sah_cost, walk.sah, 1e-9 * walk.sah);
   }
@@ -200,7 +236,7 @@ TriangleMesh needle_fan(std::size_t n, float length) {
 }
 
 bool same_tree(const KdTree& a, const KdTree& b) {
-  if (a.nodes.size() != b.nodes.size() || a.leaf_triangles != b.leaf_triangles) return false;
+  if (a.nodes.size() != b.nodes.size()) return false;
   for (std::size_t i = 0; i < a.nodes.size(); ++i)
     if (a.nodes[i].header != b.nodes[i].header || a.nodes[i].payload != b.nodes[i].payload) return false;
   return true;
@@ -457,9 +493,8 @@ TEST(KdTree, CornellWallsOnTheBoundingBoxAreCutIntoThinCells) {
     stack.pop_back();
     const KdNode node = tree.nodes[index];
     if (kd_is_leaf(node)) {
-      const auto begin = tree.leaf_triangles.begin() + kd_first_index(node);
-      const auto end = begin + kd_triangle_count(node);
-      if (cell.hi.x - cell.lo.x < 1.0f && std::find(begin, end, 8u) != end) thin_leaf_with_wall = true;
+      const std::vector<std::uint32_t> listed = leaf_triangles(tree, node);
+      if (cell.hi.x - cell.lo.x < 1.0f && std::count(listed.begin(), listed.end(), 8u)) thin_leaf_with_wall = true;
       continue;
     }
     Bounds3 below = cell, above = cell;
@@ -481,7 +516,7 @@ TEST(KdTree, AFlatSceneIsNeverSplitAcrossItsPlane) {
     flat.triangles.push_back({base, base + 1, base + 2});
   }
   const KdTree tree = checked_tree(flat);
-  for (const KdNode& node : tree.nodes) {
+  for (const KdNode& node : tree_nodes(tree)) {
     if (!kd_is_leaf(node)) {
       EXPECT_NE(kd_axis(node), 2u);
     }
@@ -505,7 +540,15 @@ TEST(KdTree, InseparableTrianglesEndInOneLeaf) {
   for (int i = 0; i < 100; ++i) mesh.triangles.push_back({0, 1, 2});  // the same triangle 100 times
   const KdTree tree = checked_tree(mesh);
   EXPECT_EQ(tree.stats.max_depth, 0);
-  EXPECT_EQ(tree.leaf_triangles.size(), 100u);
+  EXPECT_EQ(tree.stats.leaf_references, 100u);
+}
+
+// The kernels look up the masks of flagged entries only (kernels/mbao/kd_node.h).
+TEST(KdTree, EntriesOfMaskedTrianglesAreFlagged) {
+  const TriangleMesh mesh = random_soup(2000, 7);
+  std::vector<std::uint32_t> triangle_mask(mesh.triangles.size(), MBAO_NOT_MASKED);
+  for (std::size_t t = 0; t < triangle_mask.size(); t += 3) triangle_mask[t] = std::uint32_t(t / 3);
+  checked_tree(mesh, {}, triangle_mask);
 }
 
 TEST(KdTree, DepthStaysWithinTheLimit) {
@@ -557,7 +600,6 @@ TEST(KdTree, TheTreeDoesNotDependOnTheNumberOfThreads) {
     ASSERT_EQ(serial.nodes[i].header, parallel.nodes[i].header) << "node " << i;
     ASSERT_EQ(serial.nodes[i].payload, parallel.nodes[i].payload) << "node " << i;
   }
-  EXPECT_EQ(serial.leaf_triangles, parallel.leaf_triangles);
   EXPECT_EQ(serial.stats.max_depth, parallel.stats.max_depth);
   EXPECT_EQ(serial.stats.leaves, parallel.stats.leaves);
   EXPECT_GE(serial.stats.degenerate_triangles, 31u);
@@ -610,7 +652,9 @@ TEST(KdTree, ThousandsOfIdenticalTrianglesShareOneLeaf) {
   for (int i = 0; i < 5000; ++i) mesh.triangles.push_back({base, base + 1, base + 2});
   const KdTree tree = checked_tree(mesh);  // every leaf its triangle touches lists all 5000 copies
   std::size_t copies = 0;
-  for (std::uint32_t t : tree.leaf_triangles) copies += t >= first_copy;
+  for (const KdNode& node : tree_nodes(tree))
+    if (kd_is_leaf(node))
+      for (const std::uint32_t t : leaf_triangles(tree, node)) copies += t >= first_copy;
   EXPECT_EQ(copies % 5000, 0u);
   EXPECT_GE(copies, 5000u);
 }

@@ -59,7 +59,7 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
   const auto scene = std::make_shared<const Scene>(random_soup(3000, 5), "soup");
   const SceneTraits traits = SceneTraits::of(*scene);
   ASSERT_GE(traits.tree_depth, 16);  // deep enough for the short stack to run dry and paths to be long
-  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, *scene->kd_tree(), false);
+  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, scene->kd_tree(), false);
   const Camera camera = scene->default_camera(1.0f).relative_to(scene->render_origin());
   RenderSettings s;
   s.width = s.height = 24;

@@ -173,7 +173,7 @@ TEST(OriginPaths, RaysAlongAPathFindWhatRaysFromTheRootFind) {
   const KdTree& tree = *scene->kd_tree();
   ASSERT_EQ(scene->render_origin(), glm::vec3(0.0f));  // the points below are in the device's frame
   ASSERT_GE(tree.stats.max_depth, 16);
-  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, tree, false);
+  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, scene->kd_tree(), false);
   std::mt19937 rng(3);
   Points p = points_for(tree, rng);
   std::vector<cl_float4> directions = directions_for(p.points.size() * kRaysPerPoint, rng);
