@@ -106,14 +106,7 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
         for (int axis = 0; axis < 3; ++axis) *out++ = {{p[0][axis], p[1][axis], p[2][axis], 0.0f}};
       }
     });
-    if (with_normals && mesh.has_normals()) {
-      triangle_vertices_ = upload_filled<cl_uint>(context, queue, mesh.triangles.size() * 3, [&](cl_uint* out) {
-        for (const glm::uvec3& t : mesh.triangles) out = std::copy_n(&t.x, 3, out);
-      });
-      vertex_normals_ = upload_filled<cl_float4>(context, queue, mesh.normals.size(), [&](cl_float4* out) {
-        for (const glm::vec3& n : mesh.normals) *out++ = to_float4(n);
-      });
-    }
+    if (with_normals) upload_normals(context, queue, mesh);
     const AlphaMasks& masks = scene.masks();
     if (!masks.empty()) {
       triangle_masks_ = upload(context, queue, masks.triangle_mask);
@@ -126,6 +119,32 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
   }
   bounds_lo_ = to_float4(tree_->bounds.lo);
   bounds_hi_ = to_float4(tree_->bounds.hi);
+}
+
+DeviceScene::DeviceScene(const DeviceScene& other, const cl::Context& context, cl::CommandQueue& queue,
+                         const Scene& scene, bool with_normals)
+    : DeviceScene(other) {
+  triangle_vertices_ = vertex_normals_ = cl::Buffer();
+  bytes_ -= normal_bytes_;
+  normal_bytes_ = 0;
+  if (!with_normals) return;
+  try {
+    upload_normals(context, queue, scene.mesh());
+  } catch (const cl::Error& e) {
+    throw_device_error("uploading the vertex normals of " + scene.name(), e);
+  }
+}
+
+void DeviceScene::upload_normals(const cl::Context& context, cl::CommandQueue& queue, const TriangleMesh& mesh) {
+  if (!mesh.has_normals()) return;
+  const std::size_t before = bytes_;
+  triangle_vertices_ = upload_filled<cl_uint>(context, queue, mesh.triangles.size() * 3, [&](cl_uint* out) {
+    for (const glm::uvec3& t : mesh.triangles) out = std::copy_n(&t.x, 3, out);
+  });
+  vertex_normals_ = upload_filled<cl_float4>(context, queue, mesh.normals.size(), [&](cl_float4* out) {
+    for (const glm::vec3& n : mesh.normals) *out++ = to_float4(n);
+  });
+  normal_bytes_ = bytes_ - before;
 }
 
 void DeviceScene::append_to(KernelArgs& args) const {
@@ -144,8 +163,14 @@ std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute
   for (auto it = entries_.begin(); it != entries_.end();) it = it->second.scene.expired() ? entries_.erase(it) : ++it;
   Entry& entry = entries_[{scene->id(), with_normals}];
   if (!entry.device_scene) {
+    // The scene with the other choice of normals has the rest already.
+    const auto other = entries_.find({scene->id(), !with_normals});
     entry.device_scene =
-        std::make_shared<const DeviceScene>(compute.context(), compute.queue(), *scene, scene->kd_tree(), with_normals);
+        other != entries_.end() && other->second.device_scene
+            ? std::make_shared<const DeviceScene>(*other->second.device_scene, compute.context(), compute.queue(),
+                                                  *scene, with_normals)
+            : std::make_shared<const DeviceScene>(compute.context(), compute.queue(), *scene, scene->kd_tree(),
+                                                  with_normals);
     entry.scene = scene;
   }
   return entry.device_scene;

@@ -22,6 +22,10 @@ class DeviceScene {
  public:
   DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
               std::shared_ptr<const KdTree> tree, bool with_normals);
+  // `other`'s scene with or without its vertex normals: the same buffers but
+  // the normals, which are uploaded where `other` lacks them.
+  DeviceScene(const DeviceScene& other, const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
+              bool with_normals);
 
   // Refuses, before its tree is built, a scene one of whose buffers the device
   // cannot allocate (CL_DEVICE_MAX_MEM_ALLOC_SIZE): a DeviceError naming the
@@ -34,10 +38,15 @@ class DeviceScene {
   // The kernels' leading scene parameters (MBAO_SCENE_PARAMS), for set_kernel_args.
   void append_to(KernelArgs& args) const;
   std::size_t bytes() const { return bytes_; }
+  // Whether the two hold the same tree and triangles' buffers, not copies.
+  bool shares_geometry_with(const DeviceScene& other) const {
+    return nodes_() == other.nodes_() && triangles_() == other.triangles_();
+  }
 
  private:
   template <typename T>
   cl::Buffer upload(const cl::Context& context, cl::CommandQueue& queue, const std::vector<T>& data);
+  void upload_normals(const cl::Context& context, cl::CommandQueue& queue, const TriangleMesh& mesh);
   // The tree's nodes: shared with a CPU device, uploaded to any other.
   cl::Buffer nodes_for(const cl::Context& context, cl::CommandQueue& queue, const cl::Device& device);
   // A buffer of `count` T that fill(T*) writes in place, through a map: the
@@ -50,9 +59,11 @@ class DeviceScene {
   cl::Buffer triangle_masks_, masked_triangles_, mask_textures_, mask_texels_;
   cl_float4 bounds_lo_{}, bounds_hi_{};
   std::size_t bytes_ = 0;
+  std::size_t normal_bytes_ = 0;  // of bytes_, the vertex normals' and their triangles' vertex ids
 };
 
-// Uploads per (scene, normals) once per device; entries go when their scene does.
+// Uploads per (scene, normals) once per device, the two choices of normals
+// sharing every other buffer; entries go when their scene does.
 class DeviceSceneCache {
  public:
   std::shared_ptr<const DeviceScene> get(ComputeContext& compute, const std::shared_ptr<const Scene>& scene,

@@ -1,0 +1,56 @@
+// What a scene takes on a device: a scene whose buffers a device cannot
+// allocate is refused before its tree is built, with the buffer, its bytes,
+// the device's limit and what would fit; and a scene is there once, whichever
+// normals its renders read.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/error.h"
+#include "opencl/devices.h"
+#include "random_soup.h"
+#include "render/device_scene.h"
+#include "scene/cornell_box.h"
+
+namespace mbao {
+namespace {
+
+TEST(DeviceSceneLimits, RefusesABufferPastTheLargestAllocationBeforeTheTree) {
+  const auto scene = cornell_box();  // 32 triangles: 1536 bytes of corners
+  EXPECT_NO_THROW(DeviceScene::check_fits(*scene, 1536, "a device", false));
+  try {
+    DeviceScene::check_fits(*scene, 1024, "a device", false);
+    FAIL() << "no error";
+  } catch (const DeviceError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("triangles' corners need one device buffer of 1536 bytes (32 triangles), more than the 1024 bytes"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("that a device allocates at most (CL_DEVICE_MAX_MEM_ALLOC_SIZE): about 21 triangles fit"),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_FALSE(scene->has_kd_tree());
+}
+
+// A render with shading normals and a trace without them read one copy of
+// the scene: the second upload adds or leaves out the normals alone.
+TEST(DeviceSceneCache, TheTwoChoicesOfNormalsShareTheRestOfTheScene) {
+  TriangleMesh mesh = random_soup(500, 3);
+  mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f, 0.0f, 1.0f));
+  const auto scene = std::make_shared<const Scene>(std::move(mesh), "soup with normals");
+  ComputeContext compute(default_device());
+  DeviceSceneCache scenes;
+  const std::shared_ptr<const DeviceScene> with = scenes.get(compute, scene, true);
+  const std::shared_ptr<const DeviceScene> without = scenes.get(compute, scene, false);
+  EXPECT_NE(with, without);
+  EXPECT_EQ(scenes.get(compute, scene, true), with);
+  EXPECT_TRUE(with->shares_geometry_with(*without));
+  const std::size_t normal_bytes = scene->mesh().triangles.size() * 3 * sizeof(cl_uint) +
+                                   scene->mesh().normals.size() * sizeof(cl_float4);
+  EXPECT_EQ(with->bytes(), without->bytes() + normal_bytes);
+  // Another scene's upload shares nothing with it.
+  EXPECT_FALSE(scenes.get(compute, cornell_box(), true)->shares_geometry_with(*with));
+}
+
+}  // namespace
+}  // namespace mbao
