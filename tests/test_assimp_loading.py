@@ -182,3 +182,17 @@ def test_a_map_whose_alpha_is_on_one_side_of_the_cutoff_everywhere_is_no_mask(tm
     else:
         with pytest.raises(mbao.LoadError, match="no triangles in it"):
             masked_obj(tmp_path, ["map_Kd colour.png"], {"colour.png": rgba})
+
+
+def test_uv_sets_are_refused_for_formats_whose_uvs_mbao_does_not_read(tmp_path):
+    """texcoords=True asks for what only the glTF loader reads: an error naming
+    the way that works, not a scene without them."""
+    path = tmp_path / "quad.obj"
+    write_obj(path, np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float), np.array([[0, 1, 2], [0, 2, 3]]))
+    with pytest.raises(ValueError, match=r'quad\.obj: mbao reads UV sets \(texcoords=True\) from glTF files only; '
+                                         r'bake this format with texcoord="generate"'):
+        mbao.load(path, texcoords=True)
+    with pytest.raises(ValueError, match='reads from glTF files.*any scene bakes with texcoord="generate"'):
+        mbao.bake(path, target="texture", resolution=8, samples=2, progress=False)
+    generated = mbao.bake(path, target="texture", texcoord="generate", resolution=32, samples=2, progress=False)
+    assert generated.textures[-1].coverage.any()

@@ -270,6 +270,13 @@ ImportedScene imported(const Assimp::Importer& importer, const aiScene* scene, c
   return {std::move(mesh), gatherer.take_masks(), camera, std::move(warnings)};
 }
 
+// Throws where the options ask for what this loader does not read.
+void check_options(const LoadOptions& options, const std::string& path) {
+  if (options.texcoords)
+    throw std::invalid_argument(path + ": mbao reads UV sets (texcoords=True) from glTF files only; bake this " +
+                                "format with texcoord=\"generate\", or give its glTF");
+}
+
 std::shared_ptr<Scene> scene_of(ImportedScene s, const std::string& path) {
   try {
     return std::make_shared<Scene>(std::move(s.mesh), path, s.camera, std::move(s.warnings), std::move(s.masks));
@@ -289,6 +296,7 @@ bool assimp_reads(const std::string& path) {
 // Assimp runs in a process of its own (import_isolated): Debian's build aborts
 // on some malformed files.
 std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options) {
+  check_options(options, path);
   const auto import = [&] {
     Assimp::Importer importer;
     return imported(importer, importer.ReadFile(path, kImportSteps), path, options);
@@ -301,6 +309,7 @@ std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptio
 std::shared_ptr<Scene> load_with_assimp_from_memory(const unsigned char* bytes, std::size_t size,
                                                     const std::string& name, const std::string& extension,
                                                     const LoadOptions& options) {
+  check_options(options, name);
   const auto import = [&] {
     Assimp::Importer importer;
     return imported(importer, importer.ReadFileFromMemory(bytes, size, kImportSteps, extension.c_str()), name,

@@ -16,7 +16,9 @@ bool assimp_reads(const std::string& path);
 // triangulated, in world space (the nodes' transforms applied), vertex normals
 // where the file has them and options.normals asks, and the file's first
 // perspective camera. Points and lines are dropped, with a warning. Throws
-// LoadError naming the file and what Assimp found wrong.
+// LoadError naming the file and what Assimp found wrong, and
+// std::invalid_argument where options.texcoords asks for UV sets: only the
+// glTF loader reads them.
 std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options = {});
 
 // The same from a file's bytes in memory, read as `extension` ("obj", "ply",

@@ -119,8 +119,8 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     stops after the tile in flight. Returns an mbao.Bake.
     """
     target = _checks.choice("target", target, TARGETS)
-    scene = load(scene, texcoords=True) if target == "texture" and isinstance(scene, (str, os.PathLike)) \
-        else as_scene(scene)
+    from_gltf = isinstance(scene, (str, os.PathLike)) and os.fspath(scene).lower().endswith((".gltf", ".glb"))
+    scene = load(scene, texcoords=True) if target == "texture" and from_gltf else as_scene(scene)
     lo, hi = _core.BAKE_SAMPLES_RANGE
     samples = _checks.integer("samples", samples, lo, hi, f"[{lo}, {hi}]")
     given = dict(bounces=bounces, estimator=estimator, rho=rho, max_distance=max_distance, normals=normals, seed=seed,
@@ -222,8 +222,9 @@ def _texture_materials(scene, texcoord, wrap):
         return [_Material(0, "the mesh", triangles, scene.texcoords[scene.indices], 0, wrap or ("repeat", "repeat"))]
     uv_sets = scene.uv_sets
     if uv_sets is None:
-        raise ValueError(f"{scene.name}: a texture bake needs the file's UV sets: load it with "
-                         f"mbao.load(path, texcoords=True), or pass the path")
+        raise ValueError(f"{scene.name}: a texture bake needs the file's UV sets, which mbao reads from glTF "
+                         f"files: load one with mbao.load(path, texcoords=True), or pass its path; any scene bakes "
+                         f"with texcoord=\"generate\"")
     materials = []
     for index in np.unique(uv_sets["triangle_materials"]).tolist():
         triangles = np.flatnonzero(uv_sets["triangle_materials"] == index).astype(np.uint32)

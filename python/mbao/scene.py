@@ -66,7 +66,8 @@ def load(path, *, normals=True, texcoords=False):
     gives the triangles of its node tree in world space, their normals where
     the file has them, its first perspective camera, and alpha masks from its
     materials' opacity maps (OBJ map_d) or the alpha of their diffuse maps, cut
-    at 0.5; not the UV sets texture bakes read (SPEC 3.2).
+    at 0.5; not the UV sets texture bakes read (SPEC 3.2): texcoords=True
+    raises ValueError for these.
 
     What is skipped (other primitive modes, ...) is reported as a warning and
     listed in scene.warnings. Raises mbao.LoadError naming the file and element.
