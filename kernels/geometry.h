@@ -65,6 +65,18 @@ typedef struct TriangleCoordinates {
   float4 along[3];
 } TriangleCoordinates;
 
+// Where the tests read a triangle: the scene's array of TriangleCoordinates in
+// global memory, or, with MBAO_INDEXED_TRIANGLES (scene.h), a copy made from
+// the mesh's own vertices and indices, in private memory.
+#ifndef MBAO_INDEXED_TRIANGLES
+#define MBAO_INDEXED_TRIANGLES 0
+#endif
+#if MBAO_INDEXED_TRIANGLES
+#define MBAO_TRIANGLE_SPACE
+#else
+#define MBAO_TRIANGLE_SPACE __global
+#endif
+
 // The largest 1-norm |x| + |y| + |z| of a point of the box [lo, hi] relative to
 // origin: it bounds that of every corner of the scene.
 static inline float farthest_in_box(float3 origin, float3 lo, float3 hi) {
@@ -105,7 +117,7 @@ typedef struct FrameTriangle {
   float4 z;     // along it
 } FrameTriangle;
 
-static inline FrameTriangle triangle_in_ray_frame(const WatertightRay* ray, __global const TriangleCoordinates* t) {
+static inline FrameTriangle triangle_in_ray_frame(const WatertightRay* ray, MBAO_TRIANGLE_SPACE const TriangleCoordinates* t) {
   FrameTriangle f;
   f.z = t->along[ray->kz] - ray->origin_z;
   f.x = (t->along[ray->kx] - ray->origin_x) - ray->shear_x * f.z;
@@ -145,7 +157,7 @@ static inline float edge_function_in_double(const WatertightRay* ray, float3 p, 
 
 // The edge functions whose sign float leaves unknown, recomputed in double from
 // the corners themselves.
-static inline float3 edge_functions_in_double(const WatertightRay* ray, __global const TriangleCoordinates* t,
+static inline float3 edge_functions_in_double(const WatertightRay* ray, MBAO_TRIANGLE_SPACE const TriangleCoordinates* t,
                                               float3 e, int3 unknown) {
   const float4 kx = t->along[ray->kx], ky = t->along[ray->ky], kz = t->along[ray->kz];
   const float3 p0 = (float3)(kx.x, ky.x, kz.x), p1 = (float3)(kx.y, ky.y, kz.y), p2 = (float3)(kx.z, ky.z, kz.z);
@@ -163,7 +175,7 @@ static inline float3 edge_functions_in_double(const WatertightRay* ray, __global
 // (Woop et al.'s watertightness); and the edges of a T-junction, whose corners
 // are collinear but not shared, agree to double precision, where float would
 // leave a crack along the long edge.
-static inline float3 edge_functions(const WatertightRay* ray, __global const TriangleCoordinates* t,
+static inline float3 edge_functions(const WatertightRay* ray, MBAO_TRIANGLE_SPACE const TriangleCoordinates* t,
                                     const FrameTriangle* f) {
   const float3 x = f->x.xyz, y = f->y.xyz;
   float3 e = x.yzx * y.zxy - y.yzx * x.zxy;
@@ -179,7 +191,7 @@ static inline float3 edge_functions(const WatertightRay* ray, __global const Tri
 // counts, however close: rays leaving a surface start far enough off it
 // (surface.h) that they need no minimum distance, and so a surface just in
 // front of a ray's origin is never skipped.
-static inline int intersect_triangle(const WatertightRay* ray, __global const TriangleCoordinates* triangle,
+static inline int intersect_triangle(const WatertightRay* ray, MBAO_TRIANGLE_SPACE const TriangleCoordinates* triangle,
                                      float t_max, float* t_out, float* b1_out, float* b2_out) {
   const FrameTriangle f = triangle_in_ray_frame(ray, triangle);
   const float3 e = edge_functions(ray, triangle, &f);

@@ -40,8 +40,8 @@ typedef struct PacketHits {
 } PacketHits;
 
 // Corner `corner`'s coordinate along each lane's `axis` (0, 1 or 2).
-static inline float16 corner_along(__global const TriangleCoordinates* t, uint16 axis, int corner) {
-  __global const float* along = (__global const float*)t->along;
+static inline float16 corner_along(MBAO_TRIANGLE_SPACE const TriangleCoordinates* t, uint16 axis, int corner) {
+  MBAO_TRIANGLE_SPACE const float* along = (MBAO_TRIANGLE_SPACE const float*)t->along;
   return select(select((float16)(along[corner]), (float16)(along[4 + corner]), axis == 1u), (float16)(along[8 + corner]),
                 axis == 2u);
 }
@@ -53,7 +53,7 @@ static inline float16 corner_along(__global const TriangleCoordinates* t, uint16
 // takes the scalar test with its double fallback instead.
 static inline uint packet_intersect(const SceneView* scene, const PacketFrames* f, uint active, uint triangle,
                                     float16 t_max, PacketHits* out) {
-  __global const TriangleCoordinates* t = scene->triangles + triangle;
+  MBAO_TRIANGLE_AT(t, scene, triangle);
   float16 x[3], y[3], z[3];
   for (int c = 0; c < 3; ++c) {
     z[c] = corner_along(t, f->kz, c) - f->origin_z;

@@ -103,8 +103,9 @@ static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, Kd
   MBAO_COUNT(counts, triangles, end_entry - first_entry);
   for (uint entry = first_entry; entry < end_entry; ++entry) {
     const uint entry_word = scene->leaf_entries[entry], triangle = kd_entry_triangle(entry_word);
+    MBAO_TRIANGLE_AT(corners, scene, triangle);
     float t, b1, b2;
-    if (!intersect_triangle(ray, scene->triangles + triangle, best->t, &t, &b1, &b2) ||
+    if (!intersect_triangle(ray, corners, best->t, &t, &b1, &b2) ||
         (kd_entry_masked(entry_word) && !hit_is_solid(scene, triangle, b1, b2)))
       continue;
     if (t < best->t || triangle < best->triangle) {

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "opencl/launch.h"
+#include "render/render_plan.h"
 
 
 namespace mbao {
@@ -39,19 +40,24 @@ std::size_t largest_buffer(const cl::Device& device) { return device.getInfo<CL_
 
 }  // namespace
 
-void DeviceScene::check_fits(const Scene& scene, const cl::Device& device, bool with_normals) {
-  check_fits(scene, largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), with_normals);
+void DeviceScene::check_fits(const Scene& scene, const cl::Device& device, bool with_normals,
+                             bool shares_host_memory) {
+  check_fits(scene, largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), with_normals, shares_host_memory);
 }
 
 void DeviceScene::check_fits(const Scene& scene, std::size_t limit, const std::string& device_name,
-                             bool with_normals) {
+                             bool with_normals, bool shares_host_memory) {
   const TriangleMesh& mesh = scene.mesh();
   const std::size_t triangles = mesh.triangles.size();
-  check_buffer(triangles * 3 * sizeof(cl_float4), limit, device_name, scene, "triangles' corners");
-  if (with_normals && mesh.has_normals()) {
-    check_buffer(triangles * 3 * sizeof(cl_uint), limit, device_name, scene, "triangles' vertex indices");
-    check_buffer(mesh.normals.size() * sizeof(cl_float4), limit, device_name, scene, "vertex normals");
+  if (shares_host_memory) {
+    check_buffer(mesh.positions.size() * sizeof(glm::vec3), limit, device_name, scene, "vertex positions");
+  } else {
+    check_buffer(triangles * 3 * sizeof(cl_float4), limit, device_name, scene, "triangles' corners");
   }
+  if (shares_host_memory || (with_normals && mesh.has_normals()))
+    check_buffer(triangles * 3 * sizeof(cl_uint), limit, device_name, scene, "triangles' vertex indices");
+  if (with_normals && mesh.has_normals())
+    check_buffer(mesh.normals.size() * sizeof(cl_float4), limit, device_name, scene, "vertex normals");
   const AlphaMasks& masks = scene.masks();
   check_buffer(masks.triangle_mask.size() * sizeof(std::uint32_t), limit, device_name, scene, "triangles' masks");
   check_buffer(masks.triangles.size() * sizeof(MaskedTriangle), limit, device_name, scene, "masked triangles");
@@ -80,32 +86,41 @@ cl::Buffer DeviceScene::upload_filled(const cl::Context& context, cl::CommandQue
   return buffer;
 }
 
-cl::Buffer DeviceScene::nodes_for(const cl::Context& context, cl::CommandQueue& queue, const cl::Device& device) {
-  if (device.getInfo<CL_DEVICE_TYPE>() != CL_DEVICE_TYPE_CPU) return upload(context, queue, tree_->nodes);
-  const std::size_t size = tree_->nodes.size() * sizeof(KdNode);  // never 0: a tree has a root
+template <typename T>
+cl::Buffer DeviceScene::in_place(const cl::Context& context, const std::vector<T>& data) {
+  const std::size_t size = data.size() * sizeof(T);  // a scene has triangles, and a tree a root
   bytes_ += size;
   // Read only, so the const_cast hands OpenCL nothing it writes.
-  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, size, const_cast<KdNode*>(tree_->nodes.data()));
+  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, size, const_cast<T*>(data.data()));
 }
 
 DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
-                         std::shared_ptr<const KdTree> tree, bool with_normals)
-    : tree_(std::move(tree)) {
+                         std::shared_ptr<const KdTree> tree, bool with_normals, bool shares_host_memory)
+    : tree_(std::move(tree)), shares_host_memory_(shares_host_memory) {
   const TriangleMesh& mesh = scene.mesh();
   const glm::vec3 origin = scene.render_origin();  // the tree's frame
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::uvec3) == 3 * sizeof(cl_uint),
+                "the kernels read the mesh's vertices and indices as packed triples");
   try {
     const cl::Device device = queue.getInfo<CL_QUEUE_DEVICE>();
     check_buffer(tree_->nodes.size() * sizeof(KdNode), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(),
                  scene, "kd-tree's nodes");
-    nodes_ = nodes_for(context, queue, device);
-    // Per triangle and axis, its corners' coordinates (TriangleCoordinates in kernels/geometry.h).
-    triangles_ = upload_filled<cl_float4>(context, queue, mesh.triangles.size() * 3, [&](cl_float4* out) {
-      for (const glm::uvec3& t : mesh.triangles) {
-        glm::vec3 p[3];
-        for (int k = 0; k < 3; ++k) p[k] = mesh.positions[t[k]] - origin;
-        for (int axis = 0; axis < 3; ++axis) *out++ = {{p[0][axis], p[1][axis], p[2][axis], 0.0f}};
-      }
-    });
+    if (shares_host_memory) {
+      mesh_ = scene.shared_mesh();
+      nodes_ = in_place(context, tree_->nodes);
+      vertex_positions_ = in_place(context, mesh_->positions);
+      triangle_vertices_ = in_place(context, mesh_->triangles);
+    } else {
+      nodes_ = upload(context, queue, tree_->nodes);
+      // Per triangle and axis, its corners' coordinates (TriangleCoordinates in kernels/geometry.h).
+      triangles_ = upload_filled<cl_float4>(context, queue, mesh.triangles.size() * 3, [&](cl_float4* out) {
+        for (const glm::uvec3& t : mesh.triangles) {
+          glm::vec3 p[3];
+          for (int k = 0; k < 3; ++k) p[k] = mesh.positions[t[k]] - origin;
+          for (int axis = 0; axis < 3; ++axis) *out++ = {{p[0][axis], p[1][axis], p[2][axis], 0.0f}};
+        }
+      });
+    }
     if (with_normals) upload_normals(context, queue, mesh);
     const AlphaMasks& masks = scene.masks();
     if (!masks.empty()) {
@@ -119,12 +134,14 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
   }
   bounds_lo_ = to_float4(tree_->bounds.lo);
   bounds_hi_ = to_float4(tree_->bounds.hi);
+  render_origin_ = to_float4(origin);
 }
 
 DeviceScene::DeviceScene(const DeviceScene& other, const cl::Context& context, cl::CommandQueue& queue,
                          const Scene& scene, bool with_normals)
     : DeviceScene(other) {
-  triangle_vertices_ = vertex_normals_ = cl::Buffer();
+  vertex_normals_ = cl::Buffer();
+  if (!shares_host_memory_) triangle_vertices_ = cl::Buffer();
   bytes_ -= normal_bytes_;
   normal_bytes_ = 0;
   if (!with_normals) return;
@@ -138,9 +155,10 @@ DeviceScene::DeviceScene(const DeviceScene& other, const cl::Context& context, c
 void DeviceScene::upload_normals(const cl::Context& context, cl::CommandQueue& queue, const TriangleMesh& mesh) {
   if (!mesh.has_normals()) return;
   const std::size_t before = bytes_;
-  triangle_vertices_ = upload_filled<cl_uint>(context, queue, mesh.triangles.size() * 3, [&](cl_uint* out) {
-    for (const glm::uvec3& t : mesh.triangles) out = std::copy_n(&t.x, 3, out);
-  });
+  if (!shares_host_memory_)
+    triangle_vertices_ = upload_filled<cl_uint>(context, queue, mesh.triangles.size() * 3, [&](cl_uint* out) {
+      for (const glm::uvec3& t : mesh.triangles) out = std::copy_n(&t.x, 3, out);
+    });
   vertex_normals_ = upload_filled<cl_float4>(context, queue, mesh.normals.size(), [&](cl_float4* out) {
     for (const glm::vec3& n : mesh.normals) *out++ = to_float4(n);
   });
@@ -149,11 +167,12 @@ void DeviceScene::upload_normals(const cl::Context& context, cl::CommandQueue& q
 
 void DeviceScene::append_to(KernelArgs& args) const {
   // A buffer the scene does not need is NULL in the kernel.
-  for (const cl::Buffer* buffer : {&nodes_, &triangles_, &triangle_vertices_, &vertex_normals_,
+  for (const cl::Buffer* buffer : {&nodes_, &triangles_, &vertex_positions_, &triangle_vertices_, &vertex_normals_,
                                    &triangle_masks_, &masked_triangles_, &mask_textures_, &mask_texels_})
     args.append(*buffer);
   args.append(bounds_lo_);
   args.append(bounds_hi_);
+  args.append(render_origin_);
 }
 
 std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute,
@@ -170,7 +189,7 @@ std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute
             ? std::make_shared<const DeviceScene>(*other->second.device_scene, compute.context(), compute.queue(),
                                                   *scene, with_normals)
             : std::make_shared<const DeviceScene>(compute.context(), compute.queue(), *scene, scene->kd_tree(),
-                                                  with_normals);
+                                                  with_normals, device_profile(compute.device()).shares_host_memory);
     entry.scene = scene;
   }
   return entry.device_scene;

@@ -7,9 +7,9 @@ namespace {
 
 // The device table. Each entry's measurement is in docs/kernel-variants.md. Constant-initialized, so
 // that other files' static objects may read it.
-constexpr DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16};
-constexpr DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0};
-constexpr DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0};
+constexpr DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16, true};
+constexpr DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0, false};
+constexpr DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0, false};
 
 bool walks_full_stack(Traversal walk) { return walk == Traversal::Stack || walk == Traversal::Lanes; }
 
@@ -111,6 +111,7 @@ std::string ProgramVariant::options() const {
   o += define("MBAO_LOAD_BOTH_CHILDREN", load_both_children);
   if (program == Program::Render) o += define("MBAO_ORIGIN_PATHS", origin_paths);
   if (program == Program::Render) o += define("MBAO_DIRECTION_MOMENTS", direction_moments);
+  o += define("MBAO_INDEXED_TRIANGLES", indexed_triangles);
   return o;
 }
 
@@ -122,7 +123,7 @@ std::vector<ProgramVariant> all_program_variants() {
     const bool render = program == Program::Render, hbao = program == Program::Hbao;
     for (Traversal walk : walks) {
       if (hbao && walk == Traversal::Lanes) continue;
-      for (int bits = 0; bits < 128; ++bits) {
+      for (int bits = 0; bits < 256; ++bits) {
         ProgramVariant v;
         v.program = program;
         v.walk = walk;
@@ -133,6 +134,7 @@ std::vector<ProgramVariant> all_program_variants() {
         v.load_both_children = bits & 16;
         v.origin_paths = bits & 32;
         v.direction_moments = bits & 64;
+        v.indexed_triangles = bits & 128;
         // Only the bits that the program reads, and only where the plan can set them.
         if ((hbao && v.count_traversal) || (!render && !hbao && v.shading_normals) ||
             (!render && !v.unlimited_distance) || (v.load_both_children && !walks_full_stack(walk)) ||
@@ -168,6 +170,7 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
   p.origin_paths = plan_origin_paths(s, p.walk, profile, scene, plan.reasons);
   p.direction_moments = s.direction_moments();
+  p.indexed_triangles = profile.shares_host_memory;
   return plan;
 }
 
@@ -182,6 +185,7 @@ ProgramVariant plan_trace(Traversal requested, bool count_traversal, const Devic
   p.count_traversal = count_traversal;
   p.alpha_masks = scene.alpha_masks;
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
+  p.indexed_triangles = profile.shares_host_memory;
   return p;
 }
 

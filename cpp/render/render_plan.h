@@ -27,6 +27,11 @@ struct DeviceProfile {
   KernelOrganisation organisation;       // where the wavefront can run the settings
   bool load_both_children;               // in the full stack's walk (MBAO_LOAD_BOTH_CHILDREN)
   int min_origin_path_depth;             // origin paths for trees at least this deep (0: never)
+  // The device reads host memory: the scene's tree and mesh are read where
+  // they are (CL_MEM_USE_HOST_PTR, render/device_scene.h), triangles from the
+  // mesh's vertices and indices (MBAO_INDEXED_TRIANGLES), not from 48 bytes of
+  // coordinates per triangle in a buffer of their own.
+  bool shares_host_memory;
 };
 
 // The row of the device table for `device`.
@@ -54,6 +59,7 @@ struct ProgramVariant {
   bool load_both_children = false;   // full-stack walks only (Stack, Lanes)
   bool origin_paths = false;         // render.cl, walks of one ray only
   bool direction_moments = false;    // render.cl
+  bool indexed_triangles = false;    // render.cl, trace.cl, hbao.cl: DeviceProfile::shares_host_memory
 
   const char* file() const;
   // "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 ...": the defines `program` reads, in a fixed order.

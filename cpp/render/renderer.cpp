@@ -121,7 +121,8 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   stats.tree = scene->kd_tree()->stats;
   stats.build_ms = stats.tree.build_ms;
 
-  DeviceScene::check_fits(*scene, device().device, settings.normals == NormalMode::Shading);
+  DeviceScene::check_fits(*scene, device().device, settings.normals == NormalMode::Shading,
+                          device_profile(device()).shares_host_memory);
   const RenderPlan plan = plan_render(settings, device(), SceneTraits::of(*scene));
   stats.traversal_mode = to_string(plan.traversal);
   stats.plan = plan.reasons;
@@ -284,7 +285,7 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
   if (count_traversal) result.counts.resize(origins.size());
   if (origins.empty()) return result;
   std::lock_guard<std::mutex> lock(mutex_);
-  DeviceScene::check_fits(*scene, device().device, false);
+  DeviceScene::check_fits(*scene, device().device, false, device_profile(device()).shares_host_memory);
   const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
   const ProgramVariant variant = plan_trace(traversal, count_traversal, device(), SceneTraits::of(*scene));
   const BuiltProgram built = compute_.programs().get(variant.file(), variant.options());

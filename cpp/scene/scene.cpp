@@ -95,17 +95,17 @@ void validate_masks(const AlphaMasks& masks, std::size_t triangle_count, const s
 
 Scene::Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera, std::vector<std::string> warnings,
              AlphaMasks masks, UvSets uv_sets)
-    : mesh_(std::move(mesh)),
+    : mesh_(std::make_shared<const TriangleMesh>(std::move(mesh))),
       masks_(std::move(masks)),
       uv_sets_(std::move(uv_sets)),
       name_(std::move(name)),
       camera_(std::move(camera)),
       id_(next_scene_id()) {
-  bounds_ = mesh_.checked_bounds(name_);
+  bounds_ = mesh_->checked_bounds(name_);
   check_extent(bounds_, name_);
   render_origin_ = exact_origin(bounds_);
   warnings_ = with_placement_warning(std::move(warnings), bounds_, name_);
-  validate_masks(masks_, mesh_.triangles.size(), name_);
+  validate_masks(masks_, mesh_->triangles.size(), name_);
 }
 
 Camera Scene::default_camera(float aspect) const { return camera_ ? *camera_ : Camera::framing(bounds_, aspect); }
@@ -115,7 +115,7 @@ std::shared_ptr<const KdTree> Scene::kd_tree() const {
   // In the device's frame.
   if (!tree_)
     tree_ = std::make_shared<const KdTree>(
-        build_kd_tree(mesh_, kd_build_options_, render_origin_, masks_.triangle_mask));
+        build_kd_tree(*mesh_, kd_build_options_, render_origin_, masks_.triangle_mask));
   return tree_;
 }
 

@@ -27,7 +27,10 @@ class Scene {
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
 
-  const TriangleMesh& mesh() const { return mesh_; }
+  const TriangleMesh& mesh() const { return *mesh_; }
+  // The mesh, for what reads it in place and must keep it (a device that
+  // shares host memory reads its vertices and indices).
+  std::shared_ptr<const TriangleMesh> shared_mesh() const { return mesh_; }
   const AlphaMasks& masks() const { return masks_; }
   // What a texture bake reads; uv_sets().loaded only where the loader was asked for them.
   const UvSets& uv_sets() const { return uv_sets_; }
@@ -57,7 +60,7 @@ class Scene {
   void set_kd_build_options(const KdBuildOptions& options);
 
  private:
-  TriangleMesh mesh_;
+  std::shared_ptr<const TriangleMesh> mesh_;
   AlphaMasks masks_;
   UvSets uv_sets_;
   Bounds3 bounds_;

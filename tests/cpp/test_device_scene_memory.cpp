@@ -10,6 +10,7 @@
 #include "opencl/devices.h"
 #include "random_soup.h"
 #include "render/device_scene.h"
+#include "render/render_plan.h"
 #include "scene/cornell_box.h"
 
 namespace mbao {
@@ -17,9 +18,9 @@ namespace {
 
 TEST(DeviceSceneLimits, RefusesABufferPastTheLargestAllocationBeforeTheTree) {
   const auto scene = cornell_box();  // 32 triangles: 1536 bytes of corners
-  EXPECT_NO_THROW(DeviceScene::check_fits(*scene, 1536, "a device", false));
+  EXPECT_NO_THROW(DeviceScene::check_fits(*scene, 1536, "a device", false, false));
   try {
-    DeviceScene::check_fits(*scene, 1024, "a device", false);
+    DeviceScene::check_fits(*scene, 1024, "a device", false, false);
     FAIL() << "no error";
   } catch (const DeviceError& e) {
     const std::string message = e.what();
@@ -45,7 +46,9 @@ TEST(DeviceSceneCache, TheTwoChoicesOfNormalsShareTheRestOfTheScene) {
   EXPECT_NE(with, without);
   EXPECT_EQ(scenes.get(compute, scene, true), with);
   EXPECT_TRUE(with->shares_geometry_with(*without));
-  const std::size_t normal_bytes = scene->mesh().triangles.size() * 3 * sizeof(cl_uint) +
+  // The normals, and the triangles' vertex ids where the device does not read the mesh's own.
+  const bool vertex_ids_shared = device_profile(compute.device()).shares_host_memory;
+  const std::size_t normal_bytes = (vertex_ids_shared ? 0 : scene->mesh().triangles.size() * 3 * sizeof(cl_uint)) +
                                    scene->mesh().normals.size() * sizeof(cl_float4);
   EXPECT_EQ(with->bytes(), without->bytes() + normal_bytes);
   // Another scene's upload shares nothing with it.

@@ -78,6 +78,7 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
     ProgramVariant variant;
     variant.walk = traversal;
     variant.load_both_children = true;
+    variant.indexed_triangles = device_profile(compute.device()).shares_host_memory;
     return compute.programs().get(variant.file(), variant.options()).program;
   };
   const cl::Program programs[] = {program_for(Traversal::Stack), program_for(Traversal::Lanes)};

@@ -2,7 +2,8 @@
 // in every organisation it runs in, draws the same image bit for bit, with the
 // same rays, and the variants of one walk count the same traversal work. The
 // variants of a walk differ in where their nodes come from (origin paths,
-// both children loaded) or how rays are batched (lanes), never in a hit. Those
+// both children loaded), where their triangles come from (their coordinates or
+// the mesh's vertices) or how rays are batched (lanes), never in a hit. Those
 // that keep direction moments estimate the same variances too (SPEC 7.1).
 #include <gtest/gtest.h>
 
@@ -59,7 +60,9 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
   const auto scene = std::make_shared<const Scene>(random_soup(3000, 5), "soup");
   const SceneTraits traits = SceneTraits::of(*scene);
   ASSERT_GE(traits.tree_depth, 16);  // deep enough for the short stack to run dry and paths to be long
-  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, scene->kd_tree(), false);
+  // The triangles as a GPU reads them (their coordinates) and as a CPU does (the mesh's vertices).
+  const DeviceScene coordinates(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, false);
+  const DeviceScene indexed(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, true);
   const Camera camera = scene->default_camera(1.0f).relative_to(scene->render_origin());
   RenderSettings s;
   s.width = s.height = 24;
@@ -81,7 +84,7 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
       if (v.walk == Traversal::Lanes && organisation == KernelOrganisation::Megakernel) continue;
       SCOPED_TRACE(v.options() + " " + to_string(organisation));
       s.organisation = organisation;
-      const Image image = render(compute, v, device_scene, camera, s);
+      const Image image = render(compute, v, v.indexed_triangles ? indexed : coordinates, camera, s);
       ++rendered;
       const std::vector<float>& ao = image.result.ao;
       if (!first) {
@@ -110,7 +113,8 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
       }
     }
   }
-  EXPECT_EQ(rendered, 44u);  // 12 variants with direction moments and 12 without, lanes in the wavefront only
+  // 12 variants with direction moments and 12 without, lanes in the wavefront only, each of either triangle layout
+  EXPECT_EQ(rendered, 88u);
 }
 
 }  // namespace

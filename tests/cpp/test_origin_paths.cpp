@@ -21,6 +21,7 @@
 #include "opencl/devices.h"
 #include "opencl/kernel_sources.h"
 #include "render/device_scene.h"
+#include "render/render_plan.h"
 #include "render/renderer.h"
 #include "scene/cornell_box.h"
 #include "scene/gltf_loader.h"
@@ -173,7 +174,8 @@ TEST(OriginPaths, RaysAlongAPathFindWhatRaysFromTheRootFind) {
   const KdTree& tree = *scene->kd_tree();
   ASSERT_EQ(scene->render_origin(), glm::vec3(0.0f));  // the points below are in the device's frame
   ASSERT_GE(tree.stats.max_depth, 16);
-  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, scene->kd_tree(), false);
+  const bool indexed = device_profile(compute.device()).shares_host_memory;
+  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, indexed);
   std::mt19937 rng(3);
   Points p = points_for(tree, rng);
   std::vector<cl_float4> directions = directions_for(p.points.size() * kRaysPerPoint, rng);
@@ -187,7 +189,8 @@ TEST(OriginPaths, RaysAlongAPathFindWhatRaysFromTheRootFind) {
       cl::Program program(compute.context(), source);
       const std::string options = "-DMBAO_TRAVERSAL=" + std::to_string(int(traversal)) +
                                   " -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ORIGIN_PATHS=1 -DMBAO_LOAD_BOTH_CHILDREN=" +
-                                  std::to_string(load_both_children);
+                                  std::to_string(load_both_children) + " -DMBAO_INDEXED_TRIANGLES=" +
+                                  std::to_string(int(indexed));
       program.build(options.c_str());
       cl::Kernel kernel(program, "rays_from_one_point");
       cl::Buffer points = buffer_of(compute, p.points), dirs = buffer_of(compute, directions);

@@ -101,6 +101,14 @@ TEST(RenderPlan, OriginPathsOnCpusForDeepTreesOnlyAndNeverInLanes) {
   EXPECT_FALSE(plan_render(s, kCpu, kDeep).program.origin_paths);  // lanes
 }
 
+TEST(RenderPlan, CpusReadTheMeshsOwnVerticesAndOthersTheTrianglesCoordinates) {
+  const RenderSettings s;
+  EXPECT_TRUE(plan_render(s, kCpu, kShallow).program.indexed_triangles);
+  EXPECT_FALSE(plan_render(s, kGpu, kShallow).program.indexed_triangles);
+  EXPECT_TRUE(plan_trace(Traversal::Auto, false, kCpu, kShallow).indexed_triangles);
+  EXPECT_FALSE(plan_trace(Traversal::Auto, false, kGpu, kShallow).indexed_triangles);
+}
+
 TEST(RenderPlan, BothChildrenAreLoadedInTheFullStacksWalkOnCpusOnly) {
   RenderSettings s;
   for (const Traversal walk : {Traversal::Restart, Traversal::PushDown, Traversal::ShortStack, Traversal::Stack}) {
@@ -120,16 +128,18 @@ TEST(RenderPlan, EachProgramIsBuiltWithTheDefinesItReads) {
   EXPECT_EQ(plan_render(s, kCpu, scene).program.options(),
             "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 "
             "-DMBAO_UNLIMITED_DISTANCE=0 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0 "
-            "-DMBAO_DIRECTION_MOMENTS=0");
+            "-DMBAO_DIRECTION_MOMENTS=0 -DMBAO_INDEXED_TRIANGLES=1");
   EXPECT_EQ(plan_trace(Traversal::Auto, true, kCpu, scene).options(),
-            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_LOAD_BOTH_CHILDREN=1");
+            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_LOAD_BOTH_CHILDREN=1 "
+            "-DMBAO_INDEXED_TRIANGLES=1");
   // HBAO's G-buffer walks one ray per pixel: none of the AO's counts, distance limit or origin paths.
   s.method = Method::Hbao;
   s.bounces = 1;
   const RenderPlan hbao = plan_render(s, kCpu, scene);
   EXPECT_STREQ(hbao.program.file(), "hbao.cl");
   EXPECT_EQ(hbao.program.options(),
-            "-DMBAO_TRAVERSAL=3 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 -DMBAO_LOAD_BOTH_CHILDREN=1");
+            "-DMBAO_TRAVERSAL=3 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 -DMBAO_LOAD_BOTH_CHILDREN=1 "
+            "-DMBAO_INDEXED_TRIANGLES=1");
   s.traversal = Traversal::Lanes;
   EXPECT_EQ(plan_render(s, kCpu, scene).program.walk, Traversal::Stack);
   s.normals = NormalMode::Geometric;
