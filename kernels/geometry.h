@@ -73,8 +73,14 @@ typedef struct TriangleCoordinates {
 #endif
 #if MBAO_INDEXED_TRIANGLES
 #define MBAO_TRIANGLE_SPACE
+// The coordinates along `axis`, picked by selects: an index into a private
+// array made PoCL keep it in memory, and the tests ran scalar.
+static inline float4 triangle_along(const TriangleCoordinates* t, uint axis) {
+  return axis == 0 ? t->along[0] : (axis == 1 ? t->along[1] : t->along[2]);
+}
 #else
 #define MBAO_TRIANGLE_SPACE __global
+static inline float4 triangle_along(__global const TriangleCoordinates* t, uint axis) { return t->along[axis]; }
 #endif
 
 // The largest 1-norm |x| + |y| + |z| of a point of the box [lo, hi] relative to
@@ -119,9 +125,9 @@ typedef struct FrameTriangle {
 
 static inline FrameTriangle triangle_in_ray_frame(const WatertightRay* ray, MBAO_TRIANGLE_SPACE const TriangleCoordinates* t) {
   FrameTriangle f;
-  f.z = t->along[ray->kz] - ray->origin_z;
-  f.x = (t->along[ray->kx] - ray->origin_x) - ray->shear_x * f.z;
-  f.y = (t->along[ray->ky] - ray->origin_y) - ray->shear_y * f.z;
+  f.z = triangle_along(t, ray->kz) - ray->origin_z;
+  f.x = (triangle_along(t, ray->kx) - ray->origin_x) - ray->shear_x * f.z;
+  f.y = (triangle_along(t, ray->ky) - ray->origin_y) - ray->shear_y * f.z;
   return f;
 }
 
@@ -159,7 +165,7 @@ static inline float edge_function_in_double(const WatertightRay* ray, float3 p, 
 // the corners themselves.
 static inline float3 edge_functions_in_double(const WatertightRay* ray, MBAO_TRIANGLE_SPACE const TriangleCoordinates* t,
                                               float3 e, int3 unknown) {
-  const float4 kx = t->along[ray->kx], ky = t->along[ray->ky], kz = t->along[ray->kz];
+  const float4 kx = triangle_along(t, ray->kx), ky = triangle_along(t, ray->ky), kz = triangle_along(t, ray->kz);
   const float3 p0 = (float3)(kx.x, ky.x, kz.x), p1 = (float3)(kx.y, ky.y, kz.y), p2 = (float3)(kx.z, ky.z, kz.z);
   if (unknown.x) e.x = edge_function_in_double(ray, p1, p2);
   if (unknown.y) e.y = edge_function_in_double(ray, p2, p0);

@@ -41,20 +41,20 @@ std::size_t largest_buffer(const cl::Device& device) { return device.getInfo<CL_
 }  // namespace
 
 void DeviceScene::check_fits(const Scene& scene, const cl::Device& device, bool with_normals,
-                             bool shares_host_memory) {
-  check_fits(scene, largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), with_normals, shares_host_memory);
+                             bool indexed_triangles) {
+  check_fits(scene, largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), with_normals, indexed_triangles);
 }
 
 void DeviceScene::check_fits(const Scene& scene, std::size_t limit, const std::string& device_name,
-                             bool with_normals, bool shares_host_memory) {
+                             bool with_normals, bool indexed_triangles) {
   const TriangleMesh& mesh = scene.mesh();
   const std::size_t triangles = mesh.triangles.size();
-  if (shares_host_memory) {
+  if (indexed_triangles) {
     check_buffer(mesh.positions.size() * sizeof(glm::vec3), limit, device_name, scene, "vertex positions");
   } else {
     check_buffer(triangles * 3 * sizeof(cl_float4), limit, device_name, scene, "triangles' corners");
   }
-  if (shares_host_memory || (with_normals && mesh.has_normals()))
+  if (indexed_triangles || (with_normals && mesh.has_normals()))
     check_buffer(triangles * 3 * sizeof(cl_uint), limit, device_name, scene, "triangles' vertex indices");
   if (with_normals && mesh.has_normals())
     check_buffer(mesh.normals.size() * sizeof(cl_float4), limit, device_name, scene, "vertex normals");
@@ -95,8 +95,9 @@ cl::Buffer DeviceScene::in_place(const cl::Context& context, const std::vector<T
 }
 
 DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
-                         std::shared_ptr<const KdTree> tree, bool with_normals, bool shares_host_memory)
-    : tree_(std::move(tree)), shares_host_memory_(shares_host_memory) {
+                         std::shared_ptr<const KdTree> tree, bool with_normals, bool shares_host_memory,
+                         bool indexed_triangles)
+    : tree_(std::move(tree)), indexed_triangles_(indexed_triangles) {
   const TriangleMesh& mesh = scene.mesh();
   const glm::vec3 origin = scene.render_origin();  // the tree's frame
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::uvec3) == 3 * sizeof(cl_uint),
@@ -105,13 +106,13 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
     const cl::Device device = queue.getInfo<CL_QUEUE_DEVICE>();
     check_buffer(tree_->nodes.size() * sizeof(KdNode), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(),
                  scene, "kd-tree's nodes");
-    if (shares_host_memory) {
+    nodes_ = shares_host_memory ? in_place(context, tree_->nodes) : upload(context, queue, tree_->nodes);
+    if (indexed_triangles) {
+      if (!shares_host_memory) throw std::logic_error("indexed triangles are read in place, from host memory");
       mesh_ = scene.shared_mesh();
-      nodes_ = in_place(context, tree_->nodes);
       vertex_positions_ = in_place(context, mesh_->positions);
       triangle_vertices_ = in_place(context, mesh_->triangles);
     } else {
-      nodes_ = upload(context, queue, tree_->nodes);
       // Per triangle and axis, its corners' coordinates (TriangleCoordinates in kernels/geometry.h).
       triangles_ = upload_filled<cl_float4>(context, queue, mesh.triangles.size() * 3, [&](cl_float4* out) {
         for (const glm::uvec3& t : mesh.triangles) {
@@ -141,7 +142,7 @@ DeviceScene::DeviceScene(const DeviceScene& other, const cl::Context& context, c
                          const Scene& scene, bool with_normals)
     : DeviceScene(other) {
   vertex_normals_ = cl::Buffer();
-  if (!shares_host_memory_) triangle_vertices_ = cl::Buffer();
+  if (!indexed_triangles_) triangle_vertices_ = cl::Buffer();
   bytes_ -= normal_bytes_;
   normal_bytes_ = 0;
   if (!with_normals) return;
@@ -155,7 +156,7 @@ DeviceScene::DeviceScene(const DeviceScene& other, const cl::Context& context, c
 void DeviceScene::upload_normals(const cl::Context& context, cl::CommandQueue& queue, const TriangleMesh& mesh) {
   if (!mesh.has_normals()) return;
   const std::size_t before = bytes_;
-  if (!shares_host_memory_)
+  if (!indexed_triangles_)
     triangle_vertices_ = upload_filled<cl_uint>(context, queue, mesh.triangles.size() * 3, [&](cl_uint* out) {
       for (const glm::uvec3& t : mesh.triangles) out = std::copy_n(&t.x, 3, out);
     });
@@ -177,7 +178,7 @@ void DeviceScene::append_to(KernelArgs& args) const {
 
 std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute,
                                                          const std::shared_ptr<const Scene>& scene,
-                                                         bool with_normals) {
+                                                         bool with_normals, bool indexed_triangles) {
   std::lock_guard<std::mutex> lock(mutex_);
   for (auto it = entries_.begin(); it != entries_.end();) it = it->second.scene.expired() ? entries_.erase(it) : ++it;
   Entry& entry = entries_[{scene->id(), with_normals}];
@@ -189,7 +190,8 @@ std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute
             ? std::make_shared<const DeviceScene>(*other->second.device_scene, compute.context(), compute.queue(),
                                                   *scene, with_normals)
             : std::make_shared<const DeviceScene>(compute.context(), compute.queue(), *scene, scene->kd_tree(),
-                                                  with_normals, device_profile(compute.device()).shares_host_memory);
+                                                  with_normals, device_profile(compute.device()).shares_host_memory,
+                                                  indexed_triangles);
     entry.scene = scene;
   }
   return entry.device_scene;

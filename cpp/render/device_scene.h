@@ -18,14 +18,16 @@ namespace mbao {
 // uses them, alpha masks only when the scene has them.
 //
 // A device that reads host memory (DeviceProfile::shares_host_memory: a CPU)
-// reads the tree's nodes and the mesh's vertices and indices where they are
-// (CL_MEM_USE_HOST_PTR), which this object keeps, and its kernels assemble each
-// triangle from them (MBAO_INDEXED_TRIANGLES). Any other device gets a copy of
-// the tree and 48 bytes of coordinates per triangle, three loads for a test.
+// reads the tree's nodes where they are (CL_MEM_USE_HOST_PTR), which this
+// object keeps; any other device gets a copy. The triangles are 48 bytes of
+// coordinates each, three loads for a test, or, where the plan says so
+// (ProgramVariant::indexed_triangles, on such a device only), the mesh's own
+// vertices and indices, read in place, from which the kernels assemble them.
 class DeviceScene {
  public:
   DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
-              std::shared_ptr<const KdTree> tree, bool with_normals, bool shares_host_memory);
+              std::shared_ptr<const KdTree> tree, bool with_normals, bool shares_host_memory,
+              bool indexed_triangles);
   // `other`'s scene with or without its vertex normals: the same buffers but
   // the normals, which are uploaded where `other` lacks them.
   DeviceScene(const DeviceScene& other, const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
@@ -35,10 +37,10 @@ class DeviceScene {
   // cannot allocate (CL_DEVICE_MAX_MEM_ALLOC_SIZE): a DeviceError naming the
   // buffer, its bytes, the limit, the device and the most triangles that fit.
   // The tree's nodes, known only once built, are checked as they are uploaded.
-  static void check_fits(const Scene& scene, const cl::Device& device, bool with_normals, bool shares_host_memory);
+  static void check_fits(const Scene& scene, const cl::Device& device, bool with_normals, bool indexed_triangles);
   // The same for a device named `device_name` that allocates at most `limit` bytes at once.
   static void check_fits(const Scene& scene, std::size_t limit, const std::string& device_name, bool with_normals,
-                         bool shares_host_memory);
+                         bool indexed_triangles);
 
   // The kernels' leading scene parameters (MBAO_SCENE_PARAMS), for set_kernel_args.
   void append_to(KernelArgs& args) const;
@@ -64,7 +66,7 @@ class DeviceScene {
   // What the device reads in place, kept as long as it may.
   std::shared_ptr<const KdTree> tree_;
   std::shared_ptr<const TriangleMesh> mesh_;
-  bool shares_host_memory_ = false;
+  bool indexed_triangles_ = false;
   cl::Buffer nodes_, triangles_, vertex_positions_, triangle_vertices_, vertex_normals_;
   cl::Buffer triangle_masks_, masked_triangles_, mask_textures_, mask_texels_;
   cl_float4 bounds_lo_{}, bounds_hi_{}, render_origin_{};
@@ -76,8 +78,9 @@ class DeviceScene {
 // sharing every other buffer; entries go when their scene does.
 class DeviceSceneCache {
  public:
+  // indexed_triangles: the plan's (the same for every render of a scene on a device).
   std::shared_ptr<const DeviceScene> get(ComputeContext& compute, const std::shared_ptr<const Scene>& scene,
-                                         bool with_normals);
+                                         bool with_normals, bool indexed_triangles);
 
  private:
   struct Entry {

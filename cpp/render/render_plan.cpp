@@ -7,9 +7,10 @@ namespace {
 
 // The device table. Each entry's measurement is in docs/kernel-variants.md. Constant-initialized, so
 // that other files' static objects may read it.
-constexpr DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16, true};
-constexpr DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0, false};
-constexpr DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0, false};
+constexpr DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16, true,
+                             std::size_t(1) << 22};
+constexpr DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0, false, 0};
+constexpr DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0, false, 0};
 
 bool walks_full_stack(Traversal walk) { return walk == Traversal::Stack || walk == Traversal::Lanes; }
 
@@ -63,6 +64,10 @@ KernelOrganisation plan_organisation(const RenderSettings& s, Traversal traversa
   return organisation;
 }
 
+bool indexed_triangles(const DeviceProfile& profile, std::size_t triangles) {
+  return profile.shares_host_memory && profile.min_indexed_triangles > 0 && triangles >= profile.min_indexed_triangles;
+}
+
 bool plan_origin_paths(const RenderSettings& s, Traversal walk, const DeviceProfile& profile,
                        const SceneTraits& scene, std::vector<std::string>& reasons) {
   if (walk == Traversal::Lanes || s.method == Method::Hbao) return false;
@@ -85,6 +90,7 @@ const DeviceProfile& device_profile(const DeviceInfo& device) {
 SceneTraits SceneTraits::of(const Scene& scene) {
   SceneTraits traits;
   traits.tree_depth = scene.kd_tree()->stats.max_depth;
+  traits.triangles = scene.mesh().triangles.size();
   traits.alpha_masks = !scene.masks().empty();
   traits.vertex_normals = scene.mesh().has_normals();
   return traits;
@@ -152,6 +158,10 @@ std::vector<ProgramVariant> all_program_variants() {
   return variants;
 }
 
+bool plans_indexed_triangles(const DeviceInfo& device, std::size_t triangles) {
+  return indexed_triangles(device_profile(device), triangles);
+}
+
 RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const SceneTraits& scene) {
   const DeviceProfile& profile = device_profile(device);
   RenderPlan plan;
@@ -170,7 +180,11 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
   p.origin_paths = plan_origin_paths(s, p.walk, profile, scene, plan.reasons);
   p.direction_moments = s.direction_moments();
-  p.indexed_triangles = profile.shares_host_memory;
+  p.indexed_triangles = indexed_triangles(profile, scene.triangles);
+  if (profile.min_indexed_triangles > 0)
+    plan.reasons.push_back(std::string("triangles ") + (p.indexed_triangles ? "from the mesh's vertices" : "as coordinates") +
+                           ": " + std::to_string(scene.triangles) + " of them, the profile's threshold " +
+                           std::to_string(profile.min_indexed_triangles));
   return plan;
 }
 
@@ -185,7 +199,7 @@ ProgramVariant plan_trace(Traversal requested, bool count_traversal, const Devic
   p.count_traversal = count_traversal;
   p.alpha_masks = scene.alpha_masks;
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
-  p.indexed_triangles = profile.shares_host_memory;
+  p.indexed_triangles = indexed_triangles(profile, scene.triangles);
   return p;
 }
 

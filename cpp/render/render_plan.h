@@ -27,11 +27,13 @@ struct DeviceProfile {
   KernelOrganisation organisation;       // where the wavefront can run the settings
   bool load_both_children;               // in the full stack's walk (MBAO_LOAD_BOTH_CHILDREN)
   int min_origin_path_depth;             // origin paths for trees at least this deep (0: never)
-  // The device reads host memory: the scene's tree and mesh are read where
-  // they are (CL_MEM_USE_HOST_PTR, render/device_scene.h), triangles from the
-  // mesh's vertices and indices (MBAO_INDEXED_TRIANGLES), not from 48 bytes of
-  // coordinates per triangle in a buffer of their own.
+  // The device reads host memory: it reads the scene's tree where it is
+  // (CL_MEM_USE_HOST_PTR, render/device_scene.h).
   bool shares_host_memory;
+  // Where it does, scenes of at least this many triangles are read from the
+  // mesh's own vertices and indices (MBAO_INDEXED_TRIANGLES), not from 48
+  // bytes of coordinates per triangle in a buffer of their own (0: never).
+  std::size_t min_indexed_triangles;
 };
 
 // The row of the device table for `device`.
@@ -40,6 +42,7 @@ const DeviceProfile& device_profile(const DeviceInfo& device);
 // What a plan needs to know of a scene.
 struct SceneTraits {
   int tree_depth = 0;
+  std::size_t triangles = 0;
   bool alpha_masks = false;
   bool vertex_normals = false;
   static SceneTraits of(const Scene& scene);  // builds the scene's tree if it has none
@@ -59,7 +62,7 @@ struct ProgramVariant {
   bool load_both_children = false;   // full-stack walks only (Stack, Lanes)
   bool origin_paths = false;         // render.cl, walks of one ray only
   bool direction_moments = false;    // render.cl
-  bool indexed_triangles = false;    // render.cl, trace.cl, hbao.cl: DeviceProfile::shares_host_memory
+  bool indexed_triangles = false;    // render.cl, trace.cl, hbao.cl
 
   const char* file() const;
   // "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 ...": the defines `program` reads, in a fixed order.
@@ -75,6 +78,10 @@ struct RenderPlan {
   ProgramVariant program;
   std::vector<std::string> reasons;  // one line per choice made for "auto"
 };
+
+// Whether `device` reads a scene of `triangles` triangles from the mesh's own
+// vertices (ProgramVariant::indexed_triangles): what every plan for it says.
+bool plans_indexed_triangles(const DeviceInfo& device, std::size_t triangles);
 
 // Throws nothing: `settings` is validated before (RenderSettings::validate).
 RenderPlan plan_render(const RenderSettings& settings, const DeviceInfo& device, const SceneTraits& scene);

@@ -122,13 +122,13 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   stats.build_ms = stats.tree.build_ms;
 
   DeviceScene::check_fits(*scene, device().device, settings.normals == NormalMode::Shading,
-                          device_profile(device()).shares_host_memory);
+                          plans_indexed_triangles(device(), scene->mesh().triangles.size()));
   const RenderPlan plan = plan_render(settings, device(), SceneTraits::of(*scene));
   stats.traversal_mode = to_string(plan.traversal);
   stats.plan = plan.reasons;
   Stopwatch upload_clock;
   const std::shared_ptr<const DeviceScene> device_scene =
-      scenes_.get(compute_, scene, plan.program.shading_normals);
+      scenes_.get(compute_, scene, plan.program.shading_normals, plan.program.indexed_triangles);
   stats.upload_ms = upload_clock.elapsed_ms();
 
   const BuiltProgram built = compute_.programs().get(plan.program.file(), plan.program.options());
@@ -285,9 +285,11 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
   if (count_traversal) result.counts.resize(origins.size());
   if (origins.empty()) return result;
   std::lock_guard<std::mutex> lock(mutex_);
-  DeviceScene::check_fits(*scene, device().device, false, device_profile(device()).shares_host_memory);
-  const std::shared_ptr<const DeviceScene> device_scene = scenes_.get(compute_, scene, false);
+  DeviceScene::check_fits(*scene, device().device, false,
+                          plans_indexed_triangles(device(), scene->mesh().triangles.size()));
   const ProgramVariant variant = plan_trace(traversal, count_traversal, device(), SceneTraits::of(*scene));
+  const std::shared_ptr<const DeviceScene> device_scene =
+      scenes_.get(compute_, scene, false, variant.indexed_triangles);
   const BuiltProgram built = compute_.programs().get(variant.file(), variant.options());
   static_assert(sizeof(RayHit) == sizeof(cl_uint4), "RayHit mirrors the kernel's uint4 hit record");
   try {

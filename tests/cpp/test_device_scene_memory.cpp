@@ -19,6 +19,8 @@ namespace {
 TEST(DeviceSceneLimits, RefusesABufferPastTheLargestAllocationBeforeTheTree) {
   const auto scene = cornell_box();  // 32 triangles: 1536 bytes of corners
   EXPECT_NO_THROW(DeviceScene::check_fits(*scene, 1536, "a device", false, false));
+  // Read from the mesh's vertices, its largest buffer is theirs: 64 of 12 bytes.
+  EXPECT_NO_THROW(DeviceScene::check_fits(*scene, 768, "a device", false, true));
   try {
     DeviceScene::check_fits(*scene, 1024, "a device", false, false);
     FAIL() << "no error";
@@ -41,18 +43,18 @@ TEST(DeviceSceneCache, TheTwoChoicesOfNormalsShareTheRestOfTheScene) {
   const auto scene = std::make_shared<const Scene>(std::move(mesh), "soup with normals");
   ComputeContext compute(default_device());
   DeviceSceneCache scenes;
-  const std::shared_ptr<const DeviceScene> with = scenes.get(compute, scene, true);
-  const std::shared_ptr<const DeviceScene> without = scenes.get(compute, scene, false);
+  const bool indexed = plans_indexed_triangles(compute.device(), scene->mesh().triangles.size());
+  const std::shared_ptr<const DeviceScene> with = scenes.get(compute, scene, true, indexed);
+  const std::shared_ptr<const DeviceScene> without = scenes.get(compute, scene, false, indexed);
   EXPECT_NE(with, without);
-  EXPECT_EQ(scenes.get(compute, scene, true), with);
+  EXPECT_EQ(scenes.get(compute, scene, true, indexed), with);
   EXPECT_TRUE(with->shares_geometry_with(*without));
   // The normals, and the triangles' vertex ids where the device does not read the mesh's own.
-  const bool vertex_ids_shared = device_profile(compute.device()).shares_host_memory;
-  const std::size_t normal_bytes = (vertex_ids_shared ? 0 : scene->mesh().triangles.size() * 3 * sizeof(cl_uint)) +
+  const std::size_t normal_bytes = (indexed ? 0 : scene->mesh().triangles.size() * 3 * sizeof(cl_uint)) +
                                    scene->mesh().normals.size() * sizeof(cl_float4);
   EXPECT_EQ(with->bytes(), without->bytes() + normal_bytes);
   // Another scene's upload shares nothing with it.
-  EXPECT_FALSE(scenes.get(compute, cornell_box(), true)->shares_geometry_with(*with));
+  EXPECT_FALSE(scenes.get(compute, cornell_box(), true, false)->shares_geometry_with(*with));
 }
 
 }  // namespace

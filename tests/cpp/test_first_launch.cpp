@@ -71,14 +71,13 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
     GTEST_SKIP() << "only PoCL's cache directory shows what a launch builds";
   const std::shared_ptr<const Scene> scene = cornell_box();
   DeviceSceneCache scenes;
-  const std::shared_ptr<const DeviceScene> device_scene = scenes.get(compute, scene, false);
+  const std::shared_ptr<const DeviceScene> device_scene = scenes.get(compute, scene, false, false);
   // Any build of render.cl shows it; these are the Cornell box's variants on a CPU, with the traversal the
   // frame's settings name (lanes programs have kernels of their own, camera packets included).
   const auto program_for = [&](Traversal traversal) {
     ProgramVariant variant;
     variant.walk = traversal;
     variant.load_both_children = true;
-    variant.indexed_triangles = device_profile(compute.device()).shares_host_memory;
     return compute.programs().get(variant.file(), variant.options()).program;
   };
   const cl::Program programs[] = {program_for(Traversal::Stack), program_for(Traversal::Lanes)};

@@ -57,12 +57,18 @@ bool same_counts(const TraversalTotals& a, const TraversalTotals& b) {
 
 TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
   ComputeContext compute(default_device());
-  const auto scene = std::make_shared<const Scene>(random_soup(3000, 5), "soup");
+  // Far from the world's origin, so that both triangle layouts move the vertices to the render origin.
+  TriangleMesh soup = random_soup(3000, 5);
+  for (glm::vec3& p : soup.positions) p += glm::vec3(1000.0f, 0.0f, 0.0f);
+  const auto scene = std::make_shared<const Scene>(std::move(soup), "soup");
+  ASSERT_EQ(scene->render_origin().x, scene->bounds().lo.x);
   const SceneTraits traits = SceneTraits::of(*scene);
   ASSERT_GE(traits.tree_depth, 16);  // deep enough for the short stack to run dry and paths to be long
   // The triangles as a GPU reads them (their coordinates) and as a CPU does (the mesh's vertices).
-  const DeviceScene coordinates(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, false);
-  const DeviceScene indexed(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, true);
+  const bool shares_host_memory = device_profile(compute.device()).shares_host_memory;
+  const DeviceScene coordinates(compute.context(), compute.queue(), *scene, scene->kd_tree(), false,
+                                shares_host_memory, false);
+  const DeviceScene indexed(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, true, true);
   const Camera camera = scene->default_camera(1.0f).relative_to(scene->render_origin());
   RenderSettings s;
   s.width = s.height = 24;

@@ -174,8 +174,9 @@ TEST(OriginPaths, RaysAlongAPathFindWhatRaysFromTheRootFind) {
   const KdTree& tree = *scene->kd_tree();
   ASSERT_EQ(scene->render_origin(), glm::vec3(0.0f));  // the points below are in the device's frame
   ASSERT_GE(tree.stats.max_depth, 16);
-  const bool indexed = device_profile(compute.device()).shares_host_memory;
-  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, indexed);
+  const bool indexed = plans_indexed_triangles(compute.device(), scene->mesh().triangles.size());
+  const DeviceScene device_scene(compute.context(), compute.queue(), *scene, scene->kd_tree(), false,
+                                 device_profile(compute.device()).shares_host_memory, indexed);
   std::mt19937 rng(3);
   Points p = points_for(tree, rng);
   std::vector<cl_float4> directions = directions_for(p.points.size() * kRaysPerPoint, rng);
