@@ -659,7 +659,7 @@ class Builder {
   // wholly on one side go to that side (and with `both_to_both`, those of
   // triangles on both sides to both), merged with the clipped triangles' new
   // events. One pass over the parent's events fills both children.
-  static void merge_sides(const NodeEvents& parent, int axis, const Side* side, std::vector<Event>& clipped_below,
+  static void merge_sides(NodeEvents& parent, int axis, const Side* side, std::vector<Event>& clipped_below,
                           std::vector<Event>& clipped_above, Children& children, bool both_to_both) {
     // A sentinel above every event ends each run of new events without a bounds check.
     for (std::vector<Event>* clipped : {&clipped_below, &clipped_above}) {
@@ -672,15 +672,21 @@ class Builder {
     // The side an event goes to is a coin flip to the branch predictor: each
     // event is written to both children and kept where it belongs.
     const std::array<std::uint8_t, 3> keep_below{1, 0, both_to_both}, keep_above{0, 1, both_to_both};  // by Side
-    for (const Event *e = parent.begin(axis), *end = parent.end(axis); e != end; ++e) {
-      const Event event = *e;
-      while (*extra_below < event) *below++ = *extra_below++;
-      while (*extra_above < event) *above++ = *extra_above++;
-      const Side s = side[event.triangle()];
-      *below = event;
-      below += keep_below[s];
-      *above = event;
-      above += keep_above[s];
+    // In chunks, each one's pages handed back once merged: the root's split
+    // would otherwise hold its events along the axis and the children's whole.
+    constexpr std::ptrdiff_t kChunk = std::ptrdiff_t(1) << 17;
+    for (const Event *e = parent.begin(axis), *end = parent.end(axis); e != end;) {
+      for (const Event* chunk_end = e + std::min(end - e, kChunk); e != chunk_end; ++e) {
+        const Event event = *e;
+        while (*extra_below < event) *below++ = *extra_below++;
+        while (*extra_above < event) *above++ = *extra_above++;
+        const Side s = side[event.triangle()];
+        *below = event;
+        below += keep_below[s];
+        *above = event;
+        above += keep_above[s];
+      }
+      parent.release_before(axis, e);
     }
     below = std::copy(extra_below, static_cast<const Event*>(&clipped_below.back()), below);
     above = std::copy(extra_above, static_cast<const Event*>(&clipped_above.back()), above);

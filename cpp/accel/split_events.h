@@ -217,6 +217,12 @@ class NodeEvents {
     assert(size(axis) < room_);
   }
 
+  // The axis's events before `read_to` are no longer needed: where they have a
+  // block of their own, its pages before it go back to the system.
+  void release_before(int axis, const Event* read_to) {
+    if (apart_) pages_[std::size_t(axis)].release_before(std::size_t(read_to - begin(axis)) * sizeof(Event));
+  }
+
   // The axis's events are no longer needed: frees them where they have a block
   // of their own. The axis is empty after.
   void release(int axis) {

@@ -4,6 +4,9 @@
 #include <cstddef>
 #include <new>
 #include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <utility>
 
 namespace mbao {
@@ -39,6 +42,13 @@ class PageBlock {
   }
 
   void* data() const { return data_; }
+
+  // Hands back the whole pages of the first `bytes`, which read as zeros after.
+  void release_before(std::size_t bytes) {
+    const auto page = std::size_t(sysconf(_SC_PAGESIZE));
+    const std::size_t whole = std::min(bytes, bytes_) / page * page;
+    if (whole) madvise(data_, whole, MADV_DONTNEED);
+  }
 
  private:
   void* data_ = nullptr;
