@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -20,6 +21,7 @@
 #include "render/device_scene.h"
 #include "render/frame.h"
 #include "render/render_plan.h"
+#include "scene/gltf_loader.h"
 
 namespace mbao {
 namespace {
@@ -121,6 +123,41 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
   }
   // 12 variants with direction moments and 12 without, lanes in the wavefront only, each of either triangle layout
   EXPECT_EQ(rendered, 88u);
+}
+
+// Sponza's alpha masks and shading normals read the triangles' corners and
+// vertex ids too: the same image from either layout, bit for bit.
+TEST(KernelVariants, SponzaIsTheSameImageFromEitherTriangleLayout) {
+  const char* shared = std::getenv("MBAO_SHARED_SCENES");
+  const std::filesystem::path folder =
+      (shared ? std::filesystem::path(shared) : std::filesystem::path(MBAO_SOURCE_DIR).parent_path() / "shared" /
+                                                     "scenes") / "sponza";
+  if (!std::filesystem::exists(folder / "scene.glb")) GTEST_SKIP() << "no shared scene at " << folder;
+  ComputeContext compute(default_device());
+  const std::shared_ptr<const Scene> sponza = load_gltf((folder / "scene.glb").string());
+  const Camera camera = Camera::load((folder / "camera.json").string()).relative_to(sponza->render_origin());
+  RenderSettings s;
+  s.width = s.height = 32;
+  s.bounces = 2;
+  s.samples = 2;
+  s.max_distance = *camera.max_distance;
+  s.count_traversal = true;
+  RenderPlan plan = plan_render(s, compute.device(), SceneTraits::of(*sponza));
+  ASSERT_TRUE(plan.program.alpha_masks && plan.program.shading_normals);
+  const bool shares_host_memory = device_profile(compute.device()).shares_host_memory;
+  const DeviceScene coordinates(compute.context(), compute.queue(), *sponza, sponza->kd_tree(), true,
+                                shares_host_memory, false);
+  const DeviceScene indexed(compute.context(), compute.queue(), *sponza, sponza->kd_tree(), true, true, true);
+  s.organisation = plan.organisation;
+  plan.program.indexed_triangles = false;
+  const Image from_coordinates = render(compute, plan.program, coordinates, camera, s);
+  plan.program.indexed_triangles = true;
+  const Image from_vertices = render(compute, plan.program, indexed, camera, s);
+  const std::vector<float>& ao = from_coordinates.result.ao;
+  ASSERT_LT(*std::min_element(ao.begin(), ao.end()), 0.5f);  // not vacuous: corners occlude
+  EXPECT_EQ(std::memcmp(ao.data(), from_vertices.result.ao.data(), ao.size() * sizeof(float)), 0);
+  EXPECT_EQ(from_coordinates.rays, from_vertices.rays);
+  EXPECT_TRUE(same_counts(from_coordinates.counts, from_vertices.counts));
 }
 
 }  // namespace
