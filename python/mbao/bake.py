@@ -9,7 +9,7 @@ import numpy as np
 from . import _checks, _core
 from ._progress import progress_bar
 from .devices import resolve
-from .scene import Mesh, as_scene, load
+from .scene import Mesh, as_scene, is_gltf_path, load
 from .settings import RENDER, Engine, checked, engine_values
 
 TARGETS = ("vertices", "texture")
@@ -119,7 +119,7 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     stops after the tile in flight. Returns an mbao.Bake.
     """
     target = _checks.choice("target", target, TARGETS)
-    from_gltf = isinstance(scene, (str, os.PathLike)) and os.fspath(scene).lower().endswith((".gltf", ".glb"))
+    from_gltf = isinstance(scene, (str, os.PathLike)) and is_gltf_path(scene)
     scene = load(scene, texcoords=True) if target == "texture" and from_gltf else as_scene(scene)
     lo, hi = _core.BAKE_SAMPLES_RANGE
     samples = _checks.integer("samples", samples, lo, hi, f"[{lo}, {hi}]")

@@ -10,7 +10,7 @@ import numpy as np
 from . import _checks
 from ._gltf import GltfDocument
 from .bake import bake
-from .scene import load
+from .scene import is_gltf_path, load
 
 FLOAT, SCALAR = 5126, "SCALAR"
 _NUMPY_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
@@ -51,7 +51,7 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, vertex_colors=Fa
     bit_depth = _checks.integer("bit_depth", bit_depth)
     if bit_depth not in (8, 16):
         raise ValueError(f"bit_depth must be 8 or 16, got {bit_depth}")
-    if _is_gltf(input):
+    if is_gltf_path(input):
         scene = load(input, texcoords=True)  # the loader's checks and errors first
         document = GltfDocument(input)
         document.check_output(output)  # before the bake, not after it
@@ -75,10 +75,6 @@ def bake_file(input, output, *, target="vertices", bit_depth=8, vertex_colors=Fa
     document.write(output)
     result.stats["replaced_occlusion"] = replaced
     return result
-
-
-def _is_gltf(path):
-    return os.fspath(path).lower().endswith((".gltf", ".glb"))
 
 
 def _converted(scene, input, output):

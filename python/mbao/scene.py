@@ -53,6 +53,11 @@ class Mesh(_core._Mesh):
         self.texcoords = texcoords
 
 
+def is_gltf_path(path):
+    """Whether `path` names a glTF file (.gltf or .glb), the format mbao reads UV sets from."""
+    return os.fspath(path).lower().endswith((".gltf", ".glb"))
+
+
 def load(path, *, normals=True, texcoords=False):
     """Loads a glTF 2.0 file (.gltf or .glb): every triangle mesh of the default
     scene in world space, its vertex normals, the alpha masks of its MASK
