@@ -71,6 +71,16 @@ inline std::size_t kd_list_nodes(KdNode node) {
   return kd_is_leaf(node) ? (std::size_t(kd_triangle_count(node)) + 1) / 2 : 0;
 }
 
+// The indices of the tree's nodes in `tree.nodes`, depth first: every row but
+// the leaves' lists.
+inline std::vector<std::uint32_t> kd_node_rows(const KdTree& tree) {
+  std::vector<std::uint32_t> rows;
+  rows.reserve(tree.stats.nodes);
+  for (std::size_t i = 0; i < tree.nodes.size(); i += 1 + kd_list_nodes(tree.nodes[i]))
+    rows.push_back(std::uint32_t(i));
+  return rows;
+}
+
 // Entry k of `leaf`'s list in `nodes`: its payload counts 32-bit words from the start.
 inline std::uint32_t kd_leaf_entry(const std::vector<KdNode>& nodes, KdNode leaf, std::uint32_t k) {
   const std::size_t word = std::size_t(kd_first_index(leaf)) + k;

@@ -180,9 +180,7 @@ so later renders of the same scene do not rebuild it.)doc")
             py::array_t<std::uint32_t> nodes({py::ssize_t(tree->nodes.size()), py::ssize_t(2)});
             std::memcpy(nodes.mutable_data(), tree->nodes.data(), tree->nodes.size() * sizeof(KdNode));
             d["nodes"] = nodes;
-            std::vector<std::uint32_t> node_rows;
-            for (std::size_t i = 0; i < tree->nodes.size(); i += 1 + kd_list_nodes(tree->nodes[i]))
-              node_rows.push_back(std::uint32_t(i));
+            const std::vector<std::uint32_t> node_rows = kd_node_rows(*tree);
             d["node_rows"] = py::array_t<std::uint32_t>(py::ssize_t(node_rows.size()), node_rows.data());
             d["bounds"] = py::make_tuple(to_tuple(tree->bounds.lo), to_tuple(tree->bounds.hi));
             d["origin"] = to_tuple(s.render_origin());

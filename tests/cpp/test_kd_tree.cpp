@@ -63,7 +63,7 @@ bool triangle_touches_box(const TriangleMesh& mesh, std::size_t t, const Bounds3
 // The tree's nodes in order, without the leaves' lists.
 std::vector<KdNode> tree_nodes(const KdTree& tree) {
   std::vector<KdNode> nodes;
-  for (std::size_t i = 0; i < tree.nodes.size(); i += 1 + kd_list_nodes(tree.nodes[i])) nodes.push_back(tree.nodes[i]);
+  for (const std::uint32_t row : kd_node_rows(tree)) nodes.push_back(tree.nodes[row]);
   return nodes;
 }
 
@@ -156,6 +156,7 @@ KdTree checked_tree(const TriangleMesh& mesh, const KdBuildOptions& options = {}
   walk.visit(0, tree.bounds, 0);
   // Every node and list node is reached once from the root: nothing is left over.
   EXPECT_EQ(walk.slots, tree.nodes.size());
+  EXPECT_EQ(kd_node_rows(tree).size(), walk.nodes);
   EXPECT_EQ(tree.stats.memory_bytes, tree.nodes.size() * sizeof(KdNode));
   EXPECT_EQ(tree.stats.nodes, walk.nodes);
   EXPECT_EQ(tree.stats.leaves, walk.leaves);
