@@ -1,9 +1,12 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
+#include "core/error.h"
 #include "mbao/kd_node.h"
 #include "scene/bounds.h"
 #include "scene/triangle_mesh.h"
@@ -27,6 +30,9 @@ struct KdBuildOptions {
   // clipping everywhere, and the benchmark's AO rays visit 0.7% fewer nodes and
   // test 5% more triangles (docs/kd-tree-build.md).
   std::size_t min_triangles_to_clip = 16;
+  // The most bytes the tree may take (a device's largest buffer): the build
+  // stops with KdTreeTooLarge soon after its nodes pass it, not at its end.
+  std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
   int threads = 0;                 // 0: one per hardware thread; the tree is the same for any number
   // Skip the SAH sweep's planes that a bound shows cannot be the cheapest
   // (longest axis first, then blocks of events by bound). The tree is the
@@ -87,6 +93,16 @@ inline std::uint32_t kd_leaf_entry(const std::vector<KdNode>& nodes, KdNode leaf
   const KdNode& pair = nodes[word / 2];
   return word % 2 ? pair.payload : pair.header;
 }
+
+// A build that stopped where its nodes passed KdBuildOptions::max_bytes.
+class KdTreeTooLarge : public Error {
+ public:
+  KdTreeTooLarge(std::size_t bytes_written, std::size_t max_bytes)
+      : Error("kd-tree: its nodes passed " + std::to_string(bytes_written) + " bytes, more than the " +
+              std::to_string(max_bytes) + " allowed; the build stopped there"),
+        bytes_written(bytes_written) {}
+  std::size_t bytes_written;  // by then, at most a few hundred kB past the limit
+};
 
 // Builds the tree in O(N log N) with sorted split events (Wald and Havran 2006),
 // subtrees in parallel. The tree's frame is the mesh's moved by -origin: its

@@ -29,6 +29,7 @@
 // its own and appended in depth-first order, so the tree does not depend on
 // the number of threads.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <future>
 #include <glm/geometric.hpp>
@@ -85,6 +86,7 @@ struct Scratch {
   // New events of straddling triangles, by axis, before they are merged in.
   std::array<std::vector<Event>, 3> clipped_below, clipped_above;
   std::vector<std::uint32_t> leaf_entries;  // of a leaf, before they are sorted
+  std::size_t rows_not_counted = 0;  // written since the last Builder::count_rows
   // The sweep's blocks of events: counts before each (ends also past the
   // last), and the least cost of a plane in each.
   std::vector<std::size_t> starts_before_block, ends_before_block;
@@ -385,6 +387,7 @@ class Builder {
     ++tree.stats.nodes;
     const std::size_t index = tree.nodes.size();
     tree.nodes.push_back(kd_make_interior(std::uint32_t(split.axis), split.position, 0));
+    count_rows(scratch, 1);
     const Share below{children.n_below, share.budget * double(children.n_below) / entries};
     const Share above{children.n_above, share.budget * double(children.n_above) / entries};
     Subtree above_part{above_box, std::move(children.above), above, depth + 1};
@@ -697,7 +700,7 @@ class Builder {
   // The leaf's node, then its entries two to a node (the last one's second
   // word 0 where they are odd), ordered by triangle and flagged where the
   // triangle has an alpha mask.
-  void make_leaf(KdTree& tree, Scratch& scratch, const Bounds3& box, const NodeEvents& events) const {
+  void make_leaf(KdTree& tree, Scratch& scratch, const Bounds3& box, const NodeEvents& events) {
     std::vector<std::uint32_t>& entries = scratch.leaf_entries;
     entries.clear();
     for (const Event *e = events.begin(0), *end = events.end(0); e != end; ++e)
@@ -709,11 +712,24 @@ class Builder {
     tree.nodes.push_back(kd_make_leaf(std::uint32_t(count), 2 * (at + 1)));
     for (std::size_t k = 0; k < count; k += 2)
       tree.nodes.push_back({leaf_entry(entries[k]), k + 1 < count ? leaf_entry(entries[k + 1]) : 0u});
+    count_rows(scratch, 1 + (count + 1) / 2);
     ++tree.stats.nodes;
     ++tree.stats.leaves;
     tree.stats.empty_leaves += count == 0;
     tree.stats.leaf_references += count;
     tree.stats.sah_cost += area_fraction(box) * options_.intersection_cost * double(count);
+  }
+
+  // Adds rows written by this thread to the count of all threads, in batches
+  // (an atomic addition per node cost the build 5-10%), and stops the build
+  // where their bytes pass options_.max_bytes.
+  void count_rows(Scratch& scratch, std::size_t rows) {
+    constexpr std::size_t kRowsPerBatch = 4096;
+    scratch.rows_not_counted += rows;
+    if (scratch.rows_not_counted < kRowsPerBatch) return;
+    const std::size_t total = rows_written_.fetch_add(scratch.rows_not_counted) + scratch.rows_not_counted;
+    scratch.rows_not_counted = 0;
+    if (total > options_.max_bytes / sizeof(KdNode)) throw KdTreeTooLarge(total * sizeof(KdNode), options_.max_bytes);
   }
 
   std::uint32_t leaf_entry(std::uint32_t triangle) const {
@@ -730,6 +746,7 @@ class Builder {
   int max_depth_ = 0;
   float min_width_ = 0.0f;
   double root_area_ = 0.0;
+  std::atomic<std::size_t> rows_written_{0};  // by all threads, but for those not counted yet
   using SubtreeSharing = WorkSharing<Subtree, Scratch, KdTree>;
   // With more than one thread. Last, so that its helpers stop before the
   // rest of the builder goes.

@@ -40,6 +40,25 @@ std::size_t largest_buffer(const cl::Device& device) { return device.getInfo<CL_
 
 }  // namespace
 
+std::shared_ptr<const KdTree> DeviceScene::tree_within(const Scene& scene, const cl::Device& device) {
+  return tree_within(scene, largest_buffer(device), device.getInfo<CL_DEVICE_NAME>());
+}
+
+std::shared_ptr<const KdTree> DeviceScene::tree_within(const Scene& scene, std::size_t limit,
+                                                       const std::string& device_name) {
+  try {
+    return scene.kd_tree(limit);
+  } catch (const KdTreeTooLarge& e) {
+    const std::size_t triangles = scene.mesh().triangles.size();
+    const std::size_t fit = std::size_t(double(triangles) * double(limit) / double(e.bytes_written));
+    throw DeviceError(scene.name() + ": its kd-tree's nodes need one device buffer of more than " +
+                      in_units(e.bytes_written) + " (" + std::to_string(triangles) + " triangles; the build stopped" +
+                      " there), more than the " + in_units(limit) + " that " + device_name +
+                      " allocates at most (CL_DEVICE_MAX_MEM_ALLOC_SIZE): fewer than " + std::to_string(fit) +
+                      " triangles fit");
+  }
+}
+
 void DeviceScene::check_fits(const Scene& scene, const cl::Device& device, bool with_normals,
                              bool indexed_triangles) {
   check_fits(scene, largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), with_normals, indexed_triangles);

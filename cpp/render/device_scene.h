@@ -33,10 +33,18 @@ class DeviceScene {
   DeviceScene(const DeviceScene& other, const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
               bool with_normals);
 
+  // The scene's tree, built if need be, where the device can allocate its
+  // nodes: a build that outgrows the largest buffer stops soon after with a
+  // DeviceError naming the bytes, the limit and the device, and leaves no tree.
+  static std::shared_ptr<const KdTree> tree_within(const Scene& scene, const cl::Device& device);
+  // The same for a device named `device_name` that allocates at most `limit` bytes at once.
+  static std::shared_ptr<const KdTree> tree_within(const Scene& scene, std::size_t limit,
+                                                   const std::string& device_name);
+
   // Refuses, before its tree is built, a scene one of whose buffers the device
   // cannot allocate (CL_DEVICE_MAX_MEM_ALLOC_SIZE): a DeviceError naming the
   // buffer, its bytes, the limit, the device and the most triangles that fit.
-  // The tree's nodes, known only once built, are checked as they are uploaded.
+  // The tree's nodes, known only once built, are checked as it is built (tree_within).
   static void check_fits(const Scene& scene, const cl::Device& device, bool with_normals, bool indexed_triangles);
   // The same for a device named `device_name` that allocates at most `limit` bytes at once.
   static void check_fits(const Scene& scene, std::size_t limit, const std::string& device_name, bool with_normals,

@@ -117,12 +117,11 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   std::lock_guard<std::mutex> lock(mutex_);
 
   stats.device = device().description();
-  stats.tree_reused = scene->has_kd_tree();
-  stats.tree = scene->kd_tree()->stats;
-  stats.build_ms = stats.tree.build_ms;
-
   DeviceScene::check_fits(*scene, device().device, settings.normals == NormalMode::Shading,
                           plans_indexed_triangles(device(), scene->mesh().triangles.size()));
+  stats.tree_reused = scene->has_kd_tree();
+  stats.tree = DeviceScene::tree_within(*scene, device().device)->stats;
+  stats.build_ms = stats.tree.build_ms;
   const RenderPlan plan = plan_render(settings, device(), SceneTraits::of(*scene));
   stats.traversal_mode = to_string(plan.traversal);
   stats.plan = plan.reasons;
@@ -287,6 +286,7 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
   std::lock_guard<std::mutex> lock(mutex_);
   DeviceScene::check_fits(*scene, device().device, false,
                           plans_indexed_triangles(device(), scene->mesh().triangles.size()));
+  DeviceScene::tree_within(*scene, device().device);
   const ProgramVariant variant = plan_trace(traversal, count_traversal, device(), SceneTraits::of(*scene));
   const std::shared_ptr<const DeviceScene> device_scene =
       scenes_.get(compute_, scene, false, variant.indexed_triangles);

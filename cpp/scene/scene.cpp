@@ -110,12 +110,13 @@ Scene::Scene(TriangleMesh mesh, std::string name, std::optional<Camera> camera, 
 
 Camera Scene::default_camera(float aspect) const { return camera_ ? *camera_ : Camera::framing(bounds_, aspect); }
 
-std::shared_ptr<const KdTree> Scene::kd_tree() const {
+std::shared_ptr<const KdTree> Scene::kd_tree(std::size_t max_bytes) const {
   std::lock_guard<std::mutex> lock(tree_mutex_);
+  if (tree_) return tree_;
+  KdBuildOptions options = kd_build_options_;
+  options.max_bytes = std::min(options.max_bytes, max_bytes);
   // In the device's frame.
-  if (!tree_)
-    tree_ = std::make_shared<const KdTree>(
-        build_kd_tree(*mesh_, kd_build_options_, render_origin_, masks_.triangle_mask));
+  tree_ = std::make_shared<const KdTree>(build_kd_tree(*mesh_, options, render_origin_, masks_.triangle_mask));
   return tree_;
 }
 

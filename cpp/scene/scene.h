@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -54,7 +55,9 @@ class Scene {
   // Its own camera, else one that frames the bounds at this width/height ratio.
   Camera default_camera(float aspect) const;
 
-  std::shared_ptr<const KdTree> kd_tree() const;
+  // Built on the first call. A build whose nodes pass max_bytes stops with
+  // KdTreeTooLarge and leaves no tree: a later call builds again.
+  std::shared_ptr<const KdTree> kd_tree(std::size_t max_bytes = std::numeric_limits<std::size_t>::max()) const;
   bool has_kd_tree() const;
   // How kd_tree() builds the tree. Only before it is built: throws std::logic_error after.
   void set_kd_build_options(const KdBuildOptions& options);

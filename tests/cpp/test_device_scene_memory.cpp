@@ -35,6 +35,26 @@ TEST(DeviceSceneLimits, RefusesABufferPastTheLargestAllocationBeforeTheTree) {
   EXPECT_FALSE(scene->has_kd_tree());
 }
 
+TEST(DeviceSceneLimits, ATreePastTheLargestAllocationStopsItsBuild) {
+  const auto scene = std::make_shared<const Scene>(random_soup(40000, 5), "soup");
+  try {
+    DeviceScene::tree_within(*scene, 64 * 1024, "a device");
+    FAIL() << "no error";
+  } catch (const DeviceError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("soup: its kd-tree's nodes need one device buffer of more than "), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("(40000 triangles; the build stopped there), more than the 65536 bytes that a device "
+                           "allocates at most"),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_FALSE(scene->has_kd_tree());
+  const std::size_t bytes = DeviceScene::tree_within(*scene, std::size_t(1) << 30, "a device")->stats.memory_bytes;
+  EXPECT_GT(bytes, 64u * 1024u);
+  EXPECT_TRUE(scene->has_kd_tree());
+}
+
 // A render with shading normals and a trace without them read one copy of
 // the scene: the second upload adds or leaves out the normals alone.
 TEST(DeviceSceneCache, TheTwoChoicesOfNormalsShareTheRestOfTheScene) {

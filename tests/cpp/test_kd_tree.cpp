@@ -609,6 +609,26 @@ TEST(KdTree, TheTreeDoesNotDependOnTheNumberOfThreads) {
   EXPECT_NEAR(serial.stats.sah_cost, parallel.stats.sah_cost, 1e-12 * serial.stats.sah_cost);
 }
 
+// A device's largest buffer bounds the tree: the build stops once its
+// threads' nodes pass it, long before the whole tree is there.
+TEST(KdTree, ABuildThatPassesItsByteLimitStopsSoonAfter) {
+  const TriangleMesh mesh = random_soup(40000, 23);
+  const std::size_t whole = build_kd_tree(mesh).stats.memory_bytes;
+  KdBuildOptions limited;
+  limited.max_bytes = whole / 8;
+  limited.threads = 4;
+  try {
+    build_kd_tree(mesh, limited);
+    FAIL() << "no error";
+  } catch (const KdTreeTooLarge& e) {
+    EXPECT_GT(e.bytes_written, limited.max_bytes);
+    EXPECT_LT(e.bytes_written, whole / 2) << "whole tree: " << whole << " bytes";
+    EXPECT_NE(std::string(e.what()).find(std::to_string(limited.max_bytes) + " allowed"), std::string::npos);
+  }
+  limited.max_bytes = whole;
+  EXPECT_EQ(build_kd_tree(mesh, limited).stats.memory_bytes, whole);
+}
+
 TEST(KdTree, SingleTriangleAndDegenerateTriangles) {
   TriangleMesh one;
   one.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 1}};
