@@ -16,7 +16,7 @@ GLTF_VALIDATOR := tests/gltf_validator/node_modules/gltf-validator/package.json
 APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libassimp-dev \
   pocl-opencl-icd pybind11-dev python3-pybind11 python3-dev python3-venv python3-pip python3-numpy python3-pytest \
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbformat python3-ipykernel \
-  python3-matplotlib python3-tqdm python3-pil libgtest-dev
+  python3-matplotlib python3-tqdm python3-pil python3-distributed python3-dask libgtest-dev
 
 .PHONY: demo test bench notebook notebook-kernel deps build sanitize-build clean
 

@@ -10,6 +10,7 @@ in the docstrings refer to it).
 """
 
 from .bake import Bake, bake
+from .batch import render_many
 from .bake_file import bake_file
 from ._core import (DEFAULT_MAX_RAYS, HBAO, Camera, Denoise, Device, DeviceError, Error, LoadError, Scene, Temporal,
                     cornell_box)
@@ -50,6 +51,7 @@ __all__ = [
     "reference",
     "reference_camera",
     "render",
+    "render_many",
     "render_sequence",
     "save_image",
     "trace",
