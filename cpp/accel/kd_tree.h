@@ -1,9 +1,9 @@
 #pragma once
 
 #include <cstddef>
-#include <string>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "core/error.h"
@@ -101,7 +101,7 @@ class KdTreeTooLarge : public Error {
       : Error("kd-tree: its nodes passed " + std::to_string(bytes_written) + " bytes, more than the " +
               std::to_string(max_bytes) + " allowed; the build stopped there"),
         bytes_written(bytes_written) {}
-  std::size_t bytes_written;  // by then, at most a few hundred kB past the limit
+  std::size_t bytes_written;  // by then: past the limit by at most a batch of rows per thread and a leaf
 };
 
 // Builds the tree in O(N log N) with sorted split events (Wald and Havran 2006),
