@@ -81,5 +81,7 @@ def test_a_failed_job_raises_its_own_error(request, tmp_path, on_cluster):
 def test_arguments_are_checked():
     with pytest.raises(ValueError, match="errors must be"):
         mbao.render_many([], errors="ignore")
+    with pytest.raises(ValueError, match="in_flight must be in"):
+        mbao.render_many([], client=object(), in_flight=0)
     with pytest.raises(TypeError, match="a job is a dict"):
         list(mbao.render_many([mbao.cornell_box()]))

@@ -3,6 +3,7 @@
 import collections
 import os
 
+from . import _checks
 from .render import render
 from .scene import as_scene
 
@@ -33,8 +34,9 @@ def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=No
     """
     if errors not in _ERRORS:
         raise ValueError(f"errors must be \"raise\" or \"return\", got {errors!r}")
-    if ordered not in (True, False):
-        raise TypeError(f"ordered must be True or False, got {ordered!r}")
+    ordered = _checks.boolean("ordered", ordered)
+    if in_flight is not None:
+        in_flight = _checks.integer("in_flight", in_flight, 1, 2**31 - 1, "[1, 2^31 - 1], or None")
     if client is None:
         return _rendered_here(jobs, errors)
     return _rendered_on(client, jobs, ordered, errors, in_flight)
