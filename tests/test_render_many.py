@@ -27,12 +27,9 @@ def assert_same_images(results, expected):
         np.testing.assert_array_equal(result.ao, ao)
 
 
-@pytest.fixture(scope="module")
-def client():
-    distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        yield client
+@pytest.fixture
+def client(dask_client):
+    return dask_client
 
 
 def test_a_batch_here_is_the_renders_one_by_one():
@@ -85,3 +82,19 @@ def test_arguments_are_checked():
         mbao.render_many([], client=object(), in_flight=0)
     with pytest.raises(TypeError, match="a job is a dict"):
         list(mbao.render_many([mbao.cornell_box()]))
+
+
+def _sleep_then_return(scene, seconds, value):
+    import time
+
+    time.sleep(seconds)
+    return value
+
+
+def test_results_come_in_submission_order_whatever_finishes_first(client):
+    """What keeps a cluster's sums in pass order: the first task is the slowest."""
+    from mbao._cluster import results_in_order
+
+    tasks = [(_sleep_then_return, None, 1.0 if k == 0 else 0.2, k) for k in range(3)]  # two workers
+    assert [f.result() for f in results_in_order(client, iter(tasks))] == [0, 1, 2]
+    assert [f.result() for f in results_in_order(client, iter(tasks), ordered=False)] == [1, 2, 0]

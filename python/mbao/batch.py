@@ -1,6 +1,5 @@
 """Batches of renders, here or on a Dask cluster."""
 
-import collections
 import os
 
 from . import _checks
@@ -66,39 +65,23 @@ def _rendered_here(jobs, errors):
 
 
 def _rendered_on(client, jobs, ordered, errors, in_flight):
-    from distributed import as_completed  # only batches on a cluster need Dask
+    from ._cluster import results_in_order, scene_for_workers  # only batches on a cluster need Dask
 
-    if in_flight is None:
-        in_flight = 2 * max(1, sum(client.nthreads().values()))
-    scenes = {}  # id of a Scene or Mesh: (the object, kept alive; its future on the cluster)
-    pending = collections.deque()
-    completed = None if ordered else as_completed()
-    for job in map(_checked_job, jobs):
-        scene = job["scene"]
-        if not isinstance(scene, (str, os.PathLike)):
-            if id(scene) not in scenes:
-                scenes[id(scene)] = (scene, client.scatter(as_scene(scene), hash=False))
-            scene = scenes[id(scene)][1]
-        else:
-            scene = os.path.abspath(os.fspath(scene))
-        arguments = {name: value for name, value in job.items() if name != "scene"}
-        future = client.submit(_render_on_worker, scene, arguments, pure=False)
-        pending.append(future)
-        if completed is not None:
-            completed.add(future)
-        if len(pending) >= in_flight:
-            yield _outcome(_next_done(pending, completed), errors)
-    while pending:
-        yield _outcome(_next_done(pending, completed), errors)
+    sent = {}  # id of a Scene or Mesh: (the object, kept alive; what the tasks take for it)
 
+    def tasks():
+        for job in map(_checked_job, jobs):
+            scene = job["scene"]
+            if id(scene) not in sent:
+                sent[id(scene)] = (scene, scene_for_workers(client, scene))
+            yield _render_job, sent[id(scene)][1], {name: value for name, value in job.items() if name != "scene"}
 
-def _next_done(pending, completed):
-    """The next future to yield: the oldest, or with `completed` the first to finish."""
-    if completed is None:
-        return pending.popleft()
-    future = next(completed)
-    pending.remove(future)
-    return future
+    futures = results_in_order(client, tasks(), ordered=ordered, in_flight=in_flight)
+    try:
+        for future in futures:
+            yield _outcome(future, errors)
+    finally:
+        futures.close()
 
 
 def _outcome(future, errors):
@@ -112,24 +95,5 @@ def _outcome(future, errors):
         future.release()
 
 
-# On a worker: the scenes it loaded from paths, by path and file state, the
-# most recently used last. A few, so that jobs that alternate between files do
-# not load them again, and not all: scenes can be large.
-_loaded_on_worker = collections.OrderedDict()
-_SCENES_KEPT_ON_WORKER = 4
-
-
-def _render_on_worker(scene, arguments):
-    if isinstance(scene, str):
-        try:
-            state = os.stat(scene)
-        except OSError:
-            return render(scene, **arguments)  # the loader's error, as here
-        key = (scene, state.st_mtime_ns, state.st_size)
-        if key not in _loaded_on_worker:
-            _loaded_on_worker[key] = as_scene(scene)
-            if len(_loaded_on_worker) > _SCENES_KEPT_ON_WORKER:
-                _loaded_on_worker.popitem(last=False)
-        _loaded_on_worker.move_to_end(key)
-        scene = _loaded_on_worker[key]
+def _render_job(scene, arguments):
     return render(scene, **arguments)

@@ -77,20 +77,29 @@ _CHANNELS = ("ao", "standard_error", "mask")
 
 
 def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, max_distance=None,
-              target_error=2e-3, samples=64, min_passes=8, max_passes=100_000, device=None, progress=True):
+              target_error=2e-3, samples=64, min_passes=8, max_passes=100_000, device=None, progress=True,
+              client=None):
     """Renders until the standard error of every covered pixel is at most target_error.
 
     Each pass is one path-estimator render with `samples` paths per pixel at
     the pixel centre (as the methods compared with it), with its own seed; a
     pixel's passes are independent, so its standard error is the spread of its
-    pass values over sqrt(passes). At least min_passes are run, so that the
-    spread itself is estimated; at most max_passes, after which the reference
-    comes back with a warning and settings["converged"] False.
+    pass values over sqrt(passes). Passes run in chunks of 8 (the last one
+    cut at max_passes); the target is checked after each chunk, once
+    min_passes are done, so that the spread itself is estimated. At most
+    max_passes are run, after which the reference comes back with a warning
+    and settings["converged"] False.
 
     scene, camera and max_distance: as for mbao.render (paths taken; no radius
         given: the camera's suggestion, else inf). settings["max_distance"] is
         the radius used.
     progress: a tqdm progress bar over the passes (False: none).
+    client: None renders here. A dask.distributed.Client renders the chunks
+        on its workers (the scene sent to each once; a path loaded by each),
+        which send back each chunk's mean and sum of squared deviations, not
+        its passes. Chunks are combined in chunk order, here as there, so the
+        reference is the one rendered here, bit for bit, on the same kind of
+        device; a worker lost midway costs its chunks' time, not the result.
     Returns a Reference.
     """
     scene, camera = as_scene(scene), as_camera(camera)
@@ -107,27 +116,62 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
                     rho=rho, max_distance=max_distance)
 
     started = time.perf_counter()
-    running = _RunningMean()
+    chunks = [(first, min(_PASSES_PER_CHUNK, max_passes - first)) for first in range(0, max_passes, _PASSES_PER_CHUNK)]
+    if client is None:
+        rendered = (_chunk(scene, settings, first, count, device) for first, count in chunks)
+    else:
+        rendered = _chunks_on(client, scene, settings, chunks)
+    total = _Moments()
     with progress_bar(progress, min_passes, "reference", "pass") as bar:
-        for passes in range(1, max_passes + 1):
-            result = render(scene, seed=_FIRST_SEED + passes - 1, device=device, **settings)
-            running.add(result.ao)
-            worst = float(running.standard_error()[result.mask].max(initial=0.0))
+        for chunk in rendered:
+            total.merge(chunk)
+            passes = total.count
+            worst = float(total.standard_error()[chunk.mask].max(initial=0.0))
             if bar is not None:
                 bar.total = max(passes, min_passes, _passes_needed(passes, worst, target_error, max_passes))
                 bar.set_postfix(standard_error=f"{worst:.2g}")
-                bar.update(1)
+                bar.update(chunk.count)
             if passes >= min_passes and worst <= target_error:
                 break
+        rendered.close()  # with a client: cancels the chunks not needed
     converged = worst <= target_error
     if not converged:
         warnings.warn(f"reference: after {max_passes} passes the largest standard error is {worst:.3g}, "
                       f"above target_error={target_error}", stacklevel=2)
-    settings.update(scene=scene.name, camera=_camera_dict(camera), max_distance=result.stats["max_distance"],
+    settings.update(scene=scene.name, camera=_camera_dict(camera), max_distance=chunk.max_distance,
                     passes=passes, target_error=target_error,
                     converged=converged, seconds=time.perf_counter() - started)
-    return Reference(running.mean.astype(np.float32), running.standard_error().astype(np.float32),
-                     result.mask.copy(), settings)
+    return Reference(total.mean.astype(np.float32), total.standard_error().astype(np.float32),
+                     chunk.mask.copy(), settings)
+
+
+# Passes per chunk: what a worker renders and sends back at once, and how
+# often the target is checked. Fixed, so that the sums are the same whoever
+# renders the chunks.
+_PASSES_PER_CHUNK = 8
+
+
+def _chunks_on(client, scene, settings, chunks):
+    """_chunk of each chunk on the cluster's workers, in chunk order."""
+    from ._cluster import results_in_order, scene_for_workers  # only references on a cluster need Dask
+
+    on_cluster = scene_for_workers(client, scene, broadcast=True)
+    futures = results_in_order(client, ((_chunk, on_cluster, settings, first, count) for first, count in chunks))
+    try:
+        for future in futures:
+            yield future.result()
+    finally:
+        futures.close()
+
+
+def _chunk(scene, settings, first, count, device=None):
+    """The moments of passes first .. first + count - 1, added in pass order."""
+    moments = _Moments()
+    for index in range(first, first + count):
+        result = render(scene, seed=_FIRST_SEED + index, device=device, **settings)
+        moments.add(result.ao)
+    moments.mask, moments.max_distance = result.mask, result.stats["max_distance"]
+    return moments
 
 
 def _camera_dict(camera):
@@ -140,23 +184,32 @@ def reference_camera(reference):
     return _core.Camera(c["eye"], c["target"], c["up"], c["vfov_deg"])
 
 
-class _RunningMean:
-    """Welford's running mean and variance per pixel, in float64."""
+class _Moments:
+    """Per pixel, the count, mean and sum of squared deviations of passes, in
+    float64: Welford's update for one pass, Chan et al.'s for a chunk of them."""
 
     def __init__(self):
-        self.count, self.mean, self._squares = 0, 0.0, 0.0
+        self.count, self.mean, self.squares = 0, 0.0, 0.0
+        self.mask, self.max_distance = None, None  # a chunk's: its last pass's
 
     def add(self, values):
         values = values.astype(np.float64)
         self.count += 1
         delta = values - self.mean
         self.mean = self.mean + delta / self.count
-        self._squares = self._squares + delta * (values - self.mean)
+        self.squares = self.squares + delta * (values - self.mean)
+
+    def merge(self, other):
+        count = self.count + other.count
+        delta = other.mean - self.mean
+        self.mean = self.mean + delta * (other.count / count)
+        self.squares = self.squares + other.squares + delta * delta * (self.count * other.count / count)
+        self.count = count
 
     def standard_error(self):
         if self.count < 2:
             return np.full_like(self.mean, np.inf)
-        return np.sqrt(self._squares / (self.count - 1) / self.count)
+        return np.sqrt(self.squares / (self.count - 1) / self.count)
 
 
 def _passes_needed(passes, worst, target_error, max_passes):
