@@ -1,6 +1,7 @@
 """`python -m mbao`: the command line, run as a user would, in a subprocess."""
 
 import json
+import csv
 import os
 import pathlib
 import re
@@ -273,6 +274,25 @@ def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_sce
     methods = [line.split(",")[0] for line in lines[1:]]
     assert methods == [m for m in ("hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit")
                        for _ in (1, 2)] + ["b2 branching + denoise"]  # from r = 2 only
+
+
+def test_compare_on_a_dask_scheduler_has_the_local_errors(tmp_path, gltf_scene, dask_client):
+    scene, camera, _ = gltf_scene
+    common = ["compare", scene, "--camera", camera, "--width", 16, "--height", 12, "--max-distance", 1.0,
+              "--target-error", 0.05, "--sample-counts", 1, 2, "--quiet"]
+    tables = {}
+    for name, extra in (("here", []), ("cluster", ["--scheduler", dask_client.scheduler.address])):
+        proc = run_mbao(*common, "-o", name, *extra, cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr
+        rows = list(csv.DictReader((tmp_path / f"{name}_error_vs_time.csv").open()))
+        tables[name] = [{k: v for k, v in row.items() if k != "frame_ms"} for row in rows]
+    assert tables["cluster"] == tables["here"]
+
+
+def test_compare_names_a_scheduler_it_cannot_reach(tmp_path):
+    proc = run_mbao("compare", "--width", 8, "--height", 8, "--quiet", "--scheduler", "tcp://127.0.0.1:9", cwd=tmp_path)
+    assert proc.returncode == 2
+    assert "--scheduler tcp://127.0.0.1:9: cannot reach a Dask scheduler there" in proc.stderr
 
 
 def test_compares_figures_name_the_scene_and_keep_their_panels_one_size():

@@ -178,3 +178,14 @@ def test_a_progress_widget_that_cannot_be_made_falls_back_to_text(monkeypatch):
     monkeypatch.setattr(tqdm.auto, "tqdm", widget_bar)
     with progress_bar(True, 3, "study", "render") as bar:
         assert type(bar) is tqdm.std.tqdm and bar.total == 3
+
+
+def test_a_study_on_a_cluster_has_the_local_errors(cornell, reference, study, dask_client):
+    """Each method's rows come from a worker: the same images, so the same
+    errors, in the methods' order; only the times are the workers'."""
+    methods = ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit"]
+    on_cluster = rows(mbao.convergence(cornell, methods, reference, sample_counts=(1, 8), progress=False, plot=False,
+                                       client=dask_client))
+    timeless = [{k: v for k, v in row.items() if k != "frame_ms"} for row in study]
+    assert [{k: v for k, v in row.items() if k != "frame_ms"} for row in on_cluster] == timeless
+    assert all(row["frame_ms"] > 0 for row in on_cluster)

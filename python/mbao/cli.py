@@ -7,6 +7,7 @@
 """
 
 import argparse
+import contextlib
 import pathlib
 import sys
 import warnings
@@ -73,6 +74,8 @@ def _parser():
                    help="r of each method's renders in the study (HBAO: its directions)")
     c.add_argument("--seed", type=int, default=0, help="seed of the renders")
     c.add_argument("--quiet", action="store_true", help="no progress bars")
+    c.add_argument("--scheduler", metavar="ADDRESS",
+                   help="a Dask scheduler (tcp://HOST:8786): the reference and the study render on its workers")
     c.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, else the first GPU, "
                    "else the first device")
 
@@ -228,8 +231,26 @@ def _compare(args):
 
     scene = load(args.scene) if args.scene else _core.cornell_box()
     camera = _core.Camera.load(args.camera) if args.camera else scene.default_camera(args.width, args.height)
-    compare.run(scene, camera, args, _device_argument(args.device))
+    with _client_of(args.scheduler) as client:
+        compare.run(scene, camera, args, _device_argument(args.device), client)
     return 0
+
+
+# Seconds a command waits for the Dask scheduler it is given.
+_SCHEDULER_TIMEOUT_S = 10
+
+
+def _client_of(scheduler):
+    """A Dask client of the scheduler at that address, or none (work done here)."""
+    if scheduler is None:
+        return contextlib.nullcontext()
+    from distributed import Client
+
+    try:
+        return Client(scheduler, timeout=_SCHEDULER_TIMEOUT_S)
+    except (OSError, TimeoutError, ValueError) as error:
+        raise OSError(f"--scheduler {scheduler}: cannot reach a Dask scheduler there within "
+                      f"{_SCHEDULER_TIMEOUT_S} s ({error})") from None
 
 
 def _bake(args):

@@ -67,7 +67,7 @@ def write_table(path, rows):
     return rows
 
 
-def run(scene, camera, args, device):
+def run(scene, camera, args, device, client=None):
     """Writes <output>_figure2.png, <output>_error_vs_time.png and .csv; returns the table's rows."""
     import matplotlib
 
@@ -80,9 +80,10 @@ def run(scene, camera, args, device):
     figure2(scene, camera, radius, samples=args.samples, rho=args.rho, seed=args.seed, device=device,
             **size).savefig(f"{args.output}_figure2.png", dpi=100)
     converged = reference(scene, camera=camera, bounces=2, rho=args.rho, max_distance=radius,
-                          target_error=args.target_error, device=device, progress=not args.quiet, **size)
+                          target_error=args.target_error, device=device, progress=not args.quiet, client=client,
+                          **size)
     table = convergence(scene, STUDY_METHODS, converged, sample_counts=args.sample_counts, seed=args.seed,
-                        device=device, progress=not args.quiet, plot=False)
+                        device=device, progress=not args.quiet, plot=False, client=client)
     figure = plot_convergence(table, title=f"{short_name(scene)}, {args.width}x{args.height}, 2-bounce reference")
     figure.savefig(f"{args.output}_error_vs_time.png", dpi=100)
     rows = write_table(f"{args.output}_error_vs_time.csv", table)

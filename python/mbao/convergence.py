@@ -49,7 +49,7 @@ def _least_cost(name):
 
 
 def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), time_budgets=None, frame_counts=None,
-                seed=0, device=None, progress=True, plot=True, ax=None):
+                seed=0, device=None, progress=True, plot=True, ax=None, client=None):
     """Renders each method at increasing cost and measures its error against `reference`.
 
     methods: names from mbao.convergence.METHODS ("hbao", "b1", "b2 branching",
@@ -79,6 +79,11 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     budget_ms (frame_ms is the time spent reaching it).
     A pandas DataFrame where pandas is installed, else a list of dicts. With plot,
     draws rmse against frame_ms on log-log axes (ax, or a new matplotlib figure).
+
+    client: a dask.distributed.Client renders each method's rows on a worker
+        (the scene sent to each once), the rows in the methods' order. Their
+        images are those rendered here; their times are the workers' devices',
+        and workers that share a machine's cores slow each other's frames.
     """
     if not isinstance(reference, Reference):
         raise TypeError(f"reference must be an mbao.Reference, got {type(reference).__name__}")
@@ -95,14 +100,37 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     renders = (len(methods) * len(stops) if stops is not None
                else sum(len(_affordable(name, sample_counts)) for name in methods))
     with progress_bar(_checks.boolean("progress", progress), renders, "convergence", "render") as bar:
-        for name in methods:
-            if stops is None:
-                rows += _costs(scene, name, reference, sample_counts, seed, device, bar)
-            else:
-                rows += _frames(scene, name, reference, stops, seed, device, bar)
+        if client is None:
+            for name in methods:
+                rows += _method_rows(scene, name, reference, sample_counts, stops, seed, device, bar)
+        else:
+            for method_rows in _rows_on(client, scene, methods, reference, sample_counts, stops, seed):
+                rows += method_rows
+                if bar is not None:
+                    bar.update(len(method_rows))
     if plot:
         plot_convergence(rows, ax=ax)
     return _table(rows)
+
+
+def _method_rows(scene, name, reference, sample_counts, stops, seed, device=None, bar=None):
+    if stops is None:
+        return _costs(scene, name, reference, sample_counts, seed, device, bar)
+    return _frames(scene, name, reference, stops, seed, device, bar)
+
+
+def _rows_on(client, scene, methods, reference, sample_counts, stops, seed):
+    """Each method's rows, rendered on the cluster's workers, in the methods' order."""
+    from ._cluster import results_in_order, scene_for_workers  # only studies on a cluster need Dask
+
+    on_cluster = scene_for_workers(client, scene, broadcast=True)
+    futures = results_in_order(client, ((_method_rows, on_cluster, name, reference, sample_counts, stops, seed)
+                                        for name in methods))
+    try:
+        for future in futures:
+            yield future.result()
+    finally:
+        futures.close()
 
 
 def _method_names(methods):
