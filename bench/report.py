@@ -14,6 +14,7 @@ import argparse
 import json
 import pathlib
 import re
+import statistics
 import sys
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
@@ -216,9 +217,20 @@ def denoise_summary(run):
     return table(header, rows)
 
 
+def cluster(run):
+    """bench/cluster.py: a reference here and on LocalClusters of this machine's cores, medians of the rounds."""
+    header = ["workers", "here s", "cluster s", "cluster / here", "bytes per pass, from workers",
+              "bytes per pass, to workers"]
+    rows = [[row["workers"], f"{statistics.median(row['here_seconds']):.1f}",
+             f"{statistics.median(row['seconds']):.1f}", f"{row['over_here']:.2f}",
+             f"{row['bytes_per_pass_from_workers']:,.0f}", f"{row['bytes_per_pass_to_workers']:,.0f}"]
+            for row in run["cluster"]]
+    return table(header, rows)
+
+
 TABLES = {"table1": table1, "embree": embree, "trees": trees, "kd-build": kd_build, "traversals": traversals,
           "organisation": organisation, "bake": bake, "denoise": denoise, "denoise-summary": denoise_summary,
-          "scale": scale}
+          "scale": scale, "cluster": cluster}
 ACROSS_FILES = {"summary": summary, "sources": sources}
 
 

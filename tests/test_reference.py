@@ -164,11 +164,16 @@ def test_a_worker_killed_midway_costs_time_not_the_result(cornell, dask_client):
     settings = dict(width=64, height=64, bounces=2, samples=16, min_passes=64, max_passes=64, progress=False)
     outcome = {}
     run = threading.Thread(target=lambda: outcome.update(ref=mbao.reference(cornell, client=dask_client, **settings)))
-    workers = dask_client.run(os.getpid)
+    workers = dask_client.run(os.getpid)  # address: process id
     run.start()
-    time.sleep(0.5)
+    deadline = time.monotonic() + 60
+    busy = []
+    while not busy:  # the workers that hold a chunk
+        assert time.monotonic() < deadline, "no chunk reached a worker"
+        time.sleep(0.01)
+        busy = [address for address, chunks in dask_client.processing().items() if chunks]
     alive_at_kill = run.is_alive()
-    os.kill(next(iter(workers.values())), signal.SIGKILL)
+    os.kill(workers[busy[0]], signal.SIGKILL)
     run.join(timeout=240)
     assert alive_at_kill and not run.is_alive(), "the kill must land while the reference runs"
     assert_same_reference(outcome["ref"], mbao.reference(cornell, **settings))
