@@ -48,6 +48,13 @@ def test_a_batch_on_a_cluster_is_the_renders_one_by_one(client):
     assert sum(not r.stats["tree_reused"] for r in results[:6]) <= 2
 
 
+def test_workers_keep_a_scene_by_its_content(client):
+    """Equal scenes, as separate objects and in separate batches, build one tree per worker."""
+    jobs = [dict(scene=mbao.Mesh(np.eye(3), [[0, 1, 2]]), seed=k, width=8, height=8) for k in range(6)]
+    results = list(mbao.render_many(jobs, client=client)) + list(mbao.render_many(jobs, client=client))
+    assert sum(not r.stats["tree_reused"] for r in results) <= 2
+
+
 def test_unordered_results_are_the_same_images(client):
     jobs = jobs_on(mbao.cornell_box(), 5)
     expected = {job["seed"]: ao for job, ao in zip(jobs, one_by_one(jobs))}
@@ -93,8 +100,9 @@ def _sleep_then_return(scene, seconds, value):
 
 def test_results_come_in_submission_order_whatever_finishes_first(client):
     """What keeps a cluster's sums in pass order: the first task is the slowest."""
-    from mbao._cluster import results_in_order
+    from mbao._cluster import results_in_order, scene_for_workers
 
-    tasks = [(_sleep_then_return, None, 1.0 if k == 0 else 0.2, k) for k in range(3)]  # two workers
+    scene = scene_for_workers(client, mbao.cornell_box())
+    tasks = [(_sleep_then_return, scene, 1.0 if k == 0 else 0.2, k) for k in range(3)]  # two workers
     assert [f.result() for f in results_in_order(client, iter(tasks))] == [0, 1, 2]
     assert [f.result() for f in results_in_order(client, iter(tasks), ordered=False)] == [1, 2, 0]

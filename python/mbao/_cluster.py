@@ -2,7 +2,9 @@
 workers once, and work submitted a window ahead of the results taken."""
 
 import collections
+import hashlib
 import os
+import pickle
 
 from distributed import as_completed, wait
 
@@ -11,11 +13,15 @@ from .scene import as_scene
 
 def scene_for_workers(client, scene, *, broadcast=False):
     """What a task takes for `scene`: a path, which workers load themselves, or
-    the future of the Scene (an mbao.Mesh too) sent to the cluster once.
-    broadcast: to every worker now, so that a worker lost midway leaves copies."""
+    the Scene (an mbao.Mesh too) sent to the cluster once, with a hash of its
+    content by which workers keep it, and its tree, from task to task and
+    call to call. broadcast: to every worker now, so that a worker lost midway
+    leaves copies."""
     if isinstance(scene, (str, os.PathLike)):
         return os.path.abspath(os.fspath(scene))
-    return client.scatter(as_scene(scene), broadcast=broadcast, hash=False)
+    scene = as_scene(scene)
+    content = hashlib.blake2b(pickle.dumps(scene, protocol=pickle.HIGHEST_PROTOCOL), digest_size=16).hexdigest()
+    return content, client.scatter(scene, broadcast=broadcast, hash=False)
 
 
 def default_in_flight(client):
@@ -56,26 +62,32 @@ def _next_finished(pending, completed):
 
 
 def on_worker(function, scene, *arguments):
-    """function(the scene, *arguments) on a worker, `scene` loaded there if it is a path."""
-    return function(_loaded(scene) if isinstance(scene, str) else scene, *arguments)
+    """function(the scene, *arguments) on a worker, with the worker's own copy
+    of the scene where it keeps one (see scene_for_workers)."""
+    if isinstance(scene, str):
+        try:
+            state = os.stat(scene)
+        except OSError:
+            return function(as_scene(scene), *arguments)  # the loader's error, as on the client
+        scene = _kept(("file", scene, state.st_mtime_ns, state.st_size), lambda: as_scene(scene))
+    else:
+        content, sent = scene
+        scene = _kept(("content", content), lambda: sent)
+    return function(scene, *arguments)
 
 
-# On a worker: the scenes it loaded from paths, by path and file state, the
-# most recently used last. A few, so that jobs that alternate between files do
-# not load them again, and not all: scenes can be large.
-_loaded_on_worker = collections.OrderedDict()
+# On a worker: the scenes it keeps, with their trees and device copies, by
+# path and file state or by content, the most recently used last. A few, so
+# that jobs that alternate between scenes do not load or build them again, and
+# not all: scenes can be large.
+_kept_on_worker = collections.OrderedDict()
 _SCENES_KEPT_ON_WORKER = 4
 
 
-def _loaded(path):
-    try:
-        state = os.stat(path)
-    except OSError:
-        return as_scene(path)  # the loader's error, as on the client
-    key = (path, state.st_mtime_ns, state.st_size)
-    if key not in _loaded_on_worker:
-        _loaded_on_worker[key] = as_scene(path)
-        if len(_loaded_on_worker) > _SCENES_KEPT_ON_WORKER:
-            _loaded_on_worker.popitem(last=False)
-    _loaded_on_worker.move_to_end(key)
-    return _loaded_on_worker[key]
+def _kept(key, make):
+    if key not in _kept_on_worker:
+        _kept_on_worker[key] = make()
+        if len(_kept_on_worker) > _SCENES_KEPT_ON_WORKER:
+            _kept_on_worker.popitem(last=False)
+    _kept_on_worker.move_to_end(key)
+    return _kept_on_worker[key]

@@ -19,8 +19,8 @@ def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=No
         (the one MBAO_DEVICE or the default names in the worker's process). A
         path is loaded by each worker that needs it, once; a Scene or Mesh is
         pickled (its arrays, masks and UV sets) and sent once to each worker
-        that needs it, where it keeps its kd-tree and device copy from job to
-        job.
+        that needs it, which keeps it, with its kd-tree and device copy, by
+        its content: from job to job and batch to batch.
     ordered: yield in job order; False: as the jobs finish (with a client).
     errors: "raise" re-raises a job's error (the same mbao.Error subclass, with
         its message) when its turn comes; "return" yields the exception in its
