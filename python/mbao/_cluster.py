@@ -1,5 +1,6 @@
-"""What batches and references share on a Dask cluster: scenes sent to the
-workers once, and work submitted a window ahead of the results taken."""
+"""What work on a Dask cluster shares (render_many, reference, convergence):
+scenes sent to the workers once and kept there, and tasks submitted a window
+ahead of the results taken."""
 
 import collections
 import hashlib

@@ -31,8 +31,7 @@ def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=No
 
     Each job renders what mbao.render(**job) renders, bit for bit.
     """
-    if errors not in _ERRORS:
-        raise ValueError(f"errors must be \"raise\" or \"return\", got {errors!r}")
+    _checks.choice("errors", errors, _ERRORS)
     ordered = _checks.boolean("ordered", ordered)
     if in_flight is not None:
         in_flight = _checks.integer("in_flight", in_flight, 1, 2**31 - 1, "[1, 2^31 - 1], or None")

@@ -75,7 +75,8 @@ def _parser():
     c.add_argument("--seed", type=int, default=0, help="seed of the renders")
     c.add_argument("--quiet", action="store_true", help="no progress bars")
     c.add_argument("--scheduler", metavar="ADDRESS",
-                   help="a Dask scheduler (tcp://HOST:8786): the reference and the study render on its workers")
+                   help="a Dask scheduler (tcp://HOST:8786): the reference and the study render on its workers' "
+                        "devices (--device then names Figure 2's)")
     c.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, else the first GPU, "
                    "else the first device")
 

@@ -95,7 +95,8 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
         the radius used.
     progress: a tqdm progress bar over the passes (False: none).
     client: None renders here. A dask.distributed.Client renders the chunks
-        on its workers (the scene sent to each once; a path loaded by each),
+        on its workers' devices (`device` is then unused; the scene is sent
+        to each worker once),
         which send back each chunk's mean and sum of squared deviations, not
         its passes. Chunks are combined in chunk order, here as there, so the
         reference is the one rendered here, bit for bit, on the same kind of
