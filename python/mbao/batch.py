@@ -3,13 +3,14 @@
 import os
 
 from . import _checks
+from ._progress import progress_bar
 from .render import render
 from .scene import as_scene
 
 _ERRORS = ("raise", "return")
 
 
-def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=None):
+def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=None, progress=False):
     """Renders a batch, yielding each job's mbao.Result.
 
     jobs: an iterable (a generator too) of dicts of mbao.render's arguments;
@@ -28,6 +29,8 @@ def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=No
     in_flight: with a client, the most jobs submitted and not yet yielded
         (default: twice the cluster's threads), so that the batch's results
         never all sit in memory.
+    progress: True for a tqdm bar over the jobs, here on the client (its total
+        where jobs has a length).
 
     Each job renders what mbao.render(**job) renders, bit for bit.
     """
@@ -35,9 +38,21 @@ def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=No
     ordered = _checks.boolean("ordered", ordered)
     if in_flight is not None:
         in_flight = _checks.integer("in_flight", in_flight, 1, 2**31 - 1, "[1, 2^31 - 1], or None")
-    if client is None:
-        return _rendered_here(jobs, errors)
-    return _rendered_on(client, jobs, ordered, errors, in_flight)
+    progress = _checks.boolean("progress", progress)
+    rendered = _rendered_here(jobs, errors) if client is None else _rendered_on(client, jobs, ordered, errors, in_flight)
+    return _counted(rendered, progress, len(jobs) if hasattr(jobs, "__len__") else None)
+
+
+def _counted(rendered, progress, total):
+    """The results as they come, with a bar over them where asked."""
+    with progress_bar(progress, total, "render_many", "job") as bar:
+        try:
+            for outcome in rendered:
+                yield outcome
+                if bar is not None:
+                    bar.update(1)
+        finally:
+            rendered.close()
 
 
 def _checked_job(job):
