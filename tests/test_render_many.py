@@ -105,7 +105,8 @@ def test_results_come_in_submission_order_whatever_finishes_first(client):
     scene = scene_for_workers(client, mbao.cornell_box())
     tasks = [(_sleep_then_return, scene, 1.0 if k == 0 else 0.2, k) for k in range(3)]  # two workers
     assert [f.result() for f in results_in_order(client, iter(tasks))] == [0, 1, 2]
-    assert [f.result() for f in results_in_order(client, iter(tasks), ordered=False)] == [1, 2, 0]
+    # Unordered, the other worker's first short task comes before the long one.
+    assert [f.result() for f in results_in_order(client, iter(tasks), ordered=False)][0] != 0
 
 
 def test_a_progress_bar_counts_the_jobs(capsys):
