@@ -96,11 +96,11 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
     progress: a tqdm progress bar over the passes (False: none).
     client: None renders here. A dask.distributed.Client renders the chunks
         on its workers' devices (`device` is then unused; the scene is sent
-        to each worker once),
-        which send back each chunk's mean and sum of squared deviations, not
-        its passes. Chunks are combined in chunk order, here as there, so the
-        reference is the one rendered here, bit for bit, on the same kind of
-        device; a worker lost midway costs its chunks' time, not the result.
+        to each worker once), which send back each chunk's mean and sum of
+        squared deviations, not its passes. Chunks are combined in chunk
+        order, here as there (docs/spec.md 5), so the reference is the one
+        rendered here, bit for bit, on the same kind of device; a worker lost
+        midway costs its chunks' time, not the result.
     Returns a Reference.
     """
     scene, camera = as_scene(scene), as_camera(camera)
