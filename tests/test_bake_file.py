@@ -326,3 +326,15 @@ def test_a_texture_bake_of_another_format_needs_generated_uvs(tmp_path):
     assert validation_errors(tmp_path / "t.glb") == []
     material = GltfDocument(tmp_path / "t.glb").doc["materials"][0]
     assert material["occlusionTexture"]["texCoord"] == 0
+
+
+def test_the_command_line_bakes_on_a_dask_scheduler_the_same_file(tmp_path, dask_client):
+    source = floor_and_wall(tmp_path)
+    outputs = {}
+    for name, extra in (("here", []), ("cluster", ["--scheduler", dask_client.scheduler.address])):
+        outputs[name] = tmp_path / f"{name}.glb"
+        run = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(outputs[name]),
+                              "--target", "texture", "--resolution", "16", "--samples", "4", "--quiet", *extra],
+                             capture_output=True, text=True)
+        assert run.returncode == 0, run.stderr
+    assert outputs["cluster"].read_bytes() == outputs["here"].read_bytes()

@@ -29,36 +29,42 @@ std::size_t pixels_per_target(std::size_t targets, std::size_t samples) {
 
 }  // namespace
 
-BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Scene>& scene, RenderSettings settings,
-                             std::int64_t samples, const EstimatePoints& points, std::size_t layout_width,
-                             const Renderer::TileCallback& between_tiles) {
+BakeLayout bake_layout(const EstimatePoints& points, std::int64_t samples, std::size_t layout_width) {
   if (samples < kMinBakeSamples || samples > kMaxBakeSamples)
     throw std::invalid_argument("samples must be in [" + std::to_string(kMinBakeSamples) + ", " +
                                 std::to_string(kMaxBakeSamples) + "] (estimates per vertex or texel; a standard "
                                 "error needs two), got " + std::to_string(samples));
-  BakeEstimates bake;
-  bake.values.assign(points.targets(), 1.0f);
-  bake.standard_error.assign(points.targets(), 0.0f);
+  BakeLayout layout;
   // Only the targets that hold surface are traced, in their order: no work item
   // is spent on a texel no UV reaches, and neighbours stay neighbours.
-  std::vector<std::uint32_t> traced;
   for (std::size_t t = 0; t < points.targets(); ++t)
-    if (points.has_surface(t)) traced.push_back(std::uint32_t(t));
-  const std::size_t targets = traced.size();
-  if (targets == 0) return bake;
+    if (points.has_surface(t)) layout.traced.push_back(std::uint32_t(t));
+  const std::size_t targets = layout.traced.size();
+  if (targets == 0) return layout;
   // Target i's estimates fill pixels i * chunks .. i * chunks + chunks - 1,
   // `per_pixel` each, in the order of their numbers.
-  const std::size_t chunks = pixels_per_target(targets, std::size_t(samples));
-  const std::size_t per_pixel = std::size_t(samples) / chunks;
-  const std::size_t pixels = targets * chunks;
+  layout.chunks = pixels_per_target(targets, std::size_t(samples));
+  layout.per_pixel = std::size_t(samples) / layout.chunks;
+  layout.pixels = targets * layout.chunks;
   // Wider than asked where the image would be taller than a render's may be.
   const auto side = std::size_t(std::get<std::int64_t>(setting_spec("height").hi));
-  const std::size_t width =
-      std::min({pixels, side, std::max({layout_width * chunks, (pixels + side - 1) / side, std::size_t(1)})});
-  const std::size_t height = (pixels + width - 1) / width;
-  if (height > side)
+  layout.width = std::min({layout.pixels, side,
+                           std::max({layout_width * layout.chunks, (layout.pixels + side - 1) / side, std::size_t(1)})});
+  layout.height = (layout.pixels + layout.width - 1) / layout.width;
+  if (layout.height > side)
     throw std::invalid_argument("a bake of " + std::to_string(targets) + " vertices or texels is more than the " +
                                 std::to_string(side * side) + " that one bake can hold; bake the scene in parts");
+  return layout;
+}
+
+TracedPositions trace_bake(Renderer& renderer, const std::shared_ptr<const Scene>& scene, RenderSettings settings,
+                           const EstimatePoints& points, const BakeLayout& layout, std::size_t first_position,
+                           std::size_t end_position, const Renderer::TileCallback& between_tiles) {
+  TracedPositions traced;
+  end_position = std::min(end_position, layout.positions());
+  if (first_position >= end_position) return traced;
+  const std::size_t width = layout.width, height = layout.height, chunks = layout.chunks;
+  const std::size_t per_pixel = layout.per_pixel, pixels = layout.pixels;
   settings.width = std::int64_t(width);
   settings.height = std::int64_t(height);
   settings.spp = std::int64_t(per_pixel);
@@ -70,7 +76,7 @@ BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Sce
     for (std::size_t i = begin; i < end; ++i) {
       const std::uint32_t pixel = pixel_at_position(std::uint32_t(first + i), std::uint32_t(width),
                                                     std::uint32_t(height));
-      const std::uint32_t target = pixel < pixels ? traced[pixel / chunks] : 0u;
+      const std::uint32_t target = pixel < pixels ? layout.traced[pixel / chunks] : 0u;
       const std::size_t first_estimate = (pixel % chunks) * per_pixel;
       for (std::size_t k = 0; k < per_pixel; ++k) {
         const std::optional<SurfacePoint> p =
@@ -93,21 +99,66 @@ BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Sce
     draw(first, 0, std::min(count, slice), tile);
     for (std::future<void>& part : slices) part.get();
   };
-  RenderResult result = renderer.bake(scene, settings, points_of_tile, between_tiles);
-  const double n = double(samples);
-  for (std::size_t i = 0; i < targets; ++i) {
-    double mean = 0.0, second_moment = 0.0;
-    for (std::size_t pixel = i * chunks; pixel < (i + 1) * chunks; ++pixel) {
-      mean += result.ao[pixel];
-      second_moment += result.ao_second_moment[pixel];
-    }
-    mean /= double(chunks);
-    second_moment /= double(chunks);
-    const double variance = std::max(0.0, second_moment - mean * mean) * n / (n - 1.0);
-    bake.values[traced[i]] = float(mean);
-    bake.standard_error[traced[i]] = float(std::sqrt(variance / n));
+  RenderResult result = renderer.bake(scene, settings, points_of_tile, between_tiles, first_position, end_position);
+  traced.mean.resize(end_position - first_position);
+  traced.second_moment.resize(end_position - first_position);
+  for (std::size_t p = first_position; p < end_position; ++p) {
+    const std::uint32_t pixel = pixel_at_position(std::uint32_t(p), std::uint32_t(width), std::uint32_t(height));
+    traced.mean[p - first_position] = result.ao[pixel];
+    traced.second_moment[p - first_position] = result.ao_second_moment[pixel];
   }
-  bake.stats = std::move(result.stats);
+  traced.stats = std::move(result.stats);
+  return traced;
+}
+
+BakeEstimates finish_bake(const EstimatePoints& points, const BakeLayout& layout, std::int64_t samples,
+                          const std::vector<float>& mean, const std::vector<float>& second_moment) {
+  if (mean.size() != layout.positions() || second_moment.size() != layout.positions())
+    throw std::invalid_argument("a bake's traced positions: " + std::to_string(mean.size()) + " means and " +
+                                std::to_string(second_moment.size()) + " second moments, for " +
+                                std::to_string(layout.positions()) + " positions");
+  BakeEstimates bake;
+  bake.values.assign(points.targets(), 1.0f);
+  bake.standard_error.assign(points.targets(), 0.0f);
+  std::vector<float> pixel_mean(layout.pixels), pixel_second_moment(layout.pixels);
+  for (std::size_t p = 0; p < layout.positions(); ++p) {
+    const std::uint32_t pixel =
+        pixel_at_position(std::uint32_t(p), std::uint32_t(layout.width), std::uint32_t(layout.height));
+    if (pixel >= layout.pixels) continue;
+    pixel_mean[pixel] = mean[p];
+    pixel_second_moment[pixel] = second_moment[p];
+  }
+  const double n = double(samples);
+  const std::size_t chunks = layout.chunks;
+  for (std::size_t i = 0; i < layout.traced.size(); ++i) {
+    double target_mean = 0.0, target_second_moment = 0.0;
+    for (std::size_t pixel = i * chunks; pixel < (i + 1) * chunks; ++pixel) {
+      target_mean += pixel_mean[pixel];
+      target_second_moment += pixel_second_moment[pixel];
+    }
+    target_mean /= double(chunks);
+    target_second_moment /= double(chunks);
+    const double variance = std::max(0.0, target_second_moment - target_mean * target_mean) * n / (n - 1.0);
+    bake.values[layout.traced[i]] = float(target_mean);
+    bake.standard_error[layout.traced[i]] = float(std::sqrt(variance / n));
+  }
+  return bake;
+}
+
+BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Scene>& scene, RenderSettings settings,
+                             std::int64_t samples, const EstimatePoints& points, std::size_t layout_width,
+                             const Renderer::TileCallback& between_tiles) {
+  const BakeLayout layout = bake_layout(points, samples, layout_width);
+  TracedPositions traced =
+      trace_bake(renderer, scene, settings, points, layout, 0, layout.positions(), between_tiles);
+  if (layout.traced.empty()) {
+    BakeEstimates bake;
+    bake.values.assign(points.targets(), 1.0f);
+    bake.standard_error.assign(points.targets(), 0.0f);
+    return bake;
+  }
+  BakeEstimates bake = finish_bake(points, layout, samples, traced.mean, traced.second_moment);
+  bake.stats = std::move(traced.stats);
   return bake;
 }
 

@@ -80,6 +80,86 @@ py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const
                         adopt(std::move(filled), {h, w}), stats_dict(bake.stats));
 }
 
+// A bake split by the positions of its one image (Renderer::bake): each part
+// traced where it is given (a worker), the whole finished where the parts meet.
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+std::vector<float> floats_of(const FloatArray& values) {
+  return std::vector<float>(values.data(), values.data() + values.size());
+}
+
+py::tuple traced_tuple(TracedPositions&& traced) {
+  const auto n = py::ssize_t(traced.mean.size());
+  return py::make_tuple(adopt(std::move(traced.mean), {n}), adopt(std::move(traced.second_moment), {n}),
+                        stats_dict(traced.stats));
+}
+
+std::size_t vertex_bake_positions(const std::shared_ptr<Scene>& scene, std::int64_t samples) {
+  py::gil_scoped_release release;
+  return bake_layout(VertexPoints(scene->mesh()), samples, kVertexLayoutWidth).positions();
+}
+
+py::tuple trace_vertex_bake(const std::shared_ptr<Scene>& scene, const DeviceInfo& device, const py::dict& values,
+                            std::int64_t samples, std::size_t first, std::size_t end, const py::object& progress) {
+  const RenderSettings settings = settings_from(values);
+  const Renderer::TileCallback between_tiles = tile_callback(progress);
+  TracedPositions traced;
+  {
+    py::gil_scoped_release release;
+    const VertexPoints points(scene->mesh());
+    const BakeLayout layout = bake_layout(points, samples, kVertexLayoutWidth);
+    traced = trace_bake(Renderer::for_device(device), scene, settings, points, layout, first, end, between_tiles);
+  }
+  return traced_tuple(std::move(traced));
+}
+
+py::tuple finish_vertex_bake(const std::shared_ptr<Scene>& scene, std::int64_t samples, const FloatArray& mean,
+                             const FloatArray& second_moment) {
+  const std::vector<float> means = floats_of(mean), second_moments = floats_of(second_moment);
+  BakeEstimates bake;
+  {
+    py::gil_scoped_release release;
+    const VertexPoints points(scene->mesh());
+    bake = finish_bake(points, bake_layout(points, samples, kVertexLayoutWidth), samples, means, second_moments);
+  }
+  const auto n = py::ssize_t(bake.values.size());
+  return py::make_tuple(adopt(std::move(bake.values), {n}), adopt(std::move(bake.standard_error), {n}));
+}
+
+py::tuple trace_texel_bake(const SceneTexels& texels, const DeviceInfo& device, const py::dict& values,
+                           std::int64_t samples, std::size_t first, std::size_t end, const py::object& progress) {
+  const RenderSettings settings = settings_from(values);
+  const Renderer::TileCallback between_tiles = tile_callback(progress);
+  TracedPositions traced;
+  {
+    py::gil_scoped_release release;
+    const TexelLayout& layout = texels.layout;
+    traced = trace_bake(Renderer::for_device(device), texels.scene, settings, layout,
+                        bake_layout(layout, samples, std::size_t(layout.width())), first, end, between_tiles);
+  }
+  return traced_tuple(std::move(traced));
+}
+
+py::tuple finish_texel_bake(const SceneTexels& texels, std::int64_t samples, int padding, const FloatArray& mean,
+                            const FloatArray& second_moment) {
+  if (padding < 0 || padding > kMaxPadding)
+    throw std::invalid_argument("padding must be in [0, " + std::to_string(kMaxPadding) + "], got " +
+                                std::to_string(padding));
+  const std::vector<float> means = floats_of(mean), second_moments = floats_of(second_moment);
+  const TexelLayout& layout = texels.layout;
+  BakeEstimates bake;
+  std::vector<std::uint8_t> filled;
+  {
+    py::gil_scoped_release release;
+    bake = finish_bake(layout, bake_layout(layout, samples, std::size_t(layout.width())), samples, means,
+                       second_moments);
+    filled = dilate(layout.covered(), layout.width(), layout.height(), padding, {&bake.values, &bake.standard_error});
+  }
+  const py::ssize_t h = layout.height(), w = layout.width();
+  return py::make_tuple(adopt(std::move(bake.values), {h, w}), adopt(std::move(bake.standard_error), {h, w}),
+                        adopt(std::move(filled), {h, w}));
+}
+
 py::tuple lightmap_uvs(const std::shared_ptr<Scene>& scene, const std::vector<std::uint32_t>& triangles, int width,
                        int height, int padding) {
   for (std::uint32_t t : triangles)
@@ -120,11 +200,31 @@ void bind_bake(py::module_& m) {
       .def_property_readonly("claimed_twice", [](const SceneTexels& t) { return t.layout.claimed_twice(); },
                              "Covered texels one of whose 4 x 4 sample points two triangles claim.")
       .def_property_readonly("unmapped_triangles", [](const SceneTexels& t) { return t.layout.unmapped_triangles(); },
-                             "Triangles of zero UV area, which fall in no texel.");
+                             "Triangles of zero UV area, which fall in no texel.")
+      .def(
+          "bake_positions",
+          [](const SceneTexels& t, std::int64_t samples) {
+            return bake_layout(t.layout, samples, std::size_t(t.layout.width())).positions();
+          },
+          py::arg("samples"), "The positions of a bake's one image, which trace_texel_bake splits.");
   m.def("bake_texels", &bake_texels, py::arg("texels"), py::arg("device"), py::arg("settings"), py::arg("samples"),
         py::arg("padding"), py::arg("progress"),
         "Bakes L_b per texel of a TexelLayout (SPEC 6.3) and dilates by `padding`; returns (image, standard_error, "
         "filled, stats). Use mbao.bake.");
+  m.def("vertex_bake_positions", &vertex_bake_positions, py::arg("scene"), py::arg("samples"),
+        "The positions of a vertex bake's one image, which trace_vertex_bake splits.");
+  m.def("trace_vertex_bake", &trace_vertex_bake, py::arg("scene"), py::arg("device"), py::arg("settings"),
+        py::arg("samples"), py::arg("first"), py::arg("end"), py::arg("progress"),
+        "The positions [first, end) of a vertex bake traced: (mean, second moment, stats), by position. Any "
+        "split of the positions gives the whole bake's, bit for bit. Use mbao.bake.");
+  m.def("finish_vertex_bake", &finish_vertex_bake, py::arg("scene"), py::arg("samples"), py::arg("mean"),
+        py::arg("second_moment"), "(values, standard_error) per vertex from every position's moments.");
+  m.def("trace_texel_bake", &trace_texel_bake, py::arg("texels"), py::arg("device"), py::arg("settings"),
+        py::arg("samples"), py::arg("first"), py::arg("end"), py::arg("progress"),
+        "trace_vertex_bake for a TexelLayout.");
+  m.def("finish_texel_bake", &finish_texel_bake, py::arg("texels"), py::arg("samples"), py::arg("padding"),
+        py::arg("mean"), py::arg("second_moment"),
+        "(image, standard_error, filled) of a TexelLayout from every position's moments, dilated by `padding`.");
   m.attr("BAKE_SAMPLES_RANGE") = py::make_tuple(kMinBakeSamples, kMaxBakeSamples);
   m.attr("BAKE_RESOLUTION_RANGE") = py::make_tuple(1, kMaxTextureSide);
   m.attr("BAKE_PADDING_RANGE") = py::make_tuple(0, kMaxPadding);

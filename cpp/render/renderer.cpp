@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/timer.h"
+#include "mbao/pixel_order.h"
 #include "opencl/launch.h"
 #include "render/denoiser.h"
 #include "render/frame.h"
@@ -97,14 +98,16 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
 }
 
 RenderResult Renderer::bake(const std::shared_ptr<const Scene>& scene, const RenderSettings& settings,
-                            const TilePoints& points_of_tile, const TileCallback& between_tiles) {
+                            const TilePoints& points_of_tile, const TileCallback& between_tiles,
+                            std::size_t first_position, std::size_t end_position) {
   if (settings.method != Method::RayTraced) throw std::invalid_argument("a bake traces rays: method must be \"raytraced\"");
-  return run(scene, Camera{}, settings, between_tiles, &points_of_tile);
+  const BakeTiles tiles{points_of_tile, first_position, end_position};
+  return run(scene, Camera{}, settings, between_tiles, &tiles);
 }
 
 RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                            const RenderSettings& requested, const TileCallback& between_tiles,
-                           const TilePoints* points_of_tile, TemporalHistory* history) {
+                           const BakeTiles* bake_tiles, TemporalHistory* history) {
   RenderResult result;
   RenderStats& stats = result.stats;
   const AoRadius radius = radius_for(requested, camera, *scene);
@@ -148,27 +151,27 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
       RenderSettings planned = settings;
       planned.traversal = plan.traversal;
       planned.organisation = plan.organisation;
-      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, points_of_tile, history,
+      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, bake_tiles, history,
                  result);
     }
   } catch (const cl::Error& e) {
-    throw_device_error((points_of_tile ? "baking " : "rendering ") + scene->name() + " on " + device().description(),
+    throw_device_error((bake_tiles ? "baking " : "rendering ") + scene->name() + " on " + device().description(),
                        e);
   }
-  if (!points_of_tile) stats.rays_primary = std::uint64_t(pixels) * std::uint64_t(settings.spp);
+  if (!bake_tiles) stats.rays_primary = std::uint64_t(pixels) * std::uint64_t(settings.spp);
   return result;
 }
 
 void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                           const RenderSettings& settings, const TileCallback& between_tiles,
-                          const TilePoints* points_of_tile, TemporalHistory* history, RenderResult& result) {
+                          const BakeTiles* bake_tiles, TemporalHistory* history, RenderResult& result) {
   RenderStats& stats = result.stats;
   stats.organisation = to_string(settings.organisation);
   const std::size_t pixels = result.ao.size();
   const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
   std::vector<cl_uint> secondary_rays(pixels);
   cl::CommandQueue& queue = compute_.queue();
-  const PrimarySurfaces primaries = points_of_tile ? PrimarySurfaces::GivenPoints : PrimarySurfaces::CameraHits;
+  const PrimarySurfaces primaries = bake_tiles ? PrimarySurfaces::GivenPoints : PrimarySurfaces::CameraHits;
   const std::size_t filter_bytes = (settings.denoise ? Denoiser::device_bytes(pixels) : 0) +
                                    (history ? TemporalHistory::device_bytes(pixels) : 0);
   check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels, primaries) + filter_bytes, settings);
@@ -183,14 +186,16 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
     stats.kernel_build_ms += clock.elapsed_ms();
   }
   Stopwatch clock;
-  const std::size_t tiles = (pixels + tile_pixels - 1) / tile_pixels;
+  const std::size_t begin = bake_tiles ? std::min(bake_tiles->first_position, pixels) : 0;
+  const std::size_t end = bake_tiles ? std::clamp(bake_tiles->end_position, begin, pixels) : pixels;
+  const std::size_t tiles = (end - begin + tile_pixels - 1) / tile_pixels;
   std::vector<cl_uint4> points;
-  for (std::size_t first = 0; first < pixels; first += tile_pixels) {
-    const std::size_t count = std::min(tile_pixels, pixels - first);
-    if (points_of_tile) {
+  for (std::size_t first = begin; first < end; first += tile_pixels) {
+    const std::size_t count = std::min(tile_pixels, end - first);
+    if (bake_tiles) {
       // Where nothing waits between tiles, drawn while the device works on the tile before.
       points.resize(count * std::size_t(settings.spp));
-      (*points_of_tile)(first, count, points);
+      bake_tiles->points(first, count, points);
       frame.enqueue_tile(queue, first, count, points);
     } else {
       frame.enqueue_tile(queue, first, count);
@@ -202,13 +207,19 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
     }
   }
   run_screen_space_passes(frame, camera, settings, history, result);
-  if (points_of_tile) result.ao_second_moment.resize(pixels);
+  if (bake_tiles) result.ao_second_moment.resize(pixels);
   if (settings.variance) result.variance.resize(pixels);
   frame.enqueue_read_back(queue, result, secondary_rays.data());
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
   if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
-  for (cl_uint r : secondary_rays) stats.rays_secondary += r;
+  if (begin == 0 && end == pixels) {
+    for (cl_uint r : secondary_rays) stats.rays_secondary += r;
+  } else {  // the other pixels hold what the device's buffer held
+    const auto width = std::uint32_t(settings.width), height = std::uint32_t(settings.height);
+    for (std::size_t p = begin; p < end; ++p)
+      stats.rays_secondary += secondary_rays[pixel_at_position(std::uint32_t(p), width, height)];
+  }
 }
 
 void Renderer::run_screen_space_passes(Frame& frame, const Camera& camera, const RenderSettings& settings,

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -73,8 +74,13 @@ class Renderer {
   // settings.max_distance, else inf: a bake has no camera to suggest one.
   using TilePoints =
       std::function<void(std::size_t first_position, std::size_t count, std::vector<cl_uint4>& points)>;
+  // Only the positions [first_position, end_position) of the image (mbao/pixel_order.h) are traced
+  // where a range is given: each pixel's estimates are keyed by the pixel, so the pixels of any
+  // split of the positions are those of the whole image, bit for bit.
   RenderResult bake(const std::shared_ptr<const Scene>& scene, const RenderSettings& settings,
-                    const TilePoints& points_of_tile, const TileCallback& between_tiles = {});
+                    const TilePoints& points_of_tile, const TileCallback& between_tiles = {},
+                    std::size_t first_position = 0,
+                    std::size_t end_position = std::numeric_limits<std::size_t>::max());
 
   // Traces rays given as origins and direction + t_max in .w; closest hits, or
   // with any_hit the first hit found.
@@ -83,15 +89,20 @@ class Renderer {
                     bool count_traversal = false);
 
  private:
-  // render and bake: points_of_tile, where given, stands for the camera rays.
+  // A bake's points, for the positions it traces.
+  struct BakeTiles {
+    const TilePoints& points;
+    std::size_t first_position, end_position;
+  };
+  // render and bake: a bake's points, where given, stand for the camera rays.
   RenderResult run(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& requested,
-                   const TileCallback& between_tiles, const TilePoints* points_of_tile,
+                   const TileCallback& between_tiles, const BakeTiles* bake_tiles,
                    TemporalHistory* history = nullptr);
   // The two kinds of frame, given the scene on the device and the camera in its frame; run_traced's
   // settings carry the plan's traversal and organisation.
   void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                   const RenderSettings& settings, const TileCallback& between_tiles,
-                  const TilePoints* points_of_tile, TemporalHistory* history, RenderResult& result);
+                  const BakeTiles* bake_tiles, TemporalHistory* history, RenderResult& result);
   // The temporal accumulation and the spatial filter, in that order, where the settings ask for them.
   void run_screen_space_passes(Frame& frame, const Camera& camera, const RenderSettings& settings,
                                TemporalHistory* history, RenderResult& result);

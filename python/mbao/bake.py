@@ -76,7 +76,7 @@ class Bake:
 
 def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", directions=4, rho=1.0,
          max_distance=math.inf, normals="shading", texcoord=None, resolution=1024, padding=4, wrap=None, seed=0,
-         max_rays=_core.DEFAULT_MAX_RAYS, engine=None, device=None, progress=True):
+         max_rays=_core.DEFAULT_MAX_RAYS, engine=None, device=None, progress=True, client=None):
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
 
@@ -109,7 +109,14 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     engine: an mbao.Engine, as for render.
     device: as for render.
     progress: True for a tqdm bar over the bake's tiles, False or None for
-        none, or a callable progress(tiles_done, tiles_total).
+        none, or a callable progress(tiles_done, tiles_total); with a client,
+        over its parts.
+    client: a dask.distributed.Client traces the bake in parts on its
+        workers' devices (`device` is then unused): a bake's estimates are one
+        image, split by its pixels' positions, each pixel's rays keyed by the
+        pixel, so the bake is the one made here, bit for bit (SPEC 6.6). The
+        workers send back each position's two moments; the values, standard
+        errors and dilation are made here.
 
     A surface is baked on its front side, the side its triangles' corners run
     counter-clockwise seen from (SPEC 6.1). A UV set in which two surfaces
@@ -134,7 +141,12 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     settings = dict(given, target=target, samples=samples, directions=directions)
     if target == "vertices":
         with _tile_progress(progress) as on_tile:
-            ao, standard_error, stats = _core.bake_vertices(scene, resolve(device), values, samples, on_tile)
+            if client is None:
+                ao, standard_error, stats = _core.bake_vertices(scene, resolve(device), values, samples, on_tile)
+            else:
+                positions = _core.vertex_bake_positions(scene, samples)
+                mean, second_moment, stats = _traced_on(client, scene, None, positions, values, samples, on_tile)
+                ao, standard_error = _core.finish_vertex_bake(scene, samples, mean, second_moment)
         return Bake(target, ao, standard_error, settings, stats)
 
     width, height = _resolution(resolution)
@@ -145,12 +157,13 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
         texcoord = _checks.integer("texcoord", texcoord, 0, 7, "[0, 7] (TEXCOORD_n), \"generate\" or None")
     materials = (_generated_materials(scene, width, height, padding) if texcoord == "generate"
                  else _texture_materials(scene, texcoord, wrap))
-    textures, stats = _bake_textures(scene, materials, (width, height), padding, values, samples, device, progress)
+    textures, stats = _bake_textures(scene, materials, (width, height), padding, values, samples, device, progress,
+                                     client)
     settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
     return Bake(target, None, None, settings, stats, textures)
 
 
-def _bake_textures(scene, materials, resolution, padding, values, samples, device, progress):
+def _bake_textures(scene, materials, resolution, padding, values, samples, device, progress, client):
     """{material: BakedTexture} and the renders' statistics, frame_ms and rays_secondary summed."""
     width, height = resolution
     # Every layout first: a UV set that cannot be baked is refused before any ray is traced.
@@ -163,8 +176,15 @@ def _bake_textures(scene, materials, resolution, padding, values, samples, devic
     textures, totals = {}, dict(frame_ms=0.0, rays_secondary=0)
     for index, (material, layout) in layouts.items():
         with _tile_progress(progress, f"bake {material.name}") as on_tile:
-            image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples,
-                                                                     padding, on_tile)
+            if client is None:
+                image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples,
+                                                                         padding, on_tile)
+            else:
+                recipe = (material.texcoords, material.triangles, width, height, *material.wrap)
+                mean, second_moment, stats = _traced_on(client, scene, recipe, layout.bake_positions(samples),
+                                                        values, samples, on_tile)
+                image, standard_error, filled = _core.finish_texel_bake(layout, samples, padding, mean,
+                                                                        second_moment)
         texture_stats = dict(material.stats, covered=layout.covered_count, claimed_twice=layout.claimed_twice,
                              dilated=int(filled.sum()), unmapped_triangles=layout.unmapped_triangles,
                              wrap=material.wrap, texels_used=layout.covered_count / (width * height))
@@ -173,6 +193,45 @@ def _bake_textures(scene, materials, resolution, padding, values, samples, devic
         for name in totals:
             totals[name] += stats[name]
     return textures, dict(stats, **totals)
+
+
+# The fewest positions a part of a bake on a cluster traces: fewer cost more
+# in hand-overs than they trace.
+_MIN_POSITIONS_PER_PART = 1 << 14
+
+
+def _traced_on(client, scene, texels, positions, values, samples, on_part):
+    """Every position's two moments of a bake, traced in parts on the cluster's
+    workers, and the parts' stats, frame_ms and rays_secondary summed.
+    texels: None for a vertex bake, else what rebuilds the TexelLayout."""
+    from ._cluster import default_in_flight, results_in_order, scene_for_workers  # only bakes on a cluster need Dask
+
+    parts = max(1, min(2 * default_in_flight(client), positions // _MIN_POSITIONS_PER_PART))
+    bounds = [positions * k // parts for k in range(parts + 1)]
+    on_cluster = scene_for_workers(client, scene, broadcast=True)
+    tasks = ((_trace_part, on_cluster, texels, values, samples, first, end) for first, end in zip(bounds, bounds[1:]))
+    mean, second_moment = np.empty(positions, np.float32), np.empty(positions, np.float32)
+    stats, totals = None, dict(frame_ms=0.0, rays_secondary=0)
+    futures = results_in_order(client, tasks)
+    try:
+        for done, (first, end, future) in enumerate(zip(bounds, bounds[1:], futures), 1):
+            part_mean, part_second_moment, stats = future.result()
+            mean[first:end], second_moment[first:end] = part_mean, part_second_moment
+            for name in totals:
+                totals[name] += stats[name]
+            if on_part is not None:
+                on_part(done, parts)
+    finally:
+        futures.close()
+    return mean, second_moment, dict(stats, **totals)
+
+
+def _trace_part(scene, texels, values, samples, first, end):
+    """On a worker: positions [first, end) of a bake."""
+    if texels is None:
+        return _core.trace_vertex_bake(scene, resolve(None), values, samples, first, end, None)
+    layout = _core.TexelLayout(scene, *texels)
+    return _core.trace_texel_bake(layout, resolve(None), values, samples, first, end, None)
 
 
 def _resolution(resolution):

@@ -110,6 +110,9 @@ def _parser():
     b.add_argument("--quiet", action="store_true", help="no progress bar")
     b.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, "
                    "else the first GPU, else the first device")
+    b.add_argument("--scheduler", metavar="ADDRESS",
+                   help="a Dask scheduler (tcp://HOST:8786): the bake is traced in parts on its workers' devices, "
+                        "the same bake bit for bit")
 
     o = commands.add_parser("orbit", help="render a camera's turn around the scene as an animated GIF")
     o.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
@@ -259,11 +262,13 @@ def _bake(args):
 
     if len(args.resolution) > 2:
         raise ValueError(f"--resolution takes N or WIDTH HEIGHT, got {len(args.resolution)} numbers")
-    result = bake_file(args.input, args.output, target=args.target, bit_depth=args.bit_depth,
-                       vertex_colors=args.vertex_colors, bounces=args.bounces,
-                       samples=args.samples, estimator=args.estimator, directions=args.directions, rho=args.rho, max_distance=args.max_distance, seed=args.seed,
-                       texcoord=args.texcoord, resolution=tuple(args.resolution) * (3 - len(args.resolution)),
-                       padding=args.padding, device=_device_argument(args.device), progress=not args.quiet)
+    with _client_of(args.scheduler) as client:
+        result = bake_file(args.input, args.output, target=args.target, bit_depth=args.bit_depth,
+                           vertex_colors=args.vertex_colors, bounces=args.bounces, samples=args.samples,
+                           estimator=args.estimator, directions=args.directions, rho=args.rho,
+                           max_distance=args.max_distance, seed=args.seed, texcoord=args.texcoord,
+                           resolution=tuple(args.resolution) * (3 - len(args.resolution)), padding=args.padding,
+                           device=_device_argument(args.device), progress=not args.quiet, client=client)
     s = result.stats
     print(f"scene        {args.input}")
     print(f"device       {s['device']}")

@@ -1,0 +1,68 @@
+"""A bake split by its pixels' positions, here or on a Dask cluster, is the
+whole bake, bit for bit (SPEC 6.6)."""
+
+import importlib
+
+import numpy as np
+import pytest
+
+import mbao
+from mbao import _core
+from mbao.devices import resolve
+from mbao.settings import RENDER, checked, engine_values
+from meshes import box_grid, disk, merge, plane
+
+SETTINGS = dict(bounces=2, samples=16, seed=3, progress=False)
+
+
+def test_any_split_of_a_bakes_positions_is_the_whole_bake():
+    scene = mbao.cornell_box()
+    given = dict(bounces=2, estimator="path", rho=1.0, max_distance=float("inf"), normals="shading", seed=3,
+                 max_rays=_core.DEFAULT_MAX_RAYS)
+    values = dict({name: checked(RENDER[name], value) for name, value in given.items()}, samples=4,
+                  **engine_values(mbao.Engine()))
+    whole, whole_error, _ = _core.bake_vertices(scene, resolve(None), values, 16, None)
+    positions = _core.vertex_bake_positions(scene, 16)
+    for cuts in ([0, positions], [0, 7, positions // 2 + 3, positions], [0, 1, 2, positions - 1, positions]):
+        mean, second_moment = np.empty(positions, np.float32), np.empty(positions, np.float32)
+        for first, end in zip(cuts, cuts[1:]):
+            mean[first:end], second_moment[first:end], _ = _core.trace_vertex_bake(
+                scene, resolve(None), values, 16, first, end, None)
+        values_, errors = _core.finish_vertex_bake(scene, 16, mean, second_moment)
+        np.testing.assert_array_equal(values_, whole)
+        np.testing.assert_array_equal(errors, whole_error)
+
+
+@pytest.fixture
+def small_parts(monkeypatch):
+    """Parts of 64 positions, so that small bakes go out in many."""
+    monkeypatch.setattr(importlib.import_module("mbao.bake"), "_MIN_POSITIONS_PER_PART", 64)
+
+
+def test_a_vertex_bake_on_a_cluster_is_the_local_one(dask_client, small_parts):
+    scene = mbao.Mesh(*box_grid(3))
+    here = mbao.bake(scene, **SETTINGS)
+    parts = []
+    there = mbao.bake(scene, client=dask_client, **dict(SETTINGS, progress=lambda done, total: parts.append(total)))
+    assert len(parts) > 1 and parts[-1] == len(parts)  # in several parts, each reported
+    np.testing.assert_array_equal(there.values, here.values)
+    np.testing.assert_array_equal(there.standard_error, here.standard_error)
+    assert there.stats["rays_secondary"] == here.stats["rays_secondary"]
+
+
+@pytest.mark.parametrize("texcoord", [0, "generate"])
+def test_a_texture_bake_on_a_cluster_is_the_local_one(dask_client, small_parts, texcoord):
+    """A floor under a disk: the floor's own UVs, or a generated set of both."""
+    half_size = 1.5
+    floor, floor_indices = plane(half_size, divisions=6)
+    vertices, indices = merge((floor, floor_indices), disk(0.8, 1.0, 32))
+    texcoords = np.zeros((len(vertices), 2))
+    texcoords[:len(floor)] = (np.asarray(floor)[:, [0, 2]] + half_size) / (2 * half_size)
+    scene = mbao.Mesh(vertices, indices, texcoords=texcoords)
+    settings = dict(SETTINGS, target="texture", resolution=32, texcoord=texcoord)
+    here = mbao.bake(scene, **settings)
+    there = mbao.bake(scene, client=dask_client, **settings)
+    assert here.textures.keys() == there.textures.keys()
+    for index, texture in here.textures.items():
+        np.testing.assert_array_equal(there.textures[index].image, texture.image)
+        np.testing.assert_array_equal(there.textures[index].standard_error, texture.standard_error)
