@@ -151,12 +151,6 @@ BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Sce
   const BakeLayout layout = bake_layout(points, samples, layout_width);
   TracedPositions traced =
       trace_bake(renderer, scene, settings, points, layout, 0, layout.positions(), between_tiles);
-  if (layout.traced.empty()) {
-    BakeEstimates bake;
-    bake.values.assign(points.targets(), 1.0f);
-    bake.standard_error.assign(points.targets(), 0.0f);
-    return bake;
-  }
   BakeEstimates bake = finish_bake(points, layout, samples, traced.mean, traced.second_moment);
   bake.stats = std::move(traced.stats);
   return bake;
