@@ -59,11 +59,15 @@ SceneTexels make_texels(const std::shared_ptr<Scene>& scene,
                                         parse_wrap_mode(wrap_t))};
 }
 
-py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const py::dict& values,
-                      std::int64_t samples, int padding, const py::object& progress) {
+void check_padding(int padding) {
   if (padding < 0 || padding > kMaxPadding)
     throw std::invalid_argument("padding must be in [0, " + std::to_string(kMaxPadding) + "], got " +
                                 std::to_string(padding));
+}
+
+py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const py::dict& values,
+                      std::int64_t samples, int padding, const py::object& progress) {
+  check_padding(padding);
   const RenderSettings settings = settings_from(values);
   const Renderer::TileCallback between_tiles = tile_callback(progress);
   const TexelLayout& layout = texels.layout;
@@ -142,9 +146,7 @@ py::tuple trace_texel_bake(const SceneTexels& texels, const DeviceInfo& device, 
 
 py::tuple finish_texel_bake(const SceneTexels& texels, std::int64_t samples, int padding, const FloatArray& mean,
                             const FloatArray& second_moment) {
-  if (padding < 0 || padding > kMaxPadding)
-    throw std::invalid_argument("padding must be in [0, " + std::to_string(kMaxPadding) + "], got " +
-                                std::to_string(padding));
+  check_padding(padding);
   const std::vector<float> means = floats_of(mean), second_moments = floats_of(second_moment);
   const TexelLayout& layout = texels.layout;
   BakeEstimates bake;

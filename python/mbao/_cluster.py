@@ -52,6 +52,17 @@ def results_in_order(client, tasks, *, ordered=True, in_flight=None):
         client.cancel(list(pending))
 
 
+def results_of(client, tasks):
+    """The results of results_in_order's futures, in order: a task's error is
+    raised here; leaving early cancels the tasks not yet taken."""
+    futures = results_in_order(client, tasks)
+    try:
+        for future in futures:
+            yield future.result()
+    finally:
+        futures.close()
+
+
 def _next_finished(pending, completed):
     if completed is None:
         future = pending.popleft()

@@ -204,25 +204,25 @@ def _traced_on(client, scene, texels, positions, values, samples, on_part):
     """Every position's two moments of a bake, traced in parts on the cluster's
     workers, and the parts' stats, frame_ms and rays_secondary summed.
     texels: None for a vertex bake, else what rebuilds the TexelLayout."""
-    from ._cluster import default_in_flight, results_in_order, scene_for_workers  # only bakes on a cluster need Dask
+    from ._cluster import default_in_flight, results_of, scene_for_workers  # only bakes on a cluster need Dask
 
     parts = max(1, min(2 * default_in_flight(client), positions // _MIN_POSITIONS_PER_PART))
     bounds = [positions * k // parts for k in range(parts + 1)]
+    ranges = list(zip(bounds, bounds[1:]))
     on_cluster = scene_for_workers(client, scene, broadcast=True)
-    tasks = ((_trace_part, on_cluster, texels, values, samples, first, end) for first, end in zip(bounds, bounds[1:]))
+    tasks = ((_trace_part, on_cluster, texels, values, samples, first, end) for first, end in ranges)
     mean, second_moment = np.empty(positions, np.float32), np.empty(positions, np.float32)
     stats, totals = None, dict(frame_ms=0.0, rays_secondary=0)
-    futures = results_in_order(client, tasks)
+    results = results_of(client, tasks)
     try:
-        for done, (first, end, future) in enumerate(zip(bounds, bounds[1:], futures), 1):
-            part_mean, part_second_moment, stats = future.result()
+        for done, ((first, end), (part_mean, part_second_moment, stats)) in enumerate(zip(ranges, results), 1):
             mean[first:end], second_moment[first:end] = part_mean, part_second_moment
             for name in totals:
                 totals[name] += stats[name]
             if on_part is not None:
                 on_part(done, parts)
     finally:
-        futures.close()
+        results.close()
     return mean, second_moment, dict(stats, **totals)
 
 

@@ -121,16 +121,11 @@ def _method_rows(scene, name, reference, sample_counts, stops, seed, device=None
 
 def _rows_on(client, scene, methods, reference, sample_counts, stops, seed):
     """Each method's rows, rendered on the cluster's workers, in the methods' order."""
-    from ._cluster import results_in_order, scene_for_workers  # only studies on a cluster need Dask
+    from ._cluster import results_of, scene_for_workers  # only studies on a cluster need Dask
 
     on_cluster = scene_for_workers(client, scene, broadcast=True)
-    futures = results_in_order(client, ((_method_rows, on_cluster, name, reference, sample_counts, stops, seed)
-                                        for name in methods))
-    try:
-        for future in futures:
-            yield future.result()
-    finally:
-        futures.close()
+    return results_of(client, ((_method_rows, on_cluster, name, reference, sample_counts, stops, seed)
+                               for name in methods))
 
 
 def _method_names(methods):

@@ -154,15 +154,10 @@ _PASSES_PER_CHUNK = 8
 
 def _chunks_on(client, scene, settings, chunks):
     """_chunk of each chunk on the cluster's workers, in chunk order."""
-    from ._cluster import results_in_order, scene_for_workers  # only references on a cluster need Dask
+    from ._cluster import results_of, scene_for_workers  # only references on a cluster need Dask
 
     on_cluster = scene_for_workers(client, scene, broadcast=True)
-    futures = results_in_order(client, ((_chunk, on_cluster, settings, first, count) for first, count in chunks))
-    try:
-        for future in futures:
-            yield future.result()
-    finally:
-        futures.close()
+    return results_of(client, ((_chunk, on_cluster, settings, first, count) for first, count in chunks))
 
 
 def _chunk(scene, settings, first, count, device=None):
