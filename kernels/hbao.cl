@@ -1,108 +1,99 @@
-// Horizon-based ambient occlusion (Bavoil, Sainz and Dimitrov 2008) on the
-// depth and normals of the primary hits (SPEC 4): the screen-space baseline
-// the ray-traced estimators are compared with. First a G-buffer pass traces
-// the camera ray through every pixel centre, then each pixel marches the
-// G-buffer along a few image directions and integrates the horizon it finds.
-#include "kd_traversal.h"
-#include "surface.h"
+// Horizon-based ambient occlusion (Bavoil, Sainz and Dimitrov 2008) as SPEC 4
+// defines it: the screen-space baseline the ray-traced estimators are compared
+// with. It reads the G-buffer (SPEC 7.2) that render.cl's camera rays and
+// store_gbuffer made, and walks no tree.
+//
+// Written for PoCL's vectoriser (see denoise.cl): the G-buffer is read plane
+// by plane, view-space points are rebuilt from the depth plane (one load per
+// sample), directions come from unit_circle.h rather than sin and cos, and a
+// sample that does not count is masked, not skipped. The loops over directions
+// and steps run the same number of times in every work item, so a barrier
+// every few steps is legal; PoCL cuts the loop body there into a loop over the
+// group's work items of its own, which it turns into vector code (a loop
+// whose count is a kernel argument would otherwise keep it scalar).
+#include "mbao/gbuffer.h"
+#include "mbao/unit_circle.h"
 #include "sampling.h"
-#include "camera.h"
-#include "mbao/pixel_order.h"
 
-// View space: x right, y up, z the depth along the view direction.
-static inline float3 to_view(float3 v, float3 forward, float3 right, float3 up) {
-  return (float3)(dot(v, right), dot(v, up), dot(v, forward));
+// The steps between barriers, unrolled: fewer barriers, fewer of the values that
+// PoCL saves and restores around each, and at most two steps wasted per direction.
+#define MBAO_HBAO_STEPS_PER_BARRIER 3u
+
+// Pixel (x, y)'s view-space x and y per unit of depth: x * scale + offset.
+typedef struct PixelRays {
+  float x_scale, x_offset, y_scale, y_offset;
+} PixelRays;
+
+static inline PixelRays pixel_rays(float2 film_scale, uint width, uint height) {
+  // camera_ray_direction's u and v times the film scale, for the pixel centres.
+  const PixelRays rays = {2.0f * film_scale.x / (float)width, film_scale.x * (1.0f / (float)width - 1.0f),
+                          -2.0f * film_scale.y / (float)height, film_scale.y * (1.0f - 1.0f / (float)height)};
+  return rays;
 }
 
-// Per pixel the view-space hit point (.w = 1; 0 where the ray missed) and the
-// view-space shading normal, turned toward the camera.
-__kernel void hbao_gbuffer(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right, float4 up,
-                           float2 film_scale, uint width, uint height, __global float4* positions,
-                           __global float4* normals) {
-  const uint position = get_global_id(0);
-  if (position >= width * height) return;
-  const uint pixel = pixel_at_position(position, width, height);
-  const SceneView scene = MBAO_SCENE_VIEW();
-  const float3 dir = camera_ray_direction(forward.xyz, right.xyz, up.xyz, film_scale, width, height, pixel,
-                                          (float2)(0.5f, 0.5f));
-  Hit hit;
-  TraversalCounts counts = no_traversal_counts();
-  if (!trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit, &counts)) {
-    positions[pixel] = (float4)(0.0f);
-    normals[pixel] = (float4)(0.0f);
-    return;
-  }
-  const Surface s = make_surface(&scene, hit, dir);
-  positions[pixel] = (float4)(to_view(s.position - eye.xyz, forward.xyz, right.xyz, up.xyz), 1.0f);
-  normals[pixel] = (float4)(to_view(s.shading_normal, forward.xyz, right.xyz, up.xyz), 0.0f);
-}
-
-typedef struct HbaoParams {
-  float radius;       // world units
-  float sin_bias;     // sine of the angle bias: lower horizons are ignored
-  float falloff;      // W(r) = 1 - falloff * r^2 / radius^2
-  uint directions, steps;
-} HbaoParams;
-
-// The occlusion found along one image direction: Bavoil et al.'s sum of
-// attenuated rises of the horizon. Elevations are measured from the tangent
-// plane rather than the image plane, so that no flat surface occludes itself
-// whatever the perspective (samples snap to pixels and so leave the image-plane
-// slice); the horizon starts at the angle bias.
-static inline float march_direction(__global const float4* positions, uint width, uint height, int2 from,
-                                    float3 p, float3 n, float2 direction, float step_pixels, float first_step,
-                                    const HbaoParams* h) {
-  float sin_horizon = h->sin_bias;
-  float occlusion = 0.0f;
-  for (uint k = 0; k < h->steps; ++k) {
-    const float2 offset = (first_step + (float)k) * step_pixels * direction;
-    // Image rows grow downward, view y upward.
-    const int2 at = from + (int2)((int)round(offset.x), -(int)round(offset.y));
-    if (at.x < 0 || at.y < 0 || at.x >= (int)width || at.y >= (int)height) break;
-    const float4 seen = positions[(uint)at.y * width + (uint)at.x];
-    if (seen.w == 0.0f) continue;
-    const float3 d = seen.xyz - p;
-    const float r2 = dot(d, d) / (h->radius * h->radius);
-    if (r2 > 1.0f || r2 == 0.0f) continue;
-    const float sin_sample = dot(d, n) * rsqrt(dot(d, d));
-    if (sin_sample > sin_horizon) {
-      occlusion += (1.0f - h->falloff * r2) * (sin_sample - sin_horizon);
-      sin_horizon = sin_sample;
-    }
-  }
-  return occlusion;
-}
-
-// Access (1 = open) per pixel; 1 and coverage 0 where the camera ray missed.
-// Directions and the first step are jittered per pixel by the seed.
-__kernel void hbao(__global const float4* positions, __global const float4* normals, uint width, uint height,
-                   float film_scale_y, float radius, float sin_bias, float falloff, uint directions, uint steps,
-                   uint2 seed, __global float* ao, __global uchar* coverage) {
-  const uint position = get_global_id(0);
-  if (position >= width * height) return;
-  const uint pixel = pixel_at_position(position, width, height);
-  const float4 here = positions[pixel];
-  coverage[pixel] = here.w != 0.0f ? 255 : 0;
-  if (here.w == 0.0f) {
-    ao[pixel] = 1.0f;
-    return;
-  }
-  const HbaoParams h = {radius, sin_bias, falloff, directions, steps};
+// Access (1 = open) and coverage per pixel, one work item per pixel on a grid
+// of columns x rows. Directions and the first step are jittered per pixel by
+// the seed.
+__kernel void hbao(__global const float* gbuffer, uint width, uint height, float4 right, float4 up,
+                   float4 forward, float2 film_scale, float radius, float sin_bias, float falloff,
+                   uint directions, uint steps, uint2 seed, __global float* ao, __global uchar* coverage) {
+  // Work items past the image's edge take its last pixel and store nothing: every
+  // work item of a group must reach the barriers.
+  const uint x = min((uint)get_global_id(0), width - 1), y = min((uint)get_global_id(1), height - 1);
+  const uint pixels = width * height, pixel = y * width + x;
+  const __global float* depths = gbuffer_plane(gbuffer, pixels, GBUFFER_DEPTH);
+  const float depth = depths[pixel];
+  const float sx = gbuffer_plane(gbuffer, pixels, GBUFFER_SX)[pixel];
+  const float sy = gbuffer_plane(gbuffer, pixels, GBUFFER_SY)[pixel];
+  const float sz = gbuffer_plane(gbuffer, pixels, GBUFFER_SZ)[pixel];
+  // The shading normal in view space.
+  const float nx = sx * right.x + sy * right.y + sz * right.z;
+  const float ny = sx * up.x + sy * up.y + sz * up.z;
+  const float nz = sx * forward.x + sy * forward.y + sz * forward.z;
+  const PixelRays rays = pixel_rays(film_scale, width, height);
+  const float px = ((float)x * rays.x_scale + rays.x_offset) * depth;
+  const float py = ((float)y * rays.y_scale + rays.y_offset) * depth;
   // The radius as seen at this depth, in pixels, split into steps.
-  const float radius_pixels = radius / (here.z * film_scale_y) * (0.5f * (float)height);
+  const float radius_pixels = radius / (depth * film_scale.y) * (0.5f * (float)height);
   const float step_pixels = radius_pixels / (float)(steps + 1);
   const Philox4x32 r = random_block(pixel, 0, 0, 0, seed);
   const float rotation = philox_unit_float(r.v[0]);
   const float first_step = 1.0f + philox_unit_float(r.v[1]);
-  const int2 from = (int2)((int)(pixel % width), (int)(pixel / width));
+  const float per_radius2 = 1.0f / (radius * radius);
   float occlusion = 0.0f;
-  if (step_pixels >= 0.5f) {  // else every step lands on this pixel: nothing to see
-    for (uint i = 0; i < directions; ++i) {
-      float cos_angle;
-      const float sin_angle = sincos(2.0f * M_PI_F * ((float)i + rotation) / (float)directions, &cos_angle);
-      occlusion += march_direction(positions, width, height, from, here.xyz, normals[pixel].xyz,
-                                   (float2)(cos_angle, sin_angle), step_pixels, first_step, &h);
+  for (uint i = 0; i < directions; ++i) {
+    const UnitCirclePoint direction = unit_circle_point(2.0f * M_PI_F * ((float)i + rotation) / (float)directions);
+    // One step in the image; its rows grow downward, view y upward.
+    const float step_x = step_pixels * direction.c, step_y = -step_pixels * direction.s;
+    float sin_horizon = sin_bias;
+    for (uint first = 0; first < steps; first += MBAO_HBAO_STEPS_PER_BARRIER) {
+      MBAO_UNROLL
+      for (uint j = 0; j < MBAO_HBAO_STEPS_PER_BARRIER; ++j) {
+        const uint k = first + j;
+        const float along = first_step + (float)k;
+        const int sx = convert_int_rte((float)x + along * step_x), sy = convert_int_rte((float)y + along * step_y);
+        const int inside = k < steps && (uint)sx < width && (uint)sy < height;
+        const float seen_depth = depths[inside ? sy * (int)width + sx : (int)pixel];
+        const float dx = ((float)sx * rays.x_scale + rays.x_offset) * seen_depth - px;
+        const float dy = ((float)sy * rays.y_scale + rays.y_offset) * seen_depth - py;
+        const float dz = seen_depth - depth;
+        const float d2 = dx * dx + dy * dy + dz * dz;
+        const float r2 = d2 * per_radius2;
+        const float sin_sample = (dx * nx + dy * ny + dz * nz) * rsqrt(d2);
+        // Missed pixels have depth 0. A step that lands on the pixel itself is no
+        // sample: compared by position, as its rebuilt point may be off its own by
+        // rounding (contracted into fused multiply-adds or not), with any slope.
+        const int elsewhere = sx != (int)x || sy != (int)y;
+        const int rises = inside && elsewhere && seen_depth > 0.0f && r2 <= 1.0f && sin_sample > sin_horizon;
+        occlusion += rises ? (1.0f - falloff * r2) * (sin_sample - sin_horizon) : 0.0f;
+        sin_horizon = rises ? sin_sample : sin_horizon;
+      }
+      barrier(CLK_LOCAL_MEM_FENCE);
     }
   }
-  ao[pixel] = clamp(1.0f - occlusion / (float)directions, 0.0f, 1.0f);
+  if (get_global_id(0) >= width || get_global_id(1) >= height) return;
+  const int hit = depth > 0.0f;
+  coverage[pixel] = hit ? 255 : 0;
+  // Below half a pixel per step every sample lands on the pixel itself: nothing to see.
+  ao[pixel] = hit && step_pixels >= 0.5f ? clamp(1.0f - occlusion / (float)directions, 0.0f, 1.0f) : 1.0f;
 }

@@ -338,14 +338,14 @@ static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 ey
 
 // The G-buffer (SPEC 7.2) of the tile's pixels from their camera hits, at
 // spp = 1 the rays through the pixel centres. One work item per pixel.
-__kernel void store_gbuffer(MBAO_SCENE_PARAMS, float4 eye, uint2 image_size, float film_scale_y,
+__kernel void store_gbuffer(MBAO_SCENE_PARAMS, float4 eye, float4 forward, uint2 image_size, float film_scale_y,
                             uint first_position, uint pixel_count, __global const uint4* camera_hits,
                             __global float* gbuffer) {
   const uint index = get_global_id(0);
   if (index >= pixel_count) return;
   const uint pixel = pixel_at_position(first_position + index, image_size.x, image_size.y);
   const Hit hit = stored_hit(camera_hits, index);
-  GBufferTexel g = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  GBufferTexel g = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, MBAO_GBUFFER_NO_TRIANGLE};
   if (hit.triangle != MBAO_NO_TRIANGLE) {
     const SceneView scene = MBAO_SCENE_VIEW();
     const Surface s = primary_surface(&scene, hit, eye);
@@ -357,6 +357,11 @@ __kernel void store_gbuffer(MBAO_SCENE_PARAMS, float4 eye, uint2 image_size, flo
     g.ny = s.geometric_normal.y;
     g.nz = s.geometric_normal.z;
     g.footprint = 2.0f * hit.t * film_scale_y / (float)image_size.y;
+    g.depth = dot(s.position - eye.xyz, forward.xyz);
+    g.sx = s.shading_normal.x;
+    g.sy = s.shading_normal.y;
+    g.sz = s.shading_normal.z;
+    g.triangle = hit.triangle;
   }
   gbuffer_store(gbuffer, image_size.x * image_size.y, pixel, g);
 }

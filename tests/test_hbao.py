@@ -6,7 +6,9 @@ its geometry and its monotonic responses, not closeness to the ray-traced value
 import numpy as np
 import pytest
 
+import hbao_oracle
 import mbao
+from conftest import shared_scene
 from meshes import merge, plane
 
 SIZE = 48
@@ -63,6 +65,60 @@ def traced_points(scene, camera):
     directions = directions.reshape(-1, 3)
     t, _, _ = mbao.trace(scene, np.tile(camera.eye, (len(directions), 1)), directions)
     return (np.asarray(camera.eye) + t[:, None] * directions).reshape(SIZE, SIZE, 3)
+
+
+SHARED = ["cornell_box", "bunny", "sibenik", "sponza", "damaged_helmet"]
+ORACLE_SIZE = 64
+
+
+def shared_hbao(name, seed):
+    """HBAO's image of a shared scene with its camera and radius, the G-buffer it read, and the camera."""
+    folder = shared_scene(name)
+    scene, camera = mbao.load(folder / "scene.glb"), mbao.Camera.load(folder / "camera.json")
+    result = mbao.render(scene, camera=camera, width=ORACLE_SIZE, height=ORACLE_SIZE, method="hbao", seed=seed)
+    return result, mbao.gbuffer(scene, camera=camera, width=ORACLE_SIZE, height=ORACLE_SIZE), camera
+
+
+@pytest.mark.parametrize("name", SHARED)
+def test_the_kernel_draws_the_oracles_image(name):
+    """The kernel and tests/hbao_oracle.py (SPEC 4 in double precision, reading
+    the G-buffer's points and normals as they are) draw the same jitter, so
+    their images differ only where rounding moves a sample across a pixel's
+    edge or a horizon comparison: the kernel rebuilds points from depth, in
+    floats, with directions within 5e-7 of sin and cos (mbao/unit_circle.h)."""
+    result, g, camera = shared_hbao(name, seed=5)
+    oracle = hbao_oracle.hbao(g, camera, result.stats["max_distance"], seed=5)
+    moved = np.abs(result.ao - oracle) > 1e-4
+    assert moved.sum() <= 0.002 * moved.size, f"{moved.sum()} pixels off the oracle"
+    np.testing.assert_allclose(result.ao[~moved], oracle[~moved], atol=1e-4)
+
+
+@pytest.mark.parametrize("name", ["cornell_box", "sponza"])
+def test_over_seeds_the_kernel_averages_to_the_oracles_expectation(name):
+    """HBAO with random jitter is an estimator: 16 seeds of the kernel and 16
+    other seeds of the oracle estimate each pixel's expectation, and pixels'
+    jitters are independent. Where the seeds spread, each pixel's difference
+    of means over its estimated standard error is a t of 2 x 16 - 2 = 30
+    degrees of freedom, whose square has mean 30/28 and variance
+    2 30^2 29 / (28^2 26); their sum over the pixels is held to 4 of its
+    standard deviations above its mean. Where no seed spreads (open surfaces)
+    the two agree to rounding."""
+    runs = 16
+    kernel_runs, oracle_runs = [], []
+    for k in range(runs):
+        result, g, camera = shared_hbao(name, seed=k)
+        kernel_runs.append(result.ao)
+        oracle_runs.append(hbao_oracle.hbao(g, camera, result.stats["max_distance"], seed=1000 + k))
+    kernel_runs, oracle_runs = np.array(kernel_runs, dtype=np.float64), np.array(oracle_runs)
+    variance = (kernel_runs.var(axis=0, ddof=1) + oracle_runs.var(axis=0, ddof=1)) / runs
+    difference = kernel_runs.mean(axis=0) - oracle_runs.mean(axis=0)
+    spread = variance > 1e-10
+    n, dof = spread.sum(), 2 * runs - 2
+    assert n > 100
+    t2_mean, t2_variance = dof / (dof - 2), 2 * dof**2 * (dof - 1) / ((dof - 2) ** 2 * (dof - 4))
+    t2_sum = np.sum(difference[spread] ** 2 / variance[spread])
+    assert t2_sum <= n * t2_mean + 4 * np.sqrt(n * t2_variance), f"sum of t^2 {t2_sum:.0f} over {n} pixels"
+    np.testing.assert_allclose(difference[~spread], 0.0, atol=1e-4)
 
 
 def test_coverage_is_the_ray_traced_coverage(cornell):

@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings/bindings.h"
+#include "mbao/gbuffer.h"
 #include "render/renderer.h"
 #include "render/setting_specs.h"
 
@@ -69,6 +70,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["max_distance_source"] = s.max_distance_source;
   d["upload_ms"] = s.upload_ms;
   d["frame_ms"] = s.frame_ms;
+  d["gbuffer_ms"] = s.gbuffer_ms;
   d["denoise_ms"] = s.denoise_ms;
   d["temporal_ms"] = s.temporal_ms;
   d["rays_primary"] = s.rays_primary;
@@ -133,6 +135,21 @@ py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera
       history ? py::object(adopt(std::move(result.history_length), {h, w})) : py::object(py::none());
   return py::make_tuple(adopt(std::move(result.ao), {h, w}), adopt(std::move(result.coverage), {h, w}), variance,
                         history_length, stats_dict(result.stats));
+}
+
+py::tuple gbuffer(const std::shared_ptr<Scene>& scene, const std::optional<Camera>& camera, const DeviceInfo& device,
+                  const py::dict& values) {
+  const RenderSettings settings = settings_from(values);
+  RenderResult result;
+  {
+    py::gil_scoped_release release;
+    const Camera view = camera ? *camera : scene->default_camera(float(settings.width) / float(settings.height));
+    result = Renderer::for_device(device).gbuffer(scene, view, settings);
+  }
+  const py::ssize_t h = result.height, w = result.width;
+  const glm::vec3 origin = scene->render_origin();
+  return py::make_tuple(adopt(std::move(result.gbuffer), {py::ssize_t(GBUFFER_PLANES), h, w}),
+                        py::make_tuple(origin.x, origin.y, origin.z), stats_dict(result.stats));
 }
 
 py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py::array::c_style>& origins,
@@ -261,6 +278,10 @@ max_length: N, 1..65536: a still camera averages its first N frames exactly,
         "Renders; returns (ao, coverage in 255ths, variance or None, history lengths or None, stats). settings: "
         "{name: value} of setting_specs(); history: a TemporalHistory or None. Use mbao.render or "
         "mbao.render_sequence, which check and document the arguments.");
+  m.def("gbuffer", &gbuffer, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("settings"),
+        "The G-buffer (SPEC 7.2); returns (planes, the scene's render origin, stats), planes float32 of shape "
+        "(planes, height, width) in kernels/mbao/gbuffer.h's order, positions relative to the render origin. "
+        "Use mbao.gbuffer, which checks and documents the arguments.");
   m.def("setting_specs", &specs_list,
         "The render settings, each as a dict: name, group (\"render\" or \"engine\"), kind, doc, range, lo, hi, "
         "choices and default (render/setting_specs.h).");

@@ -24,10 +24,16 @@ struct FrameBuffers {
 // surface points a bake gives tile by tile, shaded on their front sides (SPEC 6.1).
 enum class PrimarySurfaces { CameraHits, GivenPoints };
 
+// What a frame's tiles make of their camera hits: the AO, with the G-buffer
+// where screen-space passes follow (RenderSettings::filtered), or the
+// G-buffer alone, which HBAO reads.
+enum class FrameOutput { AmbientOcclusion, GBuffer };
+
 cl_float4 to_float4(const glm::vec3& v);
 cl_uint2 seed_words(std::uint64_t seed);
 
-// The camera parameters that trace_camera_rays and hbao_gbuffer share, in their order.
+// The camera parameters of trace_camera_rays and trace_camera_packets, in their order; the screen-space
+// passes take some of them.
 struct CameraArgs {
   CameraArgs(const Camera& camera, const RenderSettings& s);
   void append_to(KernelArgs& args) const;

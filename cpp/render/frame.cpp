@@ -20,24 +20,31 @@ std::size_t camera_rays_per_item(const RenderSettings& s) {
   return s.traversal == Traversal::Lanes ? MBAO_LANES : 1;
 }
 
+bool makes_gbuffer(const RenderSettings& s, FrameOutput output) {
+  return output == FrameOutput::GBuffer || s.filtered();
+}
+
 }  // namespace
 
-std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries) {
+std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries,
+                                FrameOutput output) {
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
+  const bool ao = output == FrameOutput::AmbientOcclusion;
   const std::size_t second_moment = primaries == PrimarySurfaces::GivenPoints ? sizeof(cl_float) : 0;
-  const std::size_t variance = s.variance || s.filtered() ? sizeof(cl_float) : 0;
-  const std::size_t gbuffer = s.filtered() ? GBUFFER_PLANES * sizeof(cl_float) : 0;
-  const std::size_t image = pixels * (sizeof(cl_float) + second_moment + variance + gbuffer + sizeof(cl_uchar) +
-                                      sizeof(cl_uint));  // ao, coverage, rays
+  const std::size_t variance = ao && (s.variance || s.filtered()) ? sizeof(cl_float) : 0;
+  const std::size_t gbuffer = makes_gbuffer(s, output) ? GBUFFER_PLANES * sizeof(cl_float) : 0;
+  const std::size_t rays = ao ? sizeof(cl_uint) : 0;
+  const std::size_t image =
+      pixels * (sizeof(cl_float) + second_moment + variance + gbuffer + sizeof(cl_uchar) + rays);  // ao, coverage
   const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
   const std::size_t wavefront =
-      s.organisation == KernelOrganisation::Wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
+      ao && s.organisation == KernelOrganisation::Wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
   return camera_hit_bytes(s, tile_pixels) + image + totals + wavefront;
 }
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
              const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels,
-             PrimarySurfaces primaries)
+             PrimarySurfaces primaries, FrameOutput output)
     : scene_(scene),
       camera_args_(camera, s),
       ao_args_(camera, s, primaries),
@@ -49,17 +56,18 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
   buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
-  buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
+  const bool ao = output == FrameOutput::AmbientOcclusion;
+  if (ao) buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
   if (primaries == PrimarySurfaces::GivenPoints)
     buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
-  if (s.variance || s.filtered())
+  if (ao && (s.variance || s.filtered()))
     buffers_.ao_variance = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(cl_float));
-  if (s.filtered()) {
+  if (makes_gbuffer(s, output)) {
     buffers_.gbuffer = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * GBUFFER_PLANES * sizeof(cl_float));
     gbuffer_ = cl::Kernel(program, "store_gbuffer");
     gbuffer_group_ = work_group_size_for(gbuffer_, device, s.work_group_size);
   }
-  bytes_ = device_bytes(s, tile_pixels, primaries);
+  bytes_ = device_bytes(s, tile_pixels, primaries, output);
   if (s.count_traversal) {
     const cl_ulong zeros[4] = {0, 0, 0, 0};
     buffers_.traversal_totals =
@@ -69,6 +77,7 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   camera_rays_ = cl::Kernel(program, camera_rays_per_item_ > 1 ? "trace_camera_packets" : "trace_camera_rays");
   camera_group_ = work_group_size_for(camera_rays_, device, s.work_group_size);
 
+  if (!ao) return;
   if (s.organisation == KernelOrganisation::Wavefront) {
     wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, ao_args_, s, tile_pixels, buffers_);
   } else {
@@ -85,9 +94,10 @@ void Frame::set_tile(std::size_t first, std::size_t count) {
   set_kernel_args(camera_rays_, scene_, camera_args_, cl_uint(spp_), seed_, cl_uint(first), cl_uint(count),
                   buffers_.camera_hits, buffers_.traversal_totals);
   if (gbuffer_())
-    set_kernel_args(gbuffer_, scene_, ao_args_.eye, ao_args_.image_size, camera_args_.film_scale.s[1],
-                    cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.gbuffer);
-  if (wavefront_) return;  // it sets its own kernels' tile
+    set_kernel_args(gbuffer_, scene_, ao_args_.eye, camera_args_.forward, ao_args_.image_size,
+                    camera_args_.film_scale.s[1], cl_uint(first), cl_uint(count), buffers_.camera_hits,
+                    buffers_.gbuffer);
+  if (wavefront_ || !ao_kernel_()) return;  // the wavefront sets its own kernels' tile
   set_kernel_args(ao_kernel_, scene_, ao_args_, cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.ao,
                   buffers_.ao_second_moment, buffers_.ao_variance, buffers_.coverage, buffers_.secondary_rays,
                   buffers_.traversal_totals);
@@ -113,7 +123,7 @@ void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t
 void Frame::enqueue_ao(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   if (wavefront_)
     wavefront_->enqueue_tile(queue, first, count);
-  else
+  else if (ao_kernel_())
     launch(queue, ao_kernel_, count, ao_group_);
 }
 
@@ -127,7 +137,7 @@ void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
   if (gbuffer_()) launch_empty(queue, gbuffer_, tile_pixels_, gbuffer_group_);
   if (wavefront_)
     wavefront_->enqueue_empty_tiles(queue, tile_pixels_);
-  else
+  else if (ao_kernel_())
     launch_empty(queue, ao_kernel_, tile_pixels_, ao_group_);
 }
 
@@ -140,7 +150,8 @@ void Frame::enqueue_read_back(cl::CommandQueue& queue, RenderResult& result, cl_
   if (!result.ao_second_moment.empty()) read_floats(buffers_.ao_second_moment, result.ao_second_moment);
   if (!result.variance.empty()) read_floats(buffers_.ao_variance, result.variance);
   queue.enqueueReadBuffer(buffers_.coverage, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), result.coverage.data());
-  queue.enqueueReadBuffer(buffers_.secondary_rays, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
+  if (buffers_.secondary_rays())
+    queue.enqueueReadBuffer(buffers_.secondary_rays, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
 }
 
 TraversalTotals Frame::traversal_totals(cl::CommandQueue& queue) const {
@@ -151,10 +162,12 @@ TraversalTotals Frame::traversal_totals(cl::CommandQueue& queue) const {
 
 std::string Frame::launch_signature() const {
   const cl::Program program = camera_rays_.getInfo<CL_KERNEL_PROGRAM>();
-  const std::string ao = wavefront_ ? wavefront_->launch_signature()
-                                    : ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(ao_group_);
+  const std::string ao = wavefront_    ? wavefront_->launch_signature()
+                         : ao_kernel_() ? ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(ao_group_)
+                                        : "no AO";
+  const std::string gbuffer = gbuffer_() ? " G-buffer " + std::to_string(gbuffer_group_) : "";
   return std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " " + std::to_string(camera_group_) + " " + ao +
-         " tile " + std::to_string(tile_pixels_);
+         gbuffer + " tile " + std::to_string(tile_pixels_);
 }
 
 }  // namespace mbao

@@ -17,16 +17,18 @@
 namespace mbao {
 
 // The device side of one render: its buffers and kernels (render.cl's camera
-// rays, then the AO megakernel or the wavefront), set up for everything but
-// the tile. A tile is a range of positions in the order the kernels take the
-// pixels in (kernels/mbao/pixel_order.h: blocks of 16 x 16 in Z order).
+// rays, then the G-buffer and the AO megakernel or the wavefront), set up for
+// everything but the tile. A tile is a range of positions in the order the
+// kernels take the pixels in (kernels/mbao/pixel_order.h: blocks of 16 x 16 in
+// Z order).
 class Frame {
  public:
   Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
         const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels,
-        PrimarySurfaces primaries = PrimarySurfaces::CameraHits);
+        PrimarySurfaces primaries = PrimarySurfaces::CameraHits, FrameOutput output = FrameOutput::AmbientOcclusion);
 
-  // Camera rays and AO for the pixels at positions [first, first + count) of that order, count <= the tile size.
+  // Camera rays, the G-buffer and the AO, as the frame's output asks, for the pixels at positions
+  // [first, first + count) of that order, count <= the tile size.
   void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
   // A frame of given points: AO from `points`, a surface point (t, triangle, b1, b2 bits; triangle ~0u for
   // none) per camera sample of those positions, in the camera hits' order. Copies them before it returns.
@@ -39,8 +41,10 @@ class Frame {
   // Copies the image, its coverage and the per-pixel secondary ray counts back
   // (non-blocking), and the second moments and the variances into
   // result.ao_second_moment and result.variance where they are sized for them.
+  // A G-buffer frame has no ray counts: `secondary_rays` is not written.
   void enqueue_read_back(cl::CommandQueue& queue, RenderResult& result, cl_uint* secondary_rays);
-  // The whole frame's images, once its tiles have run: what the screen-space passes read.
+  // The whole frame's images, once its tiles have run: what the screen-space
+  // passes read, and where a G-buffer frame's pass writes the image.
   const FrameBuffers& buffers() const { return buffers_; }
   // The frame's traversal counts (programs built with MBAO_COUNT_TRAVERSAL), once it has finished.
   TraversalTotals traversal_totals(cl::CommandQueue& queue) const;
@@ -49,7 +53,8 @@ class Frame {
   std::size_t bytes() const { return bytes_; }
   // What a frame with these settings and tile size allocates: known before it does.
   static std::size_t device_bytes(const RenderSettings& settings, std::size_t tile_pixels,
-                                  PrimarySurfaces primaries = PrimarySurfaces::CameraHits);
+                                  PrimarySurfaces primaries = PrimarySurfaces::CameraHits,
+                                  FrameOutput output = FrameOutput::AmbientOcclusion);
   // What decides whether the kernels have been launched before: program, AO kernels, work-group sizes
   // and the tile size (the largest grid).
   std::string launch_signature() const;
@@ -70,9 +75,9 @@ class Frame {
   FrameBuffers buffers_;
   cl::Kernel camera_rays_;
   std::size_t camera_group_ = 0;
-  cl::Kernel gbuffer_;  // when filtered (RenderSettings::filtered)
+  cl::Kernel gbuffer_;  // for G-buffer frames, and AO frames when filtered (RenderSettings::filtered)
   std::size_t gbuffer_group_ = 0;
-  // The megakernel, or else the wavefront.
+  // The megakernel, or else the wavefront; neither in G-buffer frames.
   cl::Kernel ao_kernel_;
   std::size_t ao_group_ = 0;
   std::unique_ptr<Wavefront> wavefront_;

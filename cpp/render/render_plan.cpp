@@ -8,14 +8,12 @@ namespace {
 // The device table. Each entry's measurement is in docs/kernel-variants.md. Constant-initialized, so
 // that other files' static objects may read it.
 constexpr DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16, true,
-                             std::size_t(1) << 22};
-constexpr DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0, false, 0};
-constexpr DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0, false, 0};
+                             std::size_t(1) << 22, true};
+constexpr DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0, false, 0, false};
+constexpr DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0, false, 0,
+                               false};
 
 bool walks_full_stack(Traversal walk) { return walk == Traversal::Stack || walk == Traversal::Lanes; }
-
-// The walk of the rays that a lanes program traces one per work item.
-Traversal one_ray_walk(Traversal walk) { return walk == Traversal::Lanes ? Traversal::Stack : walk; }
 
 bool deep_enough(int depth, int min_depth) { return min_depth > 0 && depth >= min_depth; }
 
@@ -40,6 +38,18 @@ Traversal plan_traversal(const RenderSettings& s, const DeviceProfile& profile, 
                  : " walk of one ray (lanes need a tree at least " + std::to_string(profile.min_lanes_depth) +
                        " deep and the wavefront; " + depth_reason(scene, profile.min_lanes_depth) + ")";
   reasons.push_back(why);
+  return walk;
+}
+
+// HBAO's walk: that of its G-buffer's camera rays, which run in packets
+// (lanes) without the wavefront.
+Traversal plan_gbuffer_traversal(const RenderSettings& s, const DeviceProfile& profile,
+                                 std::vector<std::string>& reasons) {
+  if (s.traversal != Traversal::Auto) return s.traversal;
+  const Traversal walk = profile.gbuffer_packets ? Traversal::Lanes : profile.walk;
+  reasons.push_back("traversal " + to_string(walk) + ": the G-buffer's camera rays, " +
+                    (profile.gbuffer_packets ? "in packets" : "one per work item") + " on the " +
+                    profile.device_class + " profile");
   return walk;
 }
 
@@ -108,11 +118,11 @@ const char* ProgramVariant::file() const {
 }
 
 std::string ProgramVariant::options() const {
-  if (program == Program::Denoise || program == Program::Temporal) return "";
+  if (program == Program::Hbao || program == Program::Denoise || program == Program::Temporal) return "";
   std::string o = define("MBAO_TRAVERSAL", int(walk)).substr(1);
-  if (program != Program::Hbao) o += define("MBAO_COUNT_TRAVERSAL", count_traversal);
+  o += define("MBAO_COUNT_TRAVERSAL", count_traversal);
   o += define("MBAO_ALPHA_MASKS", alpha_masks);
-  if (program != Program::Trace) o += define("MBAO_SHADING_NORMALS", shading_normals);
+  if (program == Program::Render) o += define("MBAO_SHADING_NORMALS", shading_normals);
   if (program == Program::Render) o += define("MBAO_UNLIMITED_DISTANCE", unlimited_distance);
   o += define("MBAO_LOAD_BOTH_CHILDREN", load_both_children);
   if (program == Program::Render) o += define("MBAO_ORIGIN_PATHS", origin_paths);
@@ -125,10 +135,9 @@ std::vector<ProgramVariant> all_program_variants() {
   std::vector<ProgramVariant> variants;
   const Traversal walks[] = {Traversal::Restart, Traversal::PushDown, Traversal::ShortStack, Traversal::Stack,
                              Traversal::Lanes};
-  for (Program program : {Program::Render, Program::Trace, Program::Hbao}) {
-    const bool render = program == Program::Render, hbao = program == Program::Hbao;
+  for (Program program : {Program::Render, Program::Trace}) {
+    const bool render = program == Program::Render;
     for (Traversal walk : walks) {
-      if (hbao && walk == Traversal::Lanes) continue;
       for (int bits = 0; bits < 256; ++bits) {
         ProgramVariant v;
         v.program = program;
@@ -142,7 +151,7 @@ std::vector<ProgramVariant> all_program_variants() {
         v.direction_moments = bits & 64;
         v.indexed_triangles = bits & 128;
         // Only the bits that the program reads, and only where the plan can set them.
-        if ((hbao && v.count_traversal) || (!render && !hbao && v.shading_normals) ||
+        if ((!render && v.shading_normals) ||
             (!render && !v.unlimited_distance) || (v.load_both_children && !walks_full_stack(walk)) ||
             (v.origin_paths && (!render || walk == Traversal::Lanes)) || (v.direction_moments && !render))
           continue;
@@ -150,7 +159,7 @@ std::vector<ProgramVariant> all_program_variants() {
       }
     }
   }
-  for (Program program : {Program::Denoise, Program::Temporal}) {
+  for (Program program : {Program::Hbao, Program::Denoise, Program::Temporal}) {
     ProgramVariant screen_space;
     screen_space.program = program;
     variants.push_back(screen_space);
@@ -166,14 +175,14 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   const DeviceProfile& profile = device_profile(device);
   RenderPlan plan;
   const bool hbao = s.method == Method::Hbao;
-  const Traversal traversal = plan_traversal(s, profile, scene, plan.reasons);
-  plan.traversal = hbao ? one_ray_walk(traversal) : traversal;
+  plan.traversal = hbao ? plan_gbuffer_traversal(s, profile, plan.reasons)
+                        : plan_traversal(s, profile, scene, plan.reasons);
   plan.organisation = plan_organisation(s, plan.traversal, profile, plan.reasons);
 
   ProgramVariant& p = plan.program;
-  p.program = hbao ? Program::Hbao : Program::Render;
+  p.program = Program::Render;
   p.walk = plan.traversal;
-  p.count_traversal = !hbao && s.count_traversal;
+  p.count_traversal = s.count_traversal;
   p.alpha_masks = scene.alpha_masks;
   p.shading_normals = s.normals == NormalMode::Shading && scene.vertex_normals;
   p.unlimited_distance = hbao || std::isinf(s.radius());

@@ -34,6 +34,8 @@ struct DeviceProfile {
   // mesh's own vertices and indices (MBAO_INDEXED_TRIANGLES), not from 48
   // bytes of coordinates per triangle in a buffer of their own (0: never).
   std::size_t min_indexed_triangles;
+  // HBAO's G-buffer walks its camera rays in packets (lanes), whatever the tree's depth.
+  bool gbuffer_packets;
 };
 
 // The row of the device table for `device`.
@@ -53,16 +55,16 @@ enum class Program { Render, Trace, Hbao, Denoise, Temporal };
 // One build of one program: its file and the defines that program reads.
 struct ProgramVariant {
   Program program = Program::Render;
-  Traversal walk = Traversal::Stack;  // MBAO_TRAVERSAL: never Auto; Lanes only for render.cl and trace.cl;
-                                      // denoise.cl and temporal.cl walk no tree and read no define
+  Traversal walk = Traversal::Stack;  // MBAO_TRAVERSAL: never Auto; the screen-space passes (hbao.cl,
+                                      // denoise.cl, temporal.cl) walk no tree and read no define
   bool count_traversal = false;      // render.cl, trace.cl
   bool alpha_masks = false;
-  bool shading_normals = false;      // render.cl, hbao.cl
+  bool shading_normals = false;      // render.cl
   bool unlimited_distance = true;    // render.cl
   bool load_both_children = false;   // full-stack walks only (Stack, Lanes)
   bool origin_paths = false;         // render.cl, walks of one ray only
   bool direction_moments = false;    // render.cl
-  bool indexed_triangles = false;    // render.cl, trace.cl, hbao.cl
+  bool indexed_triangles = false;    // render.cl, trace.cl
 
   const char* file() const;
   // "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 ...": the defines `program` reads, in a fixed order.
@@ -75,7 +77,7 @@ std::vector<ProgramVariant> all_program_variants();
 struct RenderPlan {
   Traversal traversal;              // never Auto; for HBAO the G-buffer's walk
   KernelOrganisation organisation;  // never Auto for the ray-traced method; Megakernel for HBAO
-  ProgramVariant program;
+  ProgramVariant program;           // render.cl; for HBAO its G-buffer's, and hbao.cl follows
   std::vector<std::string> reasons;  // one line per choice made for "auto"
 };
 

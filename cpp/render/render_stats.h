@@ -29,6 +29,7 @@ struct RenderStats {
   std::string max_distance_source;
   double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
   double frame_ms = 0.0;         // camera rays, AO, the spatial filter and read-back of the image
+  double gbuffer_ms = 0.0;       // HBAO only: the part of frame_ms that made its G-buffer (camera rays included)
   double denoise_ms = 0.0;       // the spatial filter, where it ran (SPEC 7.3)
   double temporal_ms = 0.0;      // temporal accumulation, where it ran (SPEC 7.4)
   std::uint64_t rays_primary = 0;
@@ -49,6 +50,8 @@ struct RenderResult {
   std::vector<float> ao_second_moment;
   // With RenderSettings::variance: per pixel, its variance (SPEC 7.1).
   std::vector<float> variance;
+  // Renderer::gbuffer only: GBUFFER_PLANES planes of a float per pixel (kernels/mbao/gbuffer.h).
+  std::vector<float> gbuffer;
   // A frame that accumulates (SPEC 7.4): per pixel, its history length n.
   std::vector<std::uint32_t> history_length;
   RenderStats stats;

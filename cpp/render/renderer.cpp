@@ -8,11 +8,12 @@
 
 #include "core/error.h"
 #include "core/timer.h"
+#include "mbao/gbuffer.h"
 #include "mbao/pixel_order.h"
 #include "opencl/launch.h"
 #include "render/denoiser.h"
 #include "render/frame.h"
-#include "render/hbao_frame.h"
+#include "render/hbao_pass.h"
 
 namespace mbao {
 namespace {
@@ -105,9 +106,14 @@ RenderResult Renderer::bake(const std::shared_ptr<const Scene>& scene, const Ren
   return run(scene, Camera{}, settings, between_tiles, &tiles);
 }
 
+RenderResult Renderer::gbuffer(const std::shared_ptr<const Scene>& scene, const Camera& camera,
+                               const RenderSettings& settings) {
+  return run(scene, camera, settings, {}, nullptr, nullptr, FrameOutput::GBuffer);
+}
+
 RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                            const RenderSettings& requested, const TileCallback& between_tiles,
-                           const BakeTiles* bake_tiles, TemporalHistory* history) {
+                           const BakeTiles* bake_tiles, TemporalHistory* history, FrameOutput output) {
   RenderResult result;
   RenderStats& stats = result.stats;
   const AoRadius radius = radius_for(requested, camera, *scene);
@@ -125,7 +131,10 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   stats.tree_reused = scene->has_kd_tree();
   stats.tree = DeviceScene::tree_within(*scene, device().device)->stats;
   stats.build_ms = stats.tree.build_ms;
-  const RenderPlan plan = plan_render(settings, device(), SceneTraits::of(*scene));
+  const bool gbuffer_only = output == FrameOutput::GBuffer;
+  RenderSettings planned_as = settings;
+  if (gbuffer_only) planned_as.method = Method::Hbao;  // its G-buffer, which this frame is
+  const RenderPlan plan = plan_render(planned_as, device(), SceneTraits::of(*scene));
   stats.traversal_mode = to_string(plan.traversal);
   stats.plan = plan.reasons;
   Stopwatch upload_clock;
@@ -145,14 +154,16 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   result.coverage.resize(pixels);
   const Camera local_camera = camera.relative_to(scene->render_origin());
   try {
-    if (settings.method == Method::Hbao) {
-      run_hbao(*device_scene, built.program, local_camera, settings, result);
+    RenderSettings planned = settings;
+    planned.traversal = plan.traversal;
+    planned.organisation = plan.organisation;
+    if (gbuffer_only) {
+      run_gbuffer(*device_scene, built.program, local_camera, planned, nullptr, result);
+    } else if (settings.method == Method::Hbao) {
+      const cl::Program hbao_program = screen_space_program(Program::Hbao, stats);
+      run_gbuffer(*device_scene, built.program, local_camera, planned, &hbao_program, result);
     } else {
-      RenderSettings planned = settings;
-      planned.traversal = plan.traversal;
-      planned.organisation = plan.organisation;
-      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, bake_tiles, history,
-                 result);
+      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, bake_tiles, history, result);
     }
   } catch (const cl::Error& e) {
     throw_device_error((bake_tiles ? "baking " : "rendering ") + scene->name() + " on " + device().description(),
@@ -258,30 +269,60 @@ cl::Program Renderer::screen_space_program(Program program, RenderStats& stats) 
   return built.program;
 }
 
-void Renderer::run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                        const RenderSettings& settings, RenderResult& result) {
+void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
+                           const RenderSettings& settings, const cl::Program* hbao_program, RenderResult& result) {
   RenderStats& stats = result.stats;
   cl::CommandQueue& queue = compute_.queue();
-  check_device_memory(device(), scene, HbaoFrame::device_bytes(result.ao.size()), settings);
-  HbaoFrame frame(compute_.context(), device().device, program, scene, camera, settings);
+  const std::size_t pixels = result.coverage.size();
+  const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
+  const std::size_t frame_bytes =
+      Frame::device_bytes(settings, tile_pixels, PrimarySurfaces::CameraHits, FrameOutput::GBuffer);
+  check_device_memory(device(), scene, frame_bytes, settings);
+  Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels,
+              PrimarySurfaces::CameraHits, FrameOutput::GBuffer);
+  std::optional<HbaoPass> hbao;
+  if (hbao_program) hbao.emplace(device().device, *hbao_program, camera, settings);
   stats.memory_bytes = scene.bytes() + frame.bytes();
-  // As above, a first launch builds the kernels on some drivers, for the grid's
-  // size too; HBAO has no empty launch, so the first frame of each image size is
-  // counted as kernel build time.
-  const std::string signature = std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " hbao " +
-                                std::to_string(result.ao.size());
+  const auto enqueue_gbuffer = [&] {
+    for (std::size_t first = 0; first < pixels; first += tile_pixels)
+      frame.enqueue_tile(queue, first, std::min(tile_pixels, pixels - first));
+  };
+  // As in run_traced, a first launch builds the kernels on some drivers, for
+  // the grid's size too; the HBAO pass has no empty launch, so the first frame
+  // of each image size is counted as kernel build time.
+  const std::string signature =
+      frame.launch_signature() +
+      (hbao ? " hbao " + std::to_string(reinterpret_cast<std::uintptr_t>((*hbao_program)())) : "") + " " +
+      std::to_string(settings.width) + "x" + std::to_string(settings.height);
   if (launched_.insert(signature).second) {
     Stopwatch clock;
-    frame.enqueue(queue);
+    enqueue_gbuffer();
+    if (hbao) hbao->enqueue(queue, frame.buffers());
     queue.finish();
     stats.kernel_build_ms += clock.elapsed_ms();
   }
   Stopwatch clock;
-  frame.enqueue(queue);
-  frame.enqueue_read_back(queue, result.ao.data(), result.coverage.data());
+  enqueue_gbuffer();
+  stats.tiles = (pixels + tile_pixels - 1) / tile_pixels;
+  queue.finish();  // the G-buffer's share of the frame apart
+  stats.gbuffer_ms = clock.elapsed_ms();
+  if (hbao) {
+    hbao->enqueue(queue, frame.buffers());
+    frame.enqueue_read_back(queue, result, nullptr);
+  } else {
+    result.gbuffer.resize(pixels * GBUFFER_PLANES);
+    queue.enqueueReadBuffer(frame.buffers().gbuffer, CL_FALSE, 0, result.gbuffer.size() * sizeof(float),
+                            result.gbuffer.data());
+  }
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
-  stats.tiles = 1;
+  if (!hbao) {
+    result.ao.clear();
+    const float* triangles = result.gbuffer.data() + std::size_t(GBUFFER_TRIANGLE) * pixels;
+    for (std::size_t p = 0; p < pixels; ++p)
+      result.coverage[p] = mbao_float_as_u32(triangles[p]) == MBAO_GBUFFER_NO_TRIANGLE ? 0 : 255;
+  }
+  if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
 }
 
 TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std::vector<cl_float4>& origins,

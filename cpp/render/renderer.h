@@ -12,6 +12,7 @@
 
 #include "accel/kd_tree.h"
 #include "opencl/compute_context.h"
+#include "render/ao_kernel_args.h"
 #include "render/device_scene.h"
 #include "render/render_plan.h"
 #include "render/render_settings.h"
@@ -82,6 +83,13 @@ class Renderer {
                     std::size_t first_position = 0,
                     std::size_t end_position = std::numeric_limits<std::size_t>::max());
 
+  // The G-buffer (SPEC 7.2) of settings.width x height pixels, as HBAO's frames
+  // make it, in result.gbuffer: GBUFFER_PLANES planes of a float per pixel
+  // (kernels/mbao/gbuffer.h), positions in the scene's device frame.
+  // result.coverage says which pixels a camera ray hit; result.ao is empty.
+  RenderResult gbuffer(const std::shared_ptr<const Scene>& scene, const Camera& camera,
+                       const RenderSettings& settings);
+
   // Traces rays given as origins and direction + t_max in .w; closest hits, or
   // with any_hit the first hit found.
   TraceResult trace(const std::shared_ptr<const Scene>& scene, const std::vector<cl_float4>& origins,
@@ -94,12 +102,13 @@ class Renderer {
     const TilePoints& points;
     std::size_t first_position, end_position;
   };
-  // render and bake: a bake's points, where given, stand for the camera rays.
+  // render, bake and gbuffer: a bake's points, where given, stand for the camera rays; a G-buffer
+  // output is planned as HBAO's G-buffer and runs no pass after it.
   RenderResult run(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& requested,
                    const TileCallback& between_tiles, const BakeTiles* bake_tiles,
-                   TemporalHistory* history = nullptr);
-  // The two kinds of frame, given the scene on the device and the camera in its frame; run_traced's
-  // settings carry the plan's traversal and organisation.
+                   TemporalHistory* history = nullptr, FrameOutput output = FrameOutput::AmbientOcclusion);
+  // The kinds of frame, given the scene on the device and the camera in its frame; their settings
+  // carry the plan's traversal and organisation.
   void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                   const RenderSettings& settings, const TileCallback& between_tiles,
                   const BakeTiles* bake_tiles, TemporalHistory* history, RenderResult& result);
@@ -108,8 +117,10 @@ class Renderer {
                                TemporalHistory* history, RenderResult& result);
   // A program that walks no tree (denoise.cl, temporal.cl), its build time added to stats.
   cl::Program screen_space_program(Program program, RenderStats& stats);
-  void run_hbao(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                const RenderSettings& settings, RenderResult& result);
+  // A G-buffer frame (the camera rays and their G-buffer), then HBAO's pass where `hbao_program` is given,
+  // else the G-buffer read back into result.gbuffer.
+  void run_gbuffer(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
+                   const RenderSettings& settings, const cl::Program* hbao_program, RenderResult& result);
 
   ComputeContext compute_;
   DeviceSceneCache scenes_;

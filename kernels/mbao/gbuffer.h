@@ -1,5 +1,6 @@
 // The G-buffer (SPEC 7.2): for each pixel the hit of the ray through its
-// centre, as the screen-space passes read it. Shared by the host, which fills
+// centre, as every screen-space pass reads it (HBAO, the spatial filter,
+// temporal accumulation). Shared by the host, which reads it back and fills
 // test buffers with it, and the kernels.
 //
 // It is stored as planes, each one quantity for every pixel row by row, so
@@ -11,16 +12,23 @@
 
 #include "mbao/platform.h"
 
+// A pixel that no triangle covers: every plane 0 but the triangle's.
+#define MBAO_GBUFFER_NO_TRIANGLE 0xFFFFFFFFu
+
 typedef struct GBufferTexel {
   float x, y, z;       // the hit point, in the scene's device frame (relative to its render origin)
   float t;             // its distance along the camera ray; 0 where the ray missed
   float nx, ny, nz;    // the geometric normal, turned to the eye
   float footprint;     // the side of the pixel at distance t: 2 t tan(vfov / 2) / height
+  float depth;         // its distance along the view direction (view-space z); 0 where the ray missed
+  float sx, sy, sz;    // the shading normal (SPEC 3.3), turned to the eye
+  mbao_u32 triangle;   // the hit triangle's index, MBAO_GBUFFER_NO_TRIANGLE where the ray missed
 } GBufferTexel;
 
-// The planes, in GBufferTexel's order.
+// The planes, in GBufferTexel's order. The triangle plane holds its indices' bits.
 enum GBufferPlane {
   GBUFFER_X, GBUFFER_Y, GBUFFER_Z, GBUFFER_T, GBUFFER_NX, GBUFFER_NY, GBUFFER_NZ, GBUFFER_FOOTPRINT,
+  GBUFFER_DEPTH, GBUFFER_SX, GBUFFER_SY, GBUFFER_SZ, GBUFFER_TRIANGLE,
   GBUFFER_PLANES
 };
 
@@ -31,7 +39,9 @@ MBAO_FN const MBAO_GLOBAL float* gbuffer_plane(const MBAO_GLOBAL float* gbuffer,
 }
 
 MBAO_FN void gbuffer_store(MBAO_GLOBAL float* gbuffer, mbao_u32 pixels, mbao_u32 pixel, GBufferTexel g) {
-  const float fields[GBUFFER_PLANES] = {g.x, g.y, g.z, g.t, g.nx, g.ny, g.nz, g.footprint};
+  const float fields[GBUFFER_PLANES] = {g.x,     g.y,  g.z,  g.t,  g.nx, g.ny, g.nz, g.footprint,
+                                        g.depth, g.sx, g.sy, g.sz, mbao_u32_as_float(g.triangle)};
+  MBAO_UNROLL
   for (int plane = 0; plane < GBUFFER_PLANES; ++plane) gbuffer[(mbao_u64)plane * pixels + pixel] = fields[plane];
 }
 

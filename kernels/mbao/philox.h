@@ -21,6 +21,7 @@ MBAO_FN mbao_u32 philox_mulhi(mbao_u32 a, mbao_u32 b) { return (mbao_u32)(((mbao
 
 MBAO_FN Philox4x32 philox4x32_10(Philox4x32 counter, mbao_u32 key0, mbao_u32 key1) {
   Philox4x32 x = counter;
+  MBAO_UNROLL
   for (int round = 0; round < 10; ++round) {
     const mbao_u32 hi0 = philox_mulhi(MBAO_PHILOX_M0, x.v[0]);
     const mbao_u32 lo0 = MBAO_PHILOX_M0 * x.v[0];

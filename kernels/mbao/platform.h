@@ -13,7 +13,11 @@ typedef uchar mbao_u8;
 #define mbao_float_as_u32(x) as_uint(x)
 #define mbao_u32_as_float(x) as_float(x)
 #define mbao_floor(x) floor(x)
+// A loop of constant count unrolled before PoCL builds its loops over work
+// items, which it turns into vector code only where their bodies have no loops.
+#define MBAO_UNROLL _Pragma("unroll")
 #else
+#define MBAO_UNROLL
 #include <cmath>
 #include <cstdint>
 #include <cstring>

@@ -19,7 +19,7 @@ from .devices import devices
 from .gtao import gtao_multibounce
 from .images import save_image
 from .reference import Reference, reference, reference_camera
-from .render import Result, render, render_sequence, trace
+from .render import GBuffer, Result, gbuffer, render, render_sequence, trace
 from .scene import Mesh, load
 from .settings import Engine
 
@@ -31,6 +31,7 @@ __all__ = [
     "Device",
     "DeviceError",
     "Engine",
+    "GBuffer",
     "HBAO",
     "Error",
     "LoadError",
@@ -45,6 +46,7 @@ __all__ = [
     "cornell_box",
     "devices",
     "format_convergence",
+    "gbuffer",
     "gtao_multibounce",
     "load",
     "plot_convergence",

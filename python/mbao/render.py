@@ -27,9 +27,9 @@ class Result:
         or "compiled"), kernel_options, traversal_mode, organisation, plan (why
         "auto" chose the kernel variant it did, a line per choice), max_distance
         (the radius used) and max_distance_source ("settings", "camera", "scene":
-        HBAO's quarter diagonal, or "none": inf), upload_ms, frame_ms (denoise_ms,
-        the spatial filter's part of it, and temporal_ms, temporal accumulation's:
-        0 without them),
+        HBAO's quarter diagonal, or "none": inf), upload_ms, frame_ms (gbuffer_ms,
+        HBAO's G-buffer's part of it, denoise_ms, the spatial filter's, and
+        temporal_ms, temporal accumulation's: 0 without them),
         rays_primary, rays_secondary, memory_bytes, tiles, device, tree.
     variance: (height, width) float32 with variance=True, else None: each
         pixel's variance as an estimate of its expectation, from the spread of
@@ -247,3 +247,58 @@ def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversa
         checked(ENGINE["traversal"], traversal),
         _checks.boolean("traversal_stats", traversal_stats),
     )
+
+
+@dataclasses.dataclass(frozen=True)
+class GBuffer:
+    """Per pixel, the hit of the camera ray through its centre (SPEC 7.2): what
+    HBAO and the screen-space filters read. Arrays are (height, width), vectors
+    (height, width, 3), row 0 at the top; where no triangle covers a pixel,
+    mask is False, triangle -1 and every other value 0.
+
+    position: the hit point, in world units.
+    t: its distance along the camera ray; depth: along the view direction.
+    geometric_normal, shading_normal: unit, turned to the eye (SPEC 3.3).
+    footprint: the side of the pixel at distance t.
+    triangle: int64, the hit triangle's index into scene.indices.
+    stats: as a Result's; frame_ms is the G-buffer's time.
+    """
+
+    position: np.ndarray
+    t: np.ndarray
+    depth: np.ndarray
+    geometric_normal: np.ndarray
+    shading_normal: np.ndarray
+    footprint: np.ndarray
+    triangle: np.ndarray
+    mask: np.ndarray
+    stats: dict
+
+    def __repr__(self):
+        h, w = self.t.shape
+        return f"<mbao.GBuffer {w}x{h}, {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
+
+
+# The planes of kernels/mbao/gbuffer.h, in its order.
+_GBUFFER_PLANES = ("x", "y", "z", "t", "nx", "ny", "nz", "footprint", "depth", "sx", "sy", "sz", "triangle")
+
+
+def gbuffer(scene, *, camera=None, width=RENDER["width"]["default"], height=RENDER["height"]["default"], engine=None,
+            device=None):
+    """The G-buffer (SPEC 7.2) of scene seen from camera, as HBAO's frames make
+    it: a GBuffer. scene, camera, width, height, engine and device are as for
+    render; the engine's traversal walks the camera rays ("auto": in packets
+    on CPUs)."""
+    scene, camera = as_scene(scene), as_camera(camera)
+    values = _setting_values("gbuffer", _engine(engine, {}), dict(width=width, height=height))
+    planes, origin, stats = _core.gbuffer(scene, camera, resolve(device), values)
+    plane = dict(zip(_GBUFFER_PLANES, planes))
+    triangle = plane["triangle"].view(np.uint32).astype(np.int64)
+    mask = triangle != 0xFFFFFFFF
+    triangle[~mask] = -1
+    position = np.stack([plane["x"], plane["y"], plane["z"]], axis=-1)
+    position[mask] += np.asarray(origin, dtype=np.float32)
+    return GBuffer(position=position, t=plane["t"], depth=plane["depth"],
+                   geometric_normal=np.stack([plane["nx"], plane["ny"], plane["nz"]], axis=-1),
+                   shading_normal=np.stack([plane["sx"], plane["sy"], plane["sz"]], axis=-1),
+                   footprint=plane["footprint"], triangle=triangle, mask=mask, stats=stats)

@@ -141,18 +141,37 @@ TEST(RenderPlan, EachProgramIsBuiltWithTheDefinesItReads) {
   EXPECT_EQ(plan_trace(Traversal::Auto, true, kCpu, scene).options(),
             "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_LOAD_BOTH_CHILDREN=1 "
             "-DMBAO_INDEXED_TRIANGLES=0");
-  // HBAO's G-buffer walks one ray per pixel: none of the AO's counts, distance limit or origin paths.
+  // HBAO's G-buffer is render.cl's camera rays: its counts, but none of the AO's distance limit or origin
+  // paths; the screen-space pass reads no define.
   s.method = Method::Hbao;
   s.bounces = 1;
   const RenderPlan hbao = plan_render(s, kCpu, scene);
-  EXPECT_STREQ(hbao.program.file(), "hbao.cl");
+  EXPECT_STREQ(hbao.program.file(), "render.cl");
   EXPECT_EQ(hbao.program.options(),
-            "-DMBAO_TRAVERSAL=3 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 -DMBAO_LOAD_BOTH_CHILDREN=1 "
-            "-DMBAO_INDEXED_TRIANGLES=0");
-  s.traversal = Traversal::Lanes;
-  EXPECT_EQ(plan_render(s, kCpu, scene).program.walk, Traversal::Stack);
+            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 "
+            "-DMBAO_UNLIMITED_DISTANCE=1 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0 "
+            "-DMBAO_DIRECTION_MOMENTS=0 -DMBAO_INDEXED_TRIANGLES=0");
+  ProgramVariant screen_space;
+  screen_space.program = Program::Hbao;
+  EXPECT_STREQ(screen_space.file(), "hbao.cl");
+  EXPECT_EQ(screen_space.options(), "");
   s.normals = NormalMode::Geometric;
   EXPECT_FALSE(plan_render(s, kCpu, scene).program.shading_normals);
+}
+
+// HBAO's G-buffer traces only camera rays, coherent whatever the tree: in
+// packets on CPUs, shallow trees included, and in the GPU profile's walk there.
+TEST(RenderPlan, HbaoWalksItsCameraRaysAsTheProfileSays) {
+  RenderSettings s = two_bounces();
+  s.method = Method::Hbao;
+  s.bounces = 1;
+  s.max_distance = 2.0f;
+  EXPECT_EQ(plan_render(s, kCpu, kShallow).traversal, Traversal::Lanes);
+  EXPECT_EQ(plan_render(s, kCpu, kDeep).traversal, Traversal::Lanes);
+  EXPECT_EQ(plan_render(s, kGpu, kDeep).traversal, Traversal::ShortStack);
+  EXPECT_EQ(plan_render(s, kCpu, kShallow).organisation, KernelOrganisation::Megakernel);
+  s.traversal = Traversal::Stack;
+  EXPECT_EQ(plan_render(s, kCpu, kDeep).traversal, Traversal::Stack);
 }
 
 // Every plan, over a grid of settings, devices and scenes, builds a variant
