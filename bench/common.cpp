@@ -59,15 +59,25 @@ json per_ray_counts(const mbao::RenderStats& counted) {
 json measure_frames(mbao::Renderer& renderer, const BenchScene& scene, const mbao::RenderSettings& settings,
                     int frames) {
   renderer.render(scene.scene, scene.camera, settings);
-  std::vector<double> times;
+  std::vector<double> times, gbuffer_times;
   mbao::RenderStats stats;
   for (int f = 0; f < frames; ++f) {
     const mbao::RenderResult result = renderer.render(scene.scene, scene.camera, settings);
     times.push_back(result.stats.frame_ms);
+    gbuffer_times.push_back(result.stats.gbuffer_ms);
     stats = result.stats;
   }
   const double frame_ms = median(times);
   const double rays = double(stats.rays_primary + stats.rays_secondary);
+  if (settings.method == mbao::Method::Hbao)
+    return {{"frame_ms", frame_ms},
+            {"frame_ms_all", times},
+            {"gbuffer_ms", median(gbuffer_times)},
+            {"max_distance", stats.max_distance},
+            {"directions", settings.hbao.directions},
+            {"steps", settings.hbao.steps},
+            {"traversal", stats.traversal_mode},
+            {"memory_bytes", stats.memory_bytes}};
   return {{"bounces", settings.bounces},
           {"frame_ms", frame_ms},
           {"frame_ms_all", times},

@@ -37,7 +37,6 @@ def worker(args):
     scene = mbao.load(os.path.join(args.scene, "scene.glb"))
     camera = mbao.Camera.load(os.path.join(args.scene, "camera.json"))
 
-    # HBAO's radius as `python -m mbao compare` picks it.
     # HBAO's radius as `python -m mbao compare` picks it; the ray-traced frames unlimited, as in every build.
     options_for_method = {"max_distance": ao_radius(scene, camera, None)[0] if args.method == "hbao" else math.inf}
 
@@ -52,8 +51,9 @@ def worker(args):
     print(hashlib.sha1(image.tobytes()).hexdigest(), flush=True)
     for command in sys.stdin:
         if command.strip() == "counts":
-            counts = render(64, traversal_stats=True).stats["traversal"]
-            print(" ".join(f"{name}={value:.2f}" for name, value in counts.items()), flush=True)
+            counts = render(64, traversal_stats=True).stats.get("traversal")  # builds before HBAO counted had none
+            print(" ".join(f"{name}={value:.2f}" for name, value in counts.items()) if counts else "not counted",
+                  flush=True)
         else:
             print(render(args.size).stats["frame_ms"], flush=True)
 
@@ -89,9 +89,8 @@ def compare(args):
     old = Worker(args.old, args.old_traversal or args.traversal, args.old_env, args)
     new = Worker(args.new, args.new_traversal or args.traversal, args.new_env, args)
     print("images identical:", old.image_hash == new.image_hash)
-    if args.method != "hbao":  # HBAO's G-buffer does not count its walks
-        print("old counts:", old.ask("counts"))
-        print("new counts:", new.ask("counts"))
+    print("old counts:", old.ask("counts"))
+    print("new counts:", new.ask("counts"))
     ratios = []
     for pair in range(args.pairs):
         times = {}
