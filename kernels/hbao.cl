@@ -71,11 +71,12 @@ __kernel void hbao(__global const float* gbuffer, uint width, uint height, float
       for (uint j = 0; j < MBAO_HBAO_STEPS_PER_BARRIER; ++j) {
         const uint k = first + j;
         const float along = first_step + (float)k;
-        const int sx = convert_int_rte((float)x + along * step_x), sy = convert_int_rte((float)y + along * step_y);
-        const int inside = k < steps && (uint)sx < width && (uint)sy < height;
-        const float seen_depth = depths[inside ? sy * (int)width + sx : (int)pixel];
-        const float dx = ((float)sx * rays.x_scale + rays.x_offset) * seen_depth - px;
-        const float dy = ((float)sy * rays.y_scale + rays.y_offset) * seen_depth - py;
+        const int at_x = convert_int_rte((float)x + along * step_x), at_y = convert_int_rte((float)y + along * step_y);
+        // Once a direction's steps leave the image they stay out: masked, as the end of the direction.
+        const int inside = k < steps && (uint)at_x < width && (uint)at_y < height;
+        const float seen_depth = depths[inside ? at_y * (int)width + at_x : (int)pixel];
+        const float dx = ((float)at_x * rays.x_scale + rays.x_offset) * seen_depth - px;
+        const float dy = ((float)at_y * rays.y_scale + rays.y_offset) * seen_depth - py;
         const float dz = seen_depth - depth;
         const float d2 = dx * dx + dy * dy + dz * dz;
         const float r2 = d2 * per_radius2;
@@ -83,7 +84,7 @@ __kernel void hbao(__global const float* gbuffer, uint width, uint height, float
         // Missed pixels have depth 0. A step that lands on the pixel itself is no
         // sample: compared by position, as its rebuilt point may be off its own by
         // rounding (contracted into fused multiply-adds or not), with any slope.
-        const int elsewhere = sx != (int)x || sy != (int)y;
+        const int elsewhere = at_x != (int)x || at_y != (int)y;
         const int rises = inside && elsewhere && seen_depth > 0.0f && r2 <= 1.0f && sin_sample > sin_horizon;
         occlusion += rises ? (1.0f - falloff * r2) * (sin_sample - sin_horizon) : 0.0f;
         sin_horizon = rises ? sin_sample : sin_horizon;

@@ -115,7 +115,7 @@ class Renderer {
   // The temporal accumulation and the spatial filter, in that order, where the settings ask for them.
   void run_screen_space_passes(Frame& frame, const Camera& camera, const RenderSettings& settings,
                                TemporalHistory* history, RenderResult& result);
-  // A program that walks no tree (denoise.cl, temporal.cl), its build time added to stats.
+  // A program that walks no tree (hbao.cl, denoise.cl, temporal.cl), its build time added to stats.
   cl::Program screen_space_program(Program program, RenderStats& stats);
   // A G-buffer frame (the camera rays and their G-buffer), then HBAO's pass where `hbao_program` is given,
   // else the G-buffer read back into result.gbuffer.
