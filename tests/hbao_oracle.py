@@ -62,7 +62,7 @@ def hbao(gbuffer, camera, radius, seed=0, directions=8, steps=6, angle_bias_deg=
             with np.errstate(divide="ignore", invalid="ignore"):
                 sin_sample = np.einsum("ij,ij->i", d, normals) / np.sqrt(d2)
                 r2 = d2 / radius**2
-                rises = inside & covered[seen] & (d2 > 0) & (r2 <= 1) & (sin_sample > sin_horizon)
+                rises = inside & covered[seen] & (seen != pixel) & (d2 > 0) & (r2 <= 1) & (sin_sample > sin_horizon)
             occlusion += np.where(rises, (1 - falloff * r2) * (sin_sample - sin_horizon), 0.0)
             sin_horizon = np.where(rises, sin_sample, sin_horizon)
     access = np.where(covered & (step >= 0.5), np.clip(1 - occlusion / directions, 0, 1), 1.0)

@@ -1,3 +1,5 @@
+#include <iterator>
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -146,10 +148,16 @@ py::tuple gbuffer(const std::shared_ptr<Scene>& scene, const std::optional<Camer
     const Camera view = camera ? *camera : scene->default_camera(float(settings.width) / float(settings.height));
     result = Renderer::for_device(device).gbuffer(scene, view, settings);
   }
+  // kernels/mbao/gbuffer.h's planes, in its order.
+  static const char* const names[] = {"x",     "y",  "z",  "t",  "nx", "ny", "nz", "footprint",
+                                      "depth", "sx", "sy", "sz", "triangle"};
+  static_assert(std::size(names) == GBUFFER_PLANES, "a name for each plane of the G-buffer");
   const py::ssize_t h = result.height, w = result.width;
+  const py::array_t<float> planes = adopt(std::move(result.gbuffer), {py::ssize_t(GBUFFER_PLANES), h, w});
+  py::dict by_name;
+  for (py::ssize_t plane = 0; plane < py::ssize_t(GBUFFER_PLANES); ++plane) by_name[names[plane]] = planes[py::int_(plane)];
   const glm::vec3 origin = scene->render_origin();
-  return py::make_tuple(adopt(std::move(result.gbuffer), {py::ssize_t(GBUFFER_PLANES), h, w}),
-                        py::make_tuple(origin.x, origin.y, origin.z), stats_dict(result.stats));
+  return py::make_tuple(by_name, py::make_tuple(origin.x, origin.y, origin.z), stats_dict(result.stats));
 }
 
 py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py::array::c_style>& origins,
@@ -279,8 +287,8 @@ max_length: N, 1..65536: a still camera averages its first N frames exactly,
         "{name: value} of setting_specs(); history: a TemporalHistory or None. Use mbao.render or "
         "mbao.render_sequence, which check and document the arguments.");
   m.def("gbuffer", &gbuffer, py::arg("scene"), py::arg("camera"), py::arg("device"), py::arg("settings"),
-        "The G-buffer (SPEC 7.2); returns (planes, the scene's render origin, stats), planes float32 of shape "
-        "(planes, height, width) in kernels/mbao/gbuffer.h's order, positions relative to the render origin. "
+        "The G-buffer (SPEC 7.2); returns ({plane: (height, width) float32}, the scene's render origin, stats), "
+        "the planes of kernels/mbao/gbuffer.h by name, positions relative to the render origin. "
         "Use mbao.gbuffer, which checks and documents the arguments.");
   m.def("setting_specs", &specs_list,
         "The render settings, each as a dict: name, group (\"render\" or \"engine\"), kind, doc, range, lo, hi, "

@@ -17,10 +17,10 @@ typedef uchar mbao_u8;
 // items, which it turns into vector code only where their bodies have no loops.
 #define MBAO_UNROLL _Pragma("unroll")
 #else
-#define MBAO_UNROLL
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#define MBAO_UNROLL
 #define MBAO_FN inline
 #define MBAO_GLOBAL
 typedef std::uint32_t mbao_u32;

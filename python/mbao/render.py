@@ -279,10 +279,6 @@ class GBuffer:
         return f"<mbao.GBuffer {w}x{h}, {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
 
 
-# The planes of kernels/mbao/gbuffer.h, in its order.
-_GBUFFER_PLANES = ("x", "y", "z", "t", "nx", "ny", "nz", "footprint", "depth", "sx", "sy", "sz", "triangle")
-
-
 def gbuffer(scene, *, camera=None, width=RENDER["width"]["default"], height=RENDER["height"]["default"], engine=None,
             device=None):
     """The G-buffer (SPEC 7.2) of scene seen from camera, as HBAO's frames make
@@ -291,8 +287,7 @@ def gbuffer(scene, *, camera=None, width=RENDER["width"]["default"], height=REND
     on CPUs)."""
     scene, camera = as_scene(scene), as_camera(camera)
     values = _setting_values("gbuffer", _engine(engine, {}), dict(width=width, height=height))
-    planes, origin, stats = _core.gbuffer(scene, camera, resolve(device), values)
-    plane = dict(zip(_GBUFFER_PLANES, planes))
+    plane, origin, stats = _core.gbuffer(scene, camera, resolve(device), values)
     triangle = plane["triangle"].view(np.uint32).astype(np.int64)
     mask = triangle != 0xFFFFFFFF
     triangle[~mask] = -1
