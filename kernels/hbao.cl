@@ -1,7 +1,7 @@
 // Horizon-based ambient occlusion (Bavoil, Sainz and Dimitrov 2008) as SPEC 4
 // defines it: the screen-space baseline the ray-traced estimators are compared
-// with. It reads the G-buffer (SPEC 7.2) that render.cl's camera rays and
-// store_gbuffer made, and walks no tree.
+// with. It reads the G-buffer (SPEC 7.2) that render.cl's camera rays wrote,
+// and walks no tree.
 //
 // Written for PoCL's vectoriser (see denoise.cl): the G-buffer is read plane
 // by plane, view-space points are rebuilt from the depth plane (one load per

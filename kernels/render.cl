@@ -20,6 +20,53 @@
 #include "mbao/gbuffer.h"
 #include "mbao/pixel_order.h"
 
+// A hit as the kernels store it: (t, triangle, b1, b2) bits.
+static inline Hit hit_of_bits(uint4 bits) {
+  Hit hit;
+  hit.t = as_float(bits.x);
+  hit.triangle = bits.y;
+  hit.b1 = as_float(bits.z);
+  hit.b2 = as_float(bits.w);
+  return hit;
+}
+
+static inline Hit stored_hit(__global const uint4* hits, uint index) { return hit_of_bits(hits[index]); }
+
+// A camera hit, seen from the eye; with eye.w = 1 a bake's point, given
+// instead of traced, on its triangle's front side (SPEC 6.1).
+static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 eye) {
+  const float3 p0 = triangle_corner(scene, hit.triangle, 0);
+  const float3 p1 = triangle_corner(scene, hit.triangle, 1);
+  const float3 p2 = triangle_corner(scene, hit.triangle, 2);
+  if (eye.w != 0.0f) return make_surface(scene, hit, cross(p2 - p0, p1 - p0));
+  const float3 hit_point = (1.0f - hit.b1 - hit.b2) * p0 + hit.b1 * p1 + hit.b2 * p2;
+  return make_surface(scene, hit, hit_point - eye.xyz);
+}
+
+// Pixel `pixel`'s texel of the G-buffer (SPEC 7.2), from its camera hit
+// through the pixel centre.
+static inline void store_gbuffer_texel(const SceneView* scene, Hit hit, float4 eye, float4 forward,
+                                       uint2 image_size, float film_scale_y, uint pixel, __global float* gbuffer) {
+  GBufferTexel g = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, MBAO_GBUFFER_NO_TRIANGLE};
+  if (hit.triangle != MBAO_NO_TRIANGLE) {
+    const Surface s = primary_surface(scene, hit, eye);
+    g.x = s.position.x;
+    g.y = s.position.y;
+    g.z = s.position.z;
+    g.t = hit.t;
+    g.nx = s.geometric_normal.x;
+    g.ny = s.geometric_normal.y;
+    g.nz = s.geometric_normal.z;
+    g.footprint = 2.0f * hit.t * film_scale_y / (float)image_size.y;
+    g.depth = dot(s.position - eye.xyz, forward.xyz);
+    g.sx = s.shading_normal.x;
+    g.sy = s.shading_normal.y;
+    g.sz = s.shading_normal.z;
+    g.triangle = hit.triangle;
+  }
+  gbuffer_store(gbuffer, image_size.x * image_size.y, pixel, g);
+}
+
 // The direction of camera sample `sample_index` of the positions from
 // first_position of the pixel order (mbao/pixel_order.h): spp samples per pixel.
 static inline float3 camera_sample_direction(float4 forward, float4 right, float4 up, float2 film_scale, uint width,
@@ -37,11 +84,14 @@ static inline float3 camera_sample_direction(float4 forward, float4 right, float
 
 // Camera rays (SPEC 3.1). One work item per camera sample of the tile, the
 // positions [first_position, first_position + pixel_count); the closest hit is
-// stored as (t, triangle, b1, b2) bits.
+// stored as (t, triangle, b1, b2) bits. Where `gbuffer` is given (at spp = 1:
+// the rays through the pixel centres) the pass also writes its texels: one
+// G-buffer pass for every screen-space pass and the AO's primary hits.
 __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
                                 float4 up, float2 film_scale, uint width, uint height, uint spp,
                                 uint2 seed, uint first_position, uint pixel_count,
-                                __global uint4* camera_hits, __global ulong* traversal_totals) {
+                                __global uint4* camera_hits, __global ulong* traversal_totals,
+                                __global float* gbuffer) {
   const uint sample_index = get_global_id(0);
   if (sample_index >= pixel_count * spp) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -51,6 +101,9 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
   TraversalCounts counts = no_traversal_counts();
   trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit, &counts);
   camera_hits[sample_index] = (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
+  if (gbuffer)
+    store_gbuffer_texel(&scene, hit, eye, forward, (uint2)(width, height), film_scale.y,
+                        pixel_at_position(first_position + sample_index, width, height), gbuffer);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
@@ -59,11 +112,12 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
 #if MBAO_TRAVERSAL == MBAO_TRAVERSAL_LANES
 // trace_camera_rays in packets (kd_packet.h): work item j takes camera samples
 // [16 j, 16 j + 16), where spp is 1 a 4 x 4 square of pixels (but in the blocks
-// that the image's edges cut), and stores the same hits and counts.
+// that the image's edges cut), and stores the same hits, counts and texels.
 __kernel void trace_camera_packets(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
                                    float4 up, float2 film_scale, uint width, uint height, uint spp,
                                    uint2 seed, uint first_position, uint pixel_count,
-                                   __global uint4* camera_hits, __global ulong* traversal_totals) {
+                                   __global uint4* camera_hits, __global ulong* traversal_totals,
+                                   __global float* gbuffer) {
   const uint first_sample = get_global_id(0) * MBAO_LANES, samples = pixel_count * spp;
   if (first_sample >= samples) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -80,6 +134,10 @@ __kernel void trace_camera_packets(MBAO_SCENE_PARAMS, float4 eye, float4 forward
   PacketCounts counts = {(uint16)(0u), (uint16)(0u), (uint16)(0u)};
   trace_packet(&scene, eye.xyz, dir_x, dir_y, dir_z, (1u << lanes) - 1u, hits, &counts);
   for (uint k = 0; k < lanes; ++k) camera_hits[first_sample + k] = hits[k];
+  if (gbuffer)
+    for (uint k = 0; k < lanes; ++k)
+      store_gbuffer_texel(&scene, hit_of_bits(hits[k]), eye, forward, (uint2)(width, height), film_scale.y,
+                          pixel_at_position(first_position + first_sample + k, width, height), gbuffer);
 #if MBAO_COUNT_TRAVERSAL
   const TraversalCounts sums = {sum_of_lanes(counts.nodes), sum_of_lanes(counts.leaves),
                                 sum_of_lanes(counts.triangles), 0u};
@@ -312,58 +370,6 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
     }
   }
   return fmin(sum / (float)s->samples, 1.0f);
-}
-
-// A hit as the kernels store it: (t, triangle, b1, b2) bits.
-static inline Hit stored_hit(__global const uint4* hits, uint index) {
-  const uint4 bits = hits[index];
-  Hit hit;
-  hit.t = as_float(bits.x);
-  hit.triangle = bits.y;
-  hit.b1 = as_float(bits.z);
-  hit.b2 = as_float(bits.w);
-  return hit;
-}
-
-// A camera hit, seen from the eye; with eye.w = 1 a bake's point, given
-// instead of traced, on its triangle's front side (SPEC 6.1).
-static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 eye) {
-  const float3 p0 = triangle_corner(scene, hit.triangle, 0);
-  const float3 p1 = triangle_corner(scene, hit.triangle, 1);
-  const float3 p2 = triangle_corner(scene, hit.triangle, 2);
-  if (eye.w != 0.0f) return make_surface(scene, hit, cross(p2 - p0, p1 - p0));
-  const float3 hit_point = (1.0f - hit.b1 - hit.b2) * p0 + hit.b1 * p1 + hit.b2 * p2;
-  return make_surface(scene, hit, hit_point - eye.xyz);
-}
-
-// The G-buffer (SPEC 7.2) of the tile's pixels from their camera hits, at
-// spp = 1 the rays through the pixel centres. One work item per pixel.
-__kernel void store_gbuffer(MBAO_SCENE_PARAMS, float4 eye, float4 forward, uint2 image_size, float film_scale_y,
-                            uint first_position, uint pixel_count, __global const uint4* camera_hits,
-                            __global float* gbuffer) {
-  const uint index = get_global_id(0);
-  if (index >= pixel_count) return;
-  const uint pixel = pixel_at_position(first_position + index, image_size.x, image_size.y);
-  const Hit hit = stored_hit(camera_hits, index);
-  GBufferTexel g = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, MBAO_GBUFFER_NO_TRIANGLE};
-  if (hit.triangle != MBAO_NO_TRIANGLE) {
-    const SceneView scene = MBAO_SCENE_VIEW();
-    const Surface s = primary_surface(&scene, hit, eye);
-    g.x = s.position.x;
-    g.y = s.position.y;
-    g.z = s.position.z;
-    g.t = hit.t;
-    g.nx = s.geometric_normal.x;
-    g.ny = s.geometric_normal.y;
-    g.nz = s.geometric_normal.z;
-    g.footprint = 2.0f * hit.t * film_scale_y / (float)image_size.y;
-    g.depth = dot(s.position - eye.xyz, forward.xyz);
-    g.sx = s.shading_normal.x;
-    g.sy = s.shading_normal.y;
-    g.sz = s.shading_normal.z;
-    g.triangle = hit.triangle;
-  }
-  gbuffer_store(gbuffer, image_size.x * image_size.y, pixel, g);
 }
 
 // A pixel's variance (SPEC 7.1): the spread of its camera samples' values

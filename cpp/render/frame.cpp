@@ -62,11 +62,8 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
     buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   if (ao && (s.variance || s.filtered()))
     buffers_.ao_variance = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(cl_float));
-  if (makes_gbuffer(s, output)) {
+  if (makes_gbuffer(s, output))
     buffers_.gbuffer = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * GBUFFER_PLANES * sizeof(cl_float));
-    gbuffer_ = cl::Kernel(program, "store_gbuffer");
-    gbuffer_group_ = work_group_size_for(gbuffer_, device, s.work_group_size);
-  }
   bytes_ = device_bytes(s, tile_pixels, primaries, output);
   if (s.count_traversal) {
     const cl_ulong zeros[4] = {0, 0, 0, 0};
@@ -92,11 +89,7 @@ void Frame::set_up_megakernel(const cl::Device& device, const cl::Program& progr
 
 void Frame::set_tile(std::size_t first, std::size_t count) {
   set_kernel_args(camera_rays_, scene_, camera_args_, cl_uint(spp_), seed_, cl_uint(first), cl_uint(count),
-                  buffers_.camera_hits, buffers_.traversal_totals);
-  if (gbuffer_())
-    set_kernel_args(gbuffer_, scene_, ao_args_.eye, camera_args_.forward, ao_args_.image_size,
-                    camera_args_.film_scale.s[1], cl_uint(first), cl_uint(count), buffers_.camera_hits,
-                    buffers_.gbuffer);
+                  buffers_.camera_hits, buffers_.traversal_totals, buffers_.gbuffer);
   if (wavefront_ || !ao_kernel_()) return;  // the wavefront sets its own kernels' tile
   set_kernel_args(ao_kernel_, scene_, ao_args_, cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.ao,
                   buffers_.ao_second_moment, buffers_.ao_variance, buffers_.coverage, buffers_.secondary_rays,
@@ -106,7 +99,6 @@ void Frame::set_tile(std::size_t first, std::size_t count) {
 void Frame::enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
   set_tile(first, count);
   launch(queue, camera_rays_, camera_items(count), camera_group_);
-  if (gbuffer_()) launch(queue, gbuffer_, count, gbuffer_group_);
   enqueue_ao(queue, first, count);
 }
 
@@ -134,7 +126,6 @@ std::size_t Frame::camera_items(std::size_t pixels) const {
 void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
   set_tile(0, 0);
   launch_empty(queue, camera_rays_, camera_items(tile_pixels_), camera_group_);
-  if (gbuffer_()) launch_empty(queue, gbuffer_, tile_pixels_, gbuffer_group_);
   if (wavefront_)
     wavefront_->enqueue_empty_tiles(queue, tile_pixels_);
   else if (ao_kernel_())
@@ -165,9 +156,8 @@ std::string Frame::launch_signature() const {
   const std::string ao = wavefront_    ? wavefront_->launch_signature()
                          : ao_kernel_() ? ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(ao_group_)
                                         : "no AO";
-  const std::string gbuffer = gbuffer_() ? " G-buffer " + std::to_string(gbuffer_group_) : "";
   return std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " " + std::to_string(camera_group_) + " " + ao +
-         gbuffer + " tile " + std::to_string(tile_pixels_);
+         " tile " + std::to_string(tile_pixels_);
 }
 
 }  // namespace mbao

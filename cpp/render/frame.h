@@ -17,8 +17,8 @@
 namespace mbao {
 
 // The device side of one render: its buffers and kernels (render.cl's camera
-// rays, then the G-buffer and the AO megakernel or the wavefront), set up for
-// everything but the tile. A tile is a range of positions in the order the
+// rays, which write the G-buffer where the frame has one, then the AO
+// megakernel or the wavefront), set up for everything but the tile. A tile is a range of positions in the order the
 // kernels take the pixels in (kernels/mbao/pixel_order.h: blocks of 16 x 16 in
 // Z order).
 class Frame {
@@ -75,8 +75,6 @@ class Frame {
   FrameBuffers buffers_;
   cl::Kernel camera_rays_;
   std::size_t camera_group_ = 0;
-  cl::Kernel gbuffer_;  // for G-buffer frames, and AO frames when filtered (RenderSettings::filtered)
-  std::size_t gbuffer_group_ = 0;
   // The megakernel, or else the wavefront; neither in G-buffer frames.
   cl::Kernel ao_kernel_;
   std::size_t ao_group_ = 0;
