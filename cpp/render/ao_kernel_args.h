@@ -24,8 +24,8 @@ struct FrameBuffers {
 // surface points a bake gives tile by tile, shaded on their front sides (SPEC 6.1).
 enum class PrimarySurfaces { CameraHits, GivenPoints };
 
-// What a frame's tiles make of their camera hits: the AO, with the G-buffer
-// where screen-space passes follow (RenderSettings::filtered), or the
+// What a frame's tiles make beside their camera hits: the AO, with the
+// G-buffer where screen-space passes follow (RenderSettings::filtered), or the
 // G-buffer alone, which HBAO reads.
 enum class FrameOutput { AmbientOcclusion, GBuffer };
 
