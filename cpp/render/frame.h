@@ -18,9 +18,9 @@ namespace mbao {
 
 // The device side of one render: its buffers and kernels (render.cl's camera
 // rays, which write the G-buffer where the frame has one, then the AO
-// megakernel or the wavefront), set up for everything but the tile. A tile is a range of positions in the order the
-// kernels take the pixels in (kernels/mbao/pixel_order.h: blocks of 16 x 16 in
-// Z order).
+// megakernel or the wavefront), set up for everything but the tile. A tile is
+// a range of positions in the order the kernels take the pixels in
+// (kernels/mbao/pixel_order.h: blocks of 16 x 16 in Z order).
 class Frame {
  public:
   Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,

@@ -316,11 +316,9 @@ void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program,
   }
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
-  if (!hbao) {
+  if (!hbao) {  // the triangle plane says which pixels a camera ray hit
     result.ao.clear();
-    const float* triangles = result.gbuffer.data() + std::size_t(GBUFFER_TRIANGLE) * pixels;
-    for (std::size_t p = 0; p < pixels; ++p)
-      result.coverage[p] = mbao_float_as_u32(triangles[p]) == MBAO_GBUFFER_NO_TRIANGLE ? 0 : 255;
+    result.coverage.clear();
   }
   if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
 }

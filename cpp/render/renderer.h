@@ -86,7 +86,7 @@ class Renderer {
   // The G-buffer (SPEC 7.2) of settings.width x height pixels, as HBAO's frames
   // make it, in result.gbuffer: GBUFFER_PLANES planes of a float per pixel
   // (kernels/mbao/gbuffer.h), positions in the scene's device frame.
-  // result.coverage says which pixels a camera ray hit; result.ao is empty.
+  // result.ao and result.coverage are empty: the triangle plane says which pixels a camera ray hit.
   RenderResult gbuffer(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                        const RenderSettings& settings);
 
