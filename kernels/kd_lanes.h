@@ -216,7 +216,9 @@ static inline int lanes_visit_leaf(const SceneView* scene, Lanes* lanes, uint k,
   return 0;
 }
 
-#if defined(__has_builtin)
+// On x86-64 only: NVIDIA's compiler has the built-in too, but refuses it a
+// __global pointer.
+#if defined(__x86_64__) && defined(__has_builtin)
 #if __has_builtin(__builtin_prefetch)
 #define MBAO_BUILTIN_PREFETCH 1
 #endif
