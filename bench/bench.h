@@ -51,6 +51,9 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
 json loading(const std::vector<BenchScene>& scenes, const Options& options);
 // The kd-tree clipped everywhere against the default: build time, tree and per-ray counts.
 json kd_builds(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
+// Where each frame's time goes on every scene, at b = 1, 2 and HBAO: each kernel's and the read-backs' device
+// time, from a queue of the section's own that records when its commands ran, beside the frame's.
+json profile(const mbao::DeviceInfo& device, const std::vector<BenchScene>& scenes, const Options& options);
 // Megakernel against wavefront on the Table 1 workload, interleaved, at each of --work-groups.
 json organisation(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options);
 
@@ -72,6 +75,9 @@ double median(std::vector<double> values);
 std::string fixed(double value, int digits);
 // The max_distance values each scene is measured at: inf, then its camera's radius if it suggests one.
 std::vector<float> distance_limits(const BenchScene& scene);
+// HBAO's frame beside a Table 1 row's: its default directions and steps, the row's
+// radius where finite, else the scene's (SPEC 1).
+mbao::RenderSettings hbao_settings(const mbao::RenderSettings& row, float radius);
 // A distance limit in the JSON ("inf" or the number) and in the tables ("inf" or one decimal).
 json distance_json(float max_distance);
 std::string distance_text(float max_distance);

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <cstdio>
 #include <iomanip>
 #include <sstream>
@@ -29,6 +30,14 @@ std::vector<float> distance_limits(const BenchScene& scene) {
   std::vector<float> limits = {std::numeric_limits<float>::infinity()};
   if (scene.camera.max_distance) limits.push_back(*scene.camera.max_distance);
   return limits;
+}
+
+mbao::RenderSettings hbao_settings(const mbao::RenderSettings& row, float radius) {
+  mbao::RenderSettings s = row;
+  s.method = mbao::Method::Hbao;
+  s.bounces = 1;
+  s.max_distance = std::isinf(radius) ? std::nullopt : std::optional<float>(radius);
+  return s;
 }
 
 json distance_json(float max_distance) { return std::isinf(max_distance) ? json("inf") : json(max_distance); }

@@ -3,6 +3,8 @@
 //   scene under --scenes (512x512, r = 4, branching, b = 1 and 2, rho = 1,
 //   spp = 1), with max_distance = inf and again with the radius a scene's
 //   camera.json suggests;
+// * where each frame's time goes: each kernel's and the read-backs' device time
+//   beside the frame's;
 // * the kd traversals' frame times and per-ray counts, at b = 2;
 // * mbao beside Embree 3 on the same workload (builds with Embree);
 // * the Cornell box with kernels built without and with the alpha-mask path;
@@ -15,8 +17,8 @@
 // * bakes beside renders: rays/s per vertex and per texel (generated UVs,
 //   2048x2048), and the texture bake's stages.
 // Prints markdown tables and writes everything as JSON. --sections picks some
-// of table1, traversals, embree, masks, kernel-builds, loading, organisation,
-// kd-build, bake, scale (default: all).
+// of table1, profile, traversals, embree, masks, kernel-builds, loading,
+// organisation, kd-build, bake, scale (default: all).
 //
 //   mbao_bench [--scenes DIR] [--json FILE] [--device INDEX|NAME] [--frames N]
 //              [--width W] [--height H] [--samples R] [--traversal auto|pushdown|restart|short-stack|stack|lanes]
@@ -51,7 +53,7 @@ namespace {
   std::exit(2);
 }
 
-const std::vector<std::string> kSections = {"table1", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation", "kd-build", "bake", "scale"};
+const std::vector<std::string> kSections = {"table1", "profile", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation", "kd-build", "bake", "scale"};
 
 std::vector<std::string> split_commas(const std::string& list) {
   std::vector<std::string> items;
@@ -171,6 +173,7 @@ int run(bench::Options options) {
                    {"sections", options.sections.empty() ? kSections : options.sections},
                    {"work_groups", options.work_groups}}}};
   if (wanted(options, "table1")) report["results"] = bench::table1(renderer, scenes, options);
+  if (wanted(options, "profile")) report["profile"] = bench::profile(device, scenes, options);
   if (wanted(options, "traversals")) report["traversals"] = bench::traversals(renderer, scenes, options);
 #ifdef MBAO_BENCH_EMBREE
   if (wanted(options, "embree")) report["embree"] = bench::embree_comparison(renderer, scenes, options);

@@ -158,6 +158,20 @@ def traversals(run):
     return table(header, rows)
 
 
+def profile(run):
+    """Each frame's commands (kernels and read-backs) by device time, from OpenCL's profiling events, and what
+    they leave of its wall time: means over the same frames."""
+    header = ["scene", "frame", "frame ms", "commands, device ms per frame", "the rest (launches, waits; read-backs where not listed) ms"]
+    rows = []
+    for row in run["profile"]:
+        frame_ms = statistics.fmean(row["frames"]["frame_ms_all"])
+        commands = row["frames"]["commands"]
+        rest = frame_ms - sum(c["device_ms_per_frame"] for c in commands)
+        rows.append([row["scene"], row["frame"], ms(frame_ms),
+                     ", ".join(f"`{c['command']}` {c['device_ms_per_frame']:.2f}" for c in commands), ms(rest)])
+    return table(header, rows)
+
+
 def organisation(run):
     header = ["scene", "max_distance", "b", "work group", "megakernel ms", "wavefront ms", "wavefront / megakernel ratio",
               "same image"]
@@ -236,8 +250,8 @@ def cluster(run):
 
 
 TABLES = {"table1": table1, "embree": embree, "trees": trees, "kd-build": kd_build, "traversals": traversals,
-          "organisation": organisation, "bake": bake, "denoise": denoise, "denoise-summary": denoise_summary,
-          "scale": scale, "cluster": cluster}
+          "profile": profile, "organisation": organisation, "bake": bake, "denoise": denoise,
+          "denoise-summary": denoise_summary, "scale": scale, "cluster": cluster}
 ACROSS_FILES = {"summary": summary, "sources": sources}
 
 

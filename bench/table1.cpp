@@ -1,24 +1,8 @@
-#include <cmath>
 #include <iostream>
-#include <optional>
 
 #include "bench.h"
 
 namespace bench {
-
-namespace {
-
-// HBAO's frame beside a row's: its default directions and steps, the row's
-// radius where finite, else the scene's (SPEC 1).
-mbao::RenderSettings hbao_settings(const mbao::RenderSettings& row, float radius) {
-  mbao::RenderSettings s = row;
-  s.method = mbao::Method::Hbao;
-  s.bounces = 1;
-  s.max_distance = std::isinf(radius) ? std::nullopt : std::optional<float>(radius);
-  return s;
-}
-
-}  // namespace
 
 json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options) {
   std::cout << "| scene | triangles | max_distance | build ms | b=1 ms | b=2 ms | b=1 Mrays/s | b=2 Mrays/s | HBAO ms "

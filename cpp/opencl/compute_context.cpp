@@ -11,9 +11,9 @@ cl::Context make_context(const DeviceInfo& device) {
   }
 }
 
-cl::CommandQueue make_queue(const cl::Context& context, const DeviceInfo& device) {
+cl::CommandQueue make_queue(const cl::Context& context, const DeviceInfo& device, QueueTiming timing) {
   try {
-    return cl::CommandQueue(context, device.device);
+    return cl::CommandQueue(context, device.device, timing == QueueTiming::On ? CL_QUEUE_PROFILING_ENABLE : 0);
   } catch (const cl::Error& e) {
     throw_device_error("creating a command queue on " + device.description(), e);
   }
@@ -21,10 +21,10 @@ cl::CommandQueue make_queue(const cl::Context& context, const DeviceInfo& device
 
 }  // namespace
 
-ComputeContext::ComputeContext(DeviceInfo device)
+ComputeContext::ComputeContext(DeviceInfo device, QueueTiming timing)
     : device_(std::move(device)),
       context_(make_context(device_)),
-      queue_(make_queue(context_, device_)),
+      queue_(make_queue(context_, device_, timing)),
       programs_(context_, device_.device, ProgramBinaryStore(ProgramBinaryStore::default_directory())) {}
 
 }  // namespace mbao

@@ -5,10 +5,14 @@
 
 namespace mbao {
 
+// Whether a queue records when its commands ran (CL_QUEUE_PROFILING_ENABLE),
+// for opencl/command_times.h.
+enum class QueueTiming { Off, On };
+
 // A device with its context, in-order queue and built programs.
 class ComputeContext {
  public:
-  explicit ComputeContext(DeviceInfo device);
+  explicit ComputeContext(DeviceInfo device, QueueTiming timing = QueueTiming::Off);
 
   const DeviceInfo& device() const { return device_; }
   const cl::Context& context() const { return context_; }

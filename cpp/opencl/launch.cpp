@@ -1,10 +1,26 @@
 #include "opencl/launch.h"
 
+#include "opencl/command_times.h"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
 namespace mbao {
+namespace {
+
+// Every launch goes through here, so that a timed queue (opencl/command_times.h) sees them all.
+void enqueue(cl::CommandQueue& queue, const cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
+  if (!CommandTimes::timed(queue)) {
+    queue.enqueueNDRangeKernel(kernel, cl::NullRange, global, local);
+    return;
+  }
+  cl::Event event;
+  queue.enqueueNDRangeKernel(kernel, cl::NullRange, global, local, nullptr, &event);
+  CommandTimes::record(queue, kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(), event);
+}
+
+}  // namespace
 
 std::size_t work_group_size_for(const cl::Kernel& kernel, const cl::Device& device, std::size_t requested) {
   constexpr std::size_t kDefault = 64;
@@ -17,14 +33,24 @@ std::size_t work_group_size_for(const cl::Kernel& kernel, const cl::Device& devi
 
 void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items, std::size_t work_group) {
   const std::size_t groups = std::max<std::size_t>(1, (items + work_group - 1) / work_group);
-  queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * work_group), cl::NDRange(work_group));
+  enqueue(queue, kernel, cl::NDRange(groups * work_group), cl::NDRange(work_group));
 }
 
 void launch_rows(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t columns, std::size_t rows,
                  std::size_t work_group) {
   const std::size_t groups = std::max<std::size_t>(1, (columns + work_group - 1) / work_group);
-  queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * work_group, std::max<std::size_t>(1, rows)),
-                             cl::NDRange(work_group, 1));
+  enqueue(queue, kernel, cl::NDRange(groups * work_group, std::max<std::size_t>(1, rows)), cl::NDRange(work_group, 1));
+}
+
+void read_buffer(cl::CommandQueue& queue, const cl::Buffer& buffer, bool blocking, std::size_t offset,
+                 std::size_t bytes, void* into) {
+  if (!CommandTimes::timed(queue)) {
+    queue.enqueueReadBuffer(buffer, blocking, offset, bytes, into);
+    return;
+  }
+  cl::Event event;
+  queue.enqueueReadBuffer(buffer, blocking, offset, bytes, into, nullptr, &event);
+  CommandTimes::record(queue, "read-back", event);
 }
 
 std::size_t rays_per_lane_item(std::size_t rays, const cl::Device& device, std::size_t work_group) {

@@ -22,6 +22,11 @@ void launch(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t items
 void launch_rows(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t columns, std::size_t rows,
                  std::size_t work_group);
 
+// Enqueues a read of `bytes` of `buffer` from `offset` into host memory at
+// `into`, as enqueueReadBuffer, where a timed queue sees it.
+void read_buffer(cl::CommandQueue& queue, const cl::Buffer& buffer, bool blocking, std::size_t offset,
+                 std::size_t bytes, void* into);
+
 // How many rays each work item of a kernel that walks rays in lanes
 // (kernels/kd_lanes.h) takes, of `rays` in all: 512 where there are enough,
 // fewer where that would leave the device's compute units under four groups

@@ -135,19 +135,19 @@ void Frame::enqueue_empty_tiles(cl::CommandQueue& queue) {
 void Frame::enqueue_read_back(cl::CommandQueue& queue, RenderResult& result, cl_uint* secondary_rays) {
   const auto read_floats = [&](const cl::Buffer& buffer, std::vector<float>& into) {
     if (into.size() != pixels_) throw std::logic_error("Frame: read-back into an image of another size");
-    queue.enqueueReadBuffer(buffer, CL_FALSE, 0, pixels_ * sizeof(cl_float), into.data());
+    read_buffer(queue, buffer, false, 0, pixels_ * sizeof(cl_float), into.data());
   };
   read_floats(buffers_.ao, result.ao);
   if (!result.ao_second_moment.empty()) read_floats(buffers_.ao_second_moment, result.ao_second_moment);
   if (!result.variance.empty()) read_floats(buffers_.ao_variance, result.variance);
-  queue.enqueueReadBuffer(buffers_.coverage, CL_FALSE, 0, pixels_ * sizeof(cl_uchar), result.coverage.data());
+  read_buffer(queue, buffers_.coverage, false, 0, pixels_ * sizeof(cl_uchar), result.coverage.data());
   if (buffers_.secondary_rays())
-    queue.enqueueReadBuffer(buffers_.secondary_rays, CL_FALSE, 0, pixels_ * sizeof(cl_uint), secondary_rays);
+    read_buffer(queue, buffers_.secondary_rays, false, 0, pixels_ * sizeof(cl_uint), secondary_rays);
 }
 
 TraversalTotals Frame::traversal_totals(cl::CommandQueue& queue) const {
   cl_ulong totals[4];
-  queue.enqueueReadBuffer(buffers_.traversal_totals, CL_TRUE, 0, sizeof totals, totals);
+  read_buffer(queue, buffers_.traversal_totals, true, 0, sizeof totals, totals);
   return {totals[0], totals[1], totals[2], totals[3]};
 }
 

@@ -311,8 +311,8 @@ void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program,
     frame.enqueue_read_back(queue, result, nullptr);
   } else {
     result.gbuffer.resize(pixels * GBUFFER_PLANES);
-    queue.enqueueReadBuffer(frame.buffers().gbuffer, CL_FALSE, 0, result.gbuffer.size() * sizeof(float),
-                            result.gbuffer.data());
+    read_buffer(queue, frame.buffers().gbuffer, false, 0, result.gbuffer.size() * sizeof(float),
+                result.gbuffer.data());
   }
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
@@ -365,9 +365,9 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
       set_kernel_args(kernel, *device_scene, origin_buffer, direction_buffer, cl_uint(n), cl_int(any_hit),
                       hit_buffer, count_buffer);
     launch(queue, kernel, (n + rays_per_item - 1) / rays_per_item, group);
-    queue.enqueueReadBuffer(hit_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), result.hits.data());
+    read_buffer(queue, hit_buffer, true, 0, n * sizeof(cl_uint4), result.hits.data());
     if (count_traversal)
-      queue.enqueueReadBuffer(count_buffer, CL_TRUE, 0, n * sizeof(cl_uint4), result.counts.data());
+      read_buffer(queue, count_buffer, true, 0, n * sizeof(cl_uint4), result.counts.data());
   } catch (const cl::Error& e) {
     throw_device_error("tracing rays in " + scene->name() + " on " + device().description(), e);
   }

@@ -52,10 +52,12 @@ AoRadius radius_for(const RenderSettings& settings, const Camera& camera, const 
 // calls are serialized.
 class Renderer {
  public:
-  explicit Renderer(const DeviceInfo& device) : compute_(device) {}
+  // With QueueTiming::On, a CommandTimes on queue() times the kernels and read-backs of its renders.
+  explicit Renderer(const DeviceInfo& device, QueueTiming timing = QueueTiming::Off) : compute_(device, timing) {}
   static Renderer& for_device(const DeviceInfo& device);
 
   const DeviceInfo& device() const { return compute_.device(); }
+  const cl::CommandQueue& queue() { return compute_.queue(); }
 
   // between_tiles(done, total), if given, runs after each tile has finished,
   // with nothing left in flight: it may report progress, or throw to stop the

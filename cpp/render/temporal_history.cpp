@@ -41,7 +41,7 @@ void TemporalHistory::enqueue_accumulate(cl::CommandQueue& queue, const cl::Cont
 }
 
 void TemporalHistory::enqueue_read_lengths(cl::CommandQueue& queue, std::vector<cl_uint>& lengths) const {
-  queue.enqueueReadBuffer(length_, CL_FALSE, 0, lengths.size() * sizeof(cl_uint), lengths.data());
+  read_buffer(queue, length_, false, 0, lengths.size() * sizeof(cl_uint), lengths.data());
 }
 
 }  // namespace mbao

@@ -134,7 +134,7 @@ void Wavefront::enqueue_empty_tiles(cl::CommandQueue& queue, std::size_t tile_pi
 
 std::size_t Wavefront::queue_length(cl::CommandQueue& queue, std::size_t bounce) const {
   cl_uint length = 0;
-  queue.enqueueReadBuffer(queue_lengths_, CL_TRUE, bounce * sizeof(cl_uint), sizeof length, &length);
+  read_buffer(queue, queue_lengths_, true, bounce * sizeof(cl_uint), sizeof length, &length);
   return length;
 }
 

@@ -27,12 +27,17 @@ struct Images {
   int width = kSide, height = kSide;
 };
 
+// A texel a camera ray hit at t = 1, a footprint wide, its shading normal the
+// geometric one (the filter reads only the point, t, the normal and the footprint).
+GBufferTexel hit_texel(float x, float y, float z, float nx, float ny, float nz) {
+  return {x, y, z, 1.0f, nx, ny, nz, kFootprint, 1.0f, nx, ny, nz, 0};
+}
+
 // Every pixel on the plane z = 0, facing the eye, a footprint apart.
 std::vector<GBufferTexel> facing_plane() {
   std::vector<GBufferTexel> g(kSide * kSide);
   for (int y = 0; y < kSide; ++y)
-    for (int x = 0; x < kSide; ++x) g[y * kSide + x] = {x * kFootprint, -y * kFootprint, 0.0f, 1.0f,
-                                                        0.0f, 0.0f, 1.0f, kFootprint};
+    for (int x = 0; x < kSide; ++x) g[y * kSide + x] = hit_texel(x * kFootprint, -y * kFootprint, 0.0f, 0.0f, 0.0f, 1.0f);
   return g;
 }
 
@@ -43,8 +48,8 @@ std::vector<GBufferTexel> wall_on_floor() {
   for (int y = 0; y < kSide; ++y)
     for (int x = 0; x < kSide; ++x) {
       const float along = x * kFootprint, from_edge = std::abs(y - kSide / 2 + 0.5f) * kFootprint;
-      g[y * kSide + x] = on_wall(y) ? GBufferTexel{along, from_edge, 0.0f, 1.0f, 0.0f, 0.0f, 1.0f, kFootprint}
-                                    : GBufferTexel{along, 0.0f, from_edge, 1.0f, 0.0f, 1.0f, 0.0f, kFootprint};
+      g[y * kSide + x] = on_wall(y) ? hit_texel(along, from_edge, 0.0f, 0.0f, 0.0f, 1.0f)
+                                    : hit_texel(along, 0.0f, from_edge, 0.0f, 1.0f, 0.0f);
     }
   return g;
 }
@@ -152,8 +157,8 @@ Images rough_scene(int width, int height, std::uint32_t seed) {
       const float along = x * kFootprint, across = y * kFootprint, bump = signed_unit(random) * kFootprint;
       const float tilt_a = 0.1f * signed_unit(random), tilt_b = 0.1f * signed_unit(random);
       const float depth = x < width / 3 ? 0.0f : 0.5f;
-      GBufferTexel g = wall ? GBufferTexel{along, across, depth + bump, 1.0f, tilt_a, tilt_b, 1.0f, kFootprint}
-                            : GBufferTexel{along, bump, across, 1.0f, tilt_a, 1.0f, tilt_b, kFootprint};
+      GBufferTexel g = wall ? hit_texel(along, across, depth + bump, tilt_a, tilt_b, 1.0f)
+                            : hit_texel(along, bump, across, tilt_a, 1.0f, tilt_b);
       const float length = std::sqrt(g.nx * g.nx + g.ny * g.ny + g.nz * g.nz);
       g.nx /= length, g.ny /= length, g.nz /= length;
       if (unit(random) < 0.1f) g.t = 0.0f;
@@ -233,7 +238,9 @@ TEST(Denoiser, NeverMixesAcrossAStepInDepth) {
   for (int y = 0; y < kSide; ++y)
     for (int x = kSide / 2; x < kSide; ++x) {  // the right half one unit farther back, its pixels twice as large
       GBufferTexel& g = images.gbuffer[y * kSide + x];
-      g = {2.0f * g.x, 2.0f * g.y, -1.0f, 2.0f, 0.0f, 0.0f, 1.0f, 2.0f * kFootprint};
+      g = hit_texel(2.0f * g.x, 2.0f * g.y, -1.0f, 0.0f, 0.0f, 1.0f);
+      g.t = 2.0f;
+      g.footprint = 2.0f * kFootprint;
     }
   for (int y = 0; y < kSide; ++y)
     for (int x = 0; x < kSide; ++x) {

@@ -39,7 +39,9 @@ std::vector<GBufferTexel> wall() {
       const glm::vec3 d = basis.direction(x + 0.5f, y + 0.5f, kWidth, kHeight);
       const float t = -kCamera.eye.z / d.z;
       const glm::vec3 p = kCamera.eye + t * d;
-      g.push_back({p.x, p.y, p.z, t, 0.0f, 0.0f, 1.0f, 2.0f * t * basis.tan_half_vfov / kHeight});
+      const float depth = glm::dot(p - kCamera.eye, basis.forward);
+      g.push_back({p.x, p.y, p.z, t, 0.0f, 0.0f, 1.0f, 2.0f * t * basis.tan_half_vfov / kHeight, depth, 0.0f, 0.0f,
+                   1.0f, 0});
     }
   return g;
 }

@@ -1,0 +1,67 @@
+#include "opencl/command_times.h"
+
+#include <algorithm>
+#include <mutex>
+#include <stdexcept>
+
+namespace mbao {
+namespace {
+
+// The live CommandTimes by queue, few at a time (one per timed queue): a list is enough.
+std::mutex registry_mutex;
+std::vector<std::pair<cl_command_queue, CommandTimes*>> registry;
+
+CommandTimes* find(cl_command_queue queue) {
+  for (const auto& [timed_queue, times] : registry)
+    if (timed_queue == queue) return times;
+  return nullptr;
+}
+
+}  // namespace
+
+CommandTimes::CommandTimes(const cl::CommandQueue& queue) : queue_(queue) {
+  if (!(queue_.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE))
+    throw std::invalid_argument(
+        "CommandTimes needs a queue made with CL_QUEUE_PROFILING_ENABLE (a Renderer or ComputeContext with "
+        "QueueTiming::On)");
+  std::lock_guard<std::mutex> lock(registry_mutex);
+  registry.emplace_back(queue_(), this);
+}
+
+CommandTimes::~CommandTimes() {
+  std::lock_guard<std::mutex> lock(registry_mutex);
+  registry.erase(std::find(registry.begin(), registry.end(), std::make_pair(queue_(), this)));
+}
+
+bool CommandTimes::timed(const cl::CommandQueue& queue) {
+  std::lock_guard<std::mutex> lock(registry_mutex);
+  return find(queue()) != nullptr;
+}
+
+void CommandTimes::record(const cl::CommandQueue& queue, std::string command, const cl::Event& event) {
+  std::lock_guard<std::mutex> lock(registry_mutex);
+  if (CommandTimes* times = find(queue())) times->runs_.emplace_back(std::move(command), event);
+}
+
+std::vector<CommandTimes::Total> CommandTimes::take() {
+  queue_.finish();
+  std::vector<std::pair<std::string, cl::Event>> runs;
+  {
+    std::lock_guard<std::mutex> lock(registry_mutex);
+    runs.swap(runs_);
+  }
+  std::vector<Total> totals;
+  for (const auto& run : runs) {
+    const std::string& command = run.first;
+    const cl::Event& event = run.second;
+    auto total = std::find_if(totals.begin(), totals.end(), [&](const Total& t) { return t.command == command; });
+    if (total == totals.end()) total = totals.insert(totals.end(), Total{command});
+    const cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+    const cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+    ++total->runs;
+    total->device_ms += double(end - start) * 1e-6;
+  }
+  return totals;
+}
+
+}  // namespace mbao

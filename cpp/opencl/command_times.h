@@ -1,0 +1,48 @@
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "opencl/opencl.h"
+
+namespace mbao {
+
+// The device time of the commands that one queue runs, by command (a kernel by
+// its name, every read-back as "read-back"), from OpenCL's profiling events:
+// where a frame's time goes (mbao_bench's profile section). While it lives,
+// every launch and read-back on its queue through opencl/launch.h keeps an event
+// for it; the queue must have been made with CL_QUEUE_PROFILING_ENABLE
+// (ComputeContext with QueueTiming::On). It registers itself with its queue
+// rather than being an argument of every launch: the launch helpers take the
+// queue alone, and timing observes a render without being one of its settings.
+class CommandTimes {
+ public:
+  struct Total {
+    std::string command;
+    std::size_t runs = 0;
+    double device_ms = 0.0;  // the runs' start-to-end times, summed
+  };
+
+  // Throws std::invalid_argument for a queue that does not record when its commands ran.
+  explicit CommandTimes(const cl::CommandQueue& queue);
+  ~CommandTimes();
+  CommandTimes(const CommandTimes&) = delete;
+  CommandTimes& operator=(const CommandTimes&) = delete;
+
+  // Keeps `event` of a run of `command` where `queue` is timed; does nothing elsewhere.
+  static void record(const cl::CommandQueue& queue, std::string command, const cl::Event& event);
+  // Whether commands on `queue` should keep their events.
+  static bool timed(const cl::CommandQueue& queue);
+
+  // The runs since the last take, summed by command in the order of their
+  // first run; waits for them to finish.
+  std::vector<Total> take();
+
+ private:
+  cl::CommandQueue queue_;
+  std::vector<std::pair<std::string, cl::Event>> runs_;
+};
+
+}  // namespace mbao
