@@ -44,9 +44,10 @@ static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 ey
 }
 
 // Pixel `pixel`'s texel of the G-buffer (SPEC 7.2), from its camera hit
-// through the pixel centre.
+// through the pixel centre: the planes that `planes` names.
 static inline void store_gbuffer_texel(const SceneView* scene, Hit hit, float4 eye, float4 forward,
-                                       uint2 image_size, float film_scale_y, uint pixel, __global float* gbuffer) {
+                                       uint2 image_size, float film_scale_y, uint pixel, __global float* gbuffer,
+                                       uint planes) {
   GBufferTexel g = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, MBAO_GBUFFER_NO_TRIANGLE};
   if (hit.triangle != MBAO_NO_TRIANGLE) {
     const Surface s = primary_surface(scene, hit, eye);
@@ -64,7 +65,7 @@ static inline void store_gbuffer_texel(const SceneView* scene, Hit hit, float4 e
     g.sz = s.shading_normal.z;
     g.triangle = hit.triangle;
   }
-  gbuffer_store(gbuffer, image_size.x * image_size.y, pixel, g);
+  gbuffer_store(gbuffer, image_size.x * image_size.y, pixel, g, planes);
 }
 
 // The direction of camera sample `sample_index` of the positions from
@@ -85,13 +86,14 @@ static inline float3 camera_sample_direction(float4 forward, float4 right, float
 // Camera rays (SPEC 3.1). One work item per camera sample of the tile, the
 // positions [first_position, first_position + pixel_count); the closest hit is
 // stored as (t, triangle, b1, b2) bits. Where `gbuffer` is given (at spp = 1:
-// the rays through the pixel centres) the pass also writes its texels: one
-// G-buffer pass for every screen-space pass and the AO's primary hits.
+// the rays through the pixel centres) the pass also writes the planes of its
+// texels that `gbuffer_planes` names: one G-buffer pass for every screen-space
+// pass and the AO's primary hits.
 __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
                                 float4 up, float2 film_scale, uint width, uint height, uint spp,
                                 uint2 seed, uint first_position, uint pixel_count,
                                 __global uint4* camera_hits, __global ulong* traversal_totals,
-                                __global float* gbuffer) {
+                                __global float* gbuffer, uint gbuffer_planes) {
   const uint sample_index = get_global_id(0);
   if (sample_index >= pixel_count * spp) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -103,7 +105,7 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
   camera_hits[sample_index] = (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
   if (gbuffer)
     store_gbuffer_texel(&scene, hit, eye, forward, (uint2)(width, height), film_scale.y,
-                        pixel_at_position(first_position + sample_index, width, height), gbuffer);
+                        pixel_at_position(first_position + sample_index, width, height), gbuffer, gbuffer_planes);
 #if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
 #endif
@@ -117,7 +119,7 @@ __kernel void trace_camera_packets(MBAO_SCENE_PARAMS, float4 eye, float4 forward
                                    float4 up, float2 film_scale, uint width, uint height, uint spp,
                                    uint2 seed, uint first_position, uint pixel_count,
                                    __global uint4* camera_hits, __global ulong* traversal_totals,
-                                   __global float* gbuffer) {
+                                   __global float* gbuffer, uint gbuffer_planes) {
   const uint first_sample = get_global_id(0) * MBAO_LANES, samples = pixel_count * spp;
   if (first_sample >= samples) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -137,7 +139,8 @@ __kernel void trace_camera_packets(MBAO_SCENE_PARAMS, float4 eye, float4 forward
   if (gbuffer)
     for (uint k = 0; k < lanes; ++k)
       store_gbuffer_texel(&scene, hit_of_bits(hits[k]), eye, forward, (uint2)(width, height), film_scale.y,
-                          pixel_at_position(first_position + first_sample + k, width, height), gbuffer);
+                          pixel_at_position(first_position + first_sample + k, width, height), gbuffer,
+                          gbuffer_planes);
 #if MBAO_COUNT_TRAVERSAL
   const TraversalCounts sums = {sum_of_lanes(counts.nodes), sum_of_lanes(counts.leaves),
                                 sum_of_lanes(counts.triangles), 0u};

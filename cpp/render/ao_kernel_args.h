@@ -25,9 +25,9 @@ struct FrameBuffers {
 enum class PrimarySurfaces { CameraHits, GivenPoints };
 
 // What a frame's tiles make beside their camera hits: the AO, with the
-// G-buffer where screen-space passes follow (RenderSettings::filtered), or the
-// G-buffer alone, which HBAO reads.
-enum class FrameOutput { AmbientOcclusion, GBuffer };
+// G-buffer planes that the screen-space passes after it read (where
+// RenderSettings::filtered); the planes HBAO reads, alone; or the whole G-buffer.
+enum class FrameOutput { AmbientOcclusion, HbaoGBuffer, GBuffer };
 
 cl_float4 to_float4(const glm::vec3& v);
 cl_uint2 seed_words(std::uint64_t seed);

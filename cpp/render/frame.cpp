@@ -20,8 +20,17 @@ std::size_t camera_rays_per_item(const RenderSettings& s) {
   return s.traversal == Traversal::Lanes ? MBAO_LANES : 1;
 }
 
-bool makes_gbuffer(const RenderSettings& s, FrameOutput output) {
-  return output == FrameOutput::GBuffer || s.filtered();
+// The G-buffer planes the frame's camera rays write (kernels/mbao/gbuffer.h's masks).
+cl_uint gbuffer_planes(const RenderSettings& s, FrameOutput output) {
+  switch (output) {
+    case FrameOutput::GBuffer:
+      return MBAO_GBUFFER_ALL_PLANES;
+    case FrameOutput::HbaoGBuffer:
+      return MBAO_GBUFFER_HBAO_PLANES;
+    case FrameOutput::AmbientOcclusion:
+      break;
+  }
+  return s.filtered() ? MBAO_GBUFFER_FILTER_PLANES : 0u;
 }
 
 }  // namespace
@@ -32,7 +41,7 @@ std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels
   const bool ao = output == FrameOutput::AmbientOcclusion;
   const std::size_t second_moment = primaries == PrimarySurfaces::GivenPoints ? sizeof(cl_float) : 0;
   const std::size_t variance = ao && (s.variance || s.filtered()) ? sizeof(cl_float) : 0;
-  const std::size_t gbuffer = makes_gbuffer(s, output) ? GBUFFER_PLANES * sizeof(cl_float) : 0;
+  const std::size_t gbuffer = gbuffer_planes(s, output) ? GBUFFER_PLANES * sizeof(cl_float) : 0;
   const std::size_t rays = ao ? sizeof(cl_uint) : 0;
   const std::size_t image =
       pixels * (sizeof(cl_float) + second_moment + variance + gbuffer + sizeof(cl_uchar) + rays);  // ao, coverage
@@ -52,7 +61,8 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
       pixels_(std::size_t(s.width) * std::size_t(s.height)),
       tile_pixels_(tile_pixels),
       spp_(std::size_t(s.spp)),
-      camera_rays_per_item_(camera_rays_per_item(s)) {
+      camera_rays_per_item_(camera_rays_per_item(s)),
+      gbuffer_planes_(gbuffer_planes(s, output)) {
   buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
   buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
@@ -62,7 +72,7 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
     buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   if (ao && (s.variance || s.filtered()))
     buffers_.ao_variance = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(cl_float));
-  if (makes_gbuffer(s, output))
+  if (gbuffer_planes_)
     buffers_.gbuffer = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * GBUFFER_PLANES * sizeof(cl_float));
   bytes_ = device_bytes(s, tile_pixels, primaries, output);
   if (s.count_traversal) {
@@ -89,7 +99,7 @@ void Frame::set_up_megakernel(const cl::Device& device, const cl::Program& progr
 
 void Frame::set_tile(std::size_t first, std::size_t count) {
   set_kernel_args(camera_rays_, scene_, camera_args_, cl_uint(spp_), seed_, cl_uint(first), cl_uint(count),
-                  buffers_.camera_hits, buffers_.traversal_totals, buffers_.gbuffer);
+                  buffers_.camera_hits, buffers_.traversal_totals, buffers_.gbuffer, gbuffer_planes_);
   if (wavefront_ || !ao_kernel_()) return;  // the wavefront sets its own kernels' tile
   set_kernel_args(ao_kernel_, scene_, ao_args_, cl_uint(first), cl_uint(count), buffers_.camera_hits, buffers_.ao,
                   buffers_.ao_second_moment, buffers_.ao_variance, buffers_.coverage, buffers_.secondary_rays,

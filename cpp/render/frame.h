@@ -72,6 +72,7 @@ class Frame {
   const cl_uint2 seed_;
   std::size_t pixels_, tile_pixels_, spp_;
   std::size_t camera_rays_per_item_;
+  cl_uint gbuffer_planes_;  // what the camera rays write of the G-buffer (kernels/mbao/gbuffer.h's masks)
   FrameBuffers buffers_;
   cl::Kernel camera_rays_;
   std::size_t camera_group_ = 0;

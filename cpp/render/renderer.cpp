@@ -275,11 +275,11 @@ void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program,
   cl::CommandQueue& queue = compute_.queue();
   const std::size_t pixels = result.coverage.size();
   const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
-  const std::size_t frame_bytes =
-      Frame::device_bytes(settings, tile_pixels, PrimarySurfaces::CameraHits, FrameOutput::GBuffer);
+  const FrameOutput output = hbao_program ? FrameOutput::HbaoGBuffer : FrameOutput::GBuffer;
+  const std::size_t frame_bytes = Frame::device_bytes(settings, tile_pixels, PrimarySurfaces::CameraHits, output);
   check_device_memory(device(), scene, frame_bytes, settings);
   Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels,
-              PrimarySurfaces::CameraHits, FrameOutput::GBuffer);
+              PrimarySurfaces::CameraHits, output);
   std::optional<HbaoPass> hbao;
   if (hbao_program) hbao.emplace(device().device, *hbao_program, camera, settings);
   stats.memory_bytes = scene.bytes() + frame.bytes();

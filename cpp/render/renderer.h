@@ -119,8 +119,8 @@ class Renderer {
                                TemporalHistory* history, RenderResult& result);
   // A program that walks no tree (hbao.cl, denoise.cl, temporal.cl), its build time added to stats.
   cl::Program screen_space_program(Program program, RenderStats& stats);
-  // A G-buffer frame (the camera rays and their G-buffer), then HBAO's pass where `hbao_program` is given,
-  // else the G-buffer read back into result.gbuffer.
+  // A G-buffer frame (the camera rays and their G-buffer), then HBAO's pass where `hbao_program` is given
+  // (the camera rays writing the planes it reads), else the whole G-buffer read back into result.gbuffer.
   void run_gbuffer(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
                    const RenderSettings& settings, const cl::Program* hbao_program, RenderResult& result);
 

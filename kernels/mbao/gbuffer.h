@@ -38,11 +38,25 @@ MBAO_FN const MBAO_GLOBAL float* gbuffer_plane(const MBAO_GLOBAL float* gbuffer,
   return gbuffer + (mbao_u64)plane * pixels;
 }
 
-MBAO_FN void gbuffer_store(MBAO_GLOBAL float* gbuffer, mbao_u32 pixels, mbao_u32 pixel, GBufferTexel g) {
+// Sets of planes, as masks of 1 << plane: what each reader reads. A frame's
+// camera rays write the planes its readers need and leave the others as they
+// were: on PoCL writing a plane costs about what making the texel does.
+#define MBAO_GBUFFER_PLANE(plane) (1u << (plane))
+#define MBAO_GBUFFER_HBAO_PLANES                                                                      \
+  (MBAO_GBUFFER_PLANE(GBUFFER_DEPTH) | MBAO_GBUFFER_PLANE(GBUFFER_SX) | MBAO_GBUFFER_PLANE(GBUFFER_SY) | \
+   MBAO_GBUFFER_PLANE(GBUFFER_SZ))
+// The spatial filter's and temporal accumulation's: the point, t, the geometric normal and the footprint.
+#define MBAO_GBUFFER_FILTER_PLANES (MBAO_GBUFFER_PLANE(GBUFFER_DEPTH) - 1u)
+#define MBAO_GBUFFER_ALL_PLANES (MBAO_GBUFFER_PLANE(GBUFFER_PLANES) - 1u)
+
+// Stores the planes of `g` that `planes` names (MBAO_GBUFFER_PLANE masks).
+MBAO_FN void gbuffer_store(MBAO_GLOBAL float* gbuffer, mbao_u32 pixels, mbao_u32 pixel, GBufferTexel g,
+                           mbao_u32 planes) {
   const float fields[GBUFFER_PLANES] = {g.x,     g.y,  g.z,  g.t,  g.nx, g.ny, g.nz, g.footprint,
                                         g.depth, g.sx, g.sy, g.sz, mbao_u32_as_float(g.triangle)};
   MBAO_UNROLL
-  for (int plane = 0; plane < GBUFFER_PLANES; ++plane) gbuffer[(mbao_u64)plane * pixels + pixel] = fields[plane];
+  for (int plane = 0; plane < GBUFFER_PLANES; ++plane)
+    if (planes & MBAO_GBUFFER_PLANE(plane)) gbuffer[(mbao_u64)plane * pixels + pixel] = fields[plane];
 }
 
 #endif

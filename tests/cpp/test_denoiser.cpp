@@ -64,7 +64,8 @@ Images denoise(Images images, const DenoiseSettings& settings = {}) {
   };
   std::vector<float> planes(GBUFFER_PLANES * images.gbuffer.size());
   for (std::size_t i = 0; i < images.gbuffer.size(); ++i)
-    gbuffer_store(planes.data(), mbao_u32(images.gbuffer.size()), mbao_u32(i), images.gbuffer[i]);
+    gbuffer_store(planes.data(), mbao_u32(images.gbuffer.size()), mbao_u32(i), images.gbuffer[i],
+                  MBAO_GBUFFER_ALL_PLANES);
   const cl::Buffer gbuffer = buffer(planes), ao = buffer(images.ao), variance = buffer(images.variance);
   Denoiser denoiser(compute.context(), compute.device().device, program, images.width, images.height, settings);
   cl::CommandQueue& queue = compute.queue();

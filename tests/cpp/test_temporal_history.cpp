@@ -57,7 +57,8 @@ std::vector<cl_uint> second_frame_lengths(const std::vector<GBufferTexel>& first
   const std::size_t pixels = first.size();
   for (const auto* g : {&first, &second}) {
     std::vector<float> planes(GBUFFER_PLANES * pixels);
-    for (std::size_t i = 0; i < pixels; ++i) gbuffer_store(planes.data(), mbao_u32(pixels), mbao_u32(i), (*g)[i]);
+    for (std::size_t i = 0; i < pixels; ++i)
+      gbuffer_store(planes.data(), mbao_u32(pixels), mbao_u32(i), (*g)[i], MBAO_GBUFFER_ALL_PLANES);
     values.assign(pixels, g == &first ? kFirstValue : kSecondValue);
     std::vector<float> variance(pixels, 0.01f);
     FrameBuffers frame;
