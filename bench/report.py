@@ -161,7 +161,8 @@ def traversals(run):
 def profile(run):
     """Each frame's commands (kernels and read-backs) by device time, from OpenCL's profiling events, and what
     they leave of its wall time: means over the same frames."""
-    header = ["scene", "frame", "frame ms", "commands, device ms per frame", "the rest (launches, waits; read-backs where not listed) ms"]
+    header = ["scene", "frame", "frame ms", "commands, device ms per frame",
+              "the rest (launches, waits; read-backs where not listed) ms"]
     rows = []
     for row in run["profile"]:
         frame_ms = statistics.fmean(row["frames"]["frame_ms_all"])

@@ -40,7 +40,8 @@ MBAO_FN const MBAO_GLOBAL float* gbuffer_plane(const MBAO_GLOBAL float* gbuffer,
 
 // Sets of planes, as masks of 1 << plane: what each reader reads. A frame's
 // camera rays write the planes its readers need and leave the others as they
-// were: on PoCL writing a plane costs about what making the texel does.
+// were, since on a CPU writing the planes, not making the texel, is most of
+// what a texel costs.
 #define MBAO_GBUFFER_PLANE(plane) (1u << (plane))
 #define MBAO_GBUFFER_HBAO_PLANES                                                                      \
   (MBAO_GBUFFER_PLANE(GBUFFER_DEPTH) | MBAO_GBUFFER_PLANE(GBUFFER_SX) | MBAO_GBUFFER_PLANE(GBUFFER_SY) | \
