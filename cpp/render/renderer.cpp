@@ -150,8 +150,10 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   result.width = int(settings.width);
   result.height = int(settings.height);
-  result.ao.resize(pixels);
-  result.coverage.resize(pixels);
+  if (!gbuffer_only) {  // a G-buffer frame's image is its planes; the triangle plane says which pixels a ray hit
+    result.ao.resize(pixels);
+    result.coverage.resize(pixels);
+  }
   const Camera local_camera = camera.relative_to(scene->render_origin());
   try {
     RenderSettings planned = settings;
@@ -273,7 +275,7 @@ void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program,
                            const RenderSettings& settings, const cl::Program* hbao_program, RenderResult& result) {
   RenderStats& stats = result.stats;
   cl::CommandQueue& queue = compute_.queue();
-  const std::size_t pixels = result.coverage.size();
+  const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
   const FrameOutput output = hbao_program ? FrameOutput::HbaoGBuffer : FrameOutput::GBuffer;
   const std::size_t frame_bytes = Frame::device_bytes(settings, tile_pixels, PrimarySurfaces::CameraHits, output);
@@ -316,10 +318,6 @@ void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program,
   }
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
-  if (!hbao) {  // the triangle plane says which pixels a camera ray hit
-    result.ao.clear();
-    result.coverage.clear();
-  }
   if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
 }
 
