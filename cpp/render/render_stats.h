@@ -29,7 +29,7 @@ struct RenderStats {
   std::string max_distance_source;
   double upload_ms = 0.0;        // scene upload in this render; 0 when the scene was on the device
   double frame_ms = 0.0;         // camera rays, AO, the spatial filter and read-back of the image
-  double gbuffer_ms = 0.0;       // HBAO only: the part of frame_ms that made its G-buffer (camera rays included)
+  double gbuffer_ms = 0.0;       // HBAO's and G-buffer frames: the part of frame_ms that made the G-buffer
   double denoise_ms = 0.0;       // the spatial filter, where it ran (SPEC 7.3)
   double temporal_ms = 0.0;      // temporal accumulation, where it ran (SPEC 7.4)
   std::uint64_t rays_primary = 0;
