@@ -48,7 +48,8 @@ std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels
   const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
   const std::size_t wavefront =
       ao && s.organisation == KernelOrganisation::Wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
-  return camera_hit_bytes(s, tile_pixels) + image + totals + wavefront;
+  const std::size_t hits = ao ? camera_hit_bytes(s, tile_pixels) : 0;
+  return hits + image + totals + wavefront;
 }
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
@@ -63,10 +64,10 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
       spp_(std::size_t(s.spp)),
       camera_rays_per_item_(camera_rays_per_item(s)),
       gbuffer_planes_(gbuffer_planes(s, output)) {
-  buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
+  const bool ao = output == FrameOutput::AmbientOcclusion;
+  if (ao) buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
   buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
   buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
-  const bool ao = output == FrameOutput::AmbientOcclusion;
   if (ao) buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
   if (primaries == PrimarySurfaces::GivenPoints)
     buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
