@@ -5,8 +5,10 @@
 //
 // Written for PoCL's vectoriser (see denoise.cl): the G-buffer is read plane
 // by plane, view-space points are rebuilt from the depth plane (one load per
-// sample), directions come from unit_circle.h rather than sin and cos, and a
-// sample that does not count is masked, not skipped. The loops over directions
+// sample), directions come from unit_circle.h rather than sin and cos, a
+// sample's pixel is rounded by truncation (PoCL's code for rint, floor or
+// convert_int_rte makes the pass slower), and a sample that does not count is
+// masked, not skipped. The loops over directions
 // and steps run the same number of times in every work item, so a barrier
 // every few steps is legal; PoCL cuts the loop body there into a loop over the
 // group's work items of its own, which it turns into vector code (a loop
@@ -71,9 +73,14 @@ __kernel void hbao(__global const float* gbuffer, uint width, uint height, float
       for (uint j = 0; j < MBAO_HBAO_STEPS_PER_BARRIER; ++j) {
         const uint k = first + j;
         const float along = first_step + (float)k;
-        const int at_x = convert_int_rte((float)x + along * step_x), at_y = convert_int_rte((float)y + along * step_y);
+        // The nearest pixel (SPEC 4), halves rounded up: truncating x + 1/2 rounds so
+        // where that lies on the image, the only place it is read. Whether it does is
+        // decided in floats, which also holds where the step is infinite or NaN.
+        const float round_x = (float)x + along * step_x + 0.5f, round_y = (float)y + along * step_y + 0.5f;
+        const int at_x = convert_int(round_x), at_y = convert_int(round_y);
         // Once a direction's steps leave the image they stay out: masked, as the end of the direction.
-        const int inside = k < steps && (uint)at_x < width && (uint)at_y < height;
+        const int inside = k < steps && round_x >= 0.0f && round_x < (float)width && round_y >= 0.0f &&
+                           round_y < (float)height;
         const float seen_depth = depths[inside ? at_y * (int)width + at_x : (int)pixel];
         const float dx = ((float)at_x * rays.x_scale + rays.x_offset) * seen_depth - px;
         const float dy = ((float)at_y * rays.y_scale + rays.y_offset) * seen_depth - py;
