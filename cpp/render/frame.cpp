@@ -43,8 +43,8 @@ std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels
   const std::size_t variance = ao && (s.variance || s.filtered()) ? sizeof(cl_float) : 0;
   const std::size_t gbuffer = gbuffer_planes(s, output) ? GBUFFER_PLANES * sizeof(cl_float) : 0;
   const std::size_t rays = ao ? sizeof(cl_uint) : 0;
-  const std::size_t image =
-      pixels * (sizeof(cl_float) + second_moment + variance + gbuffer + sizeof(cl_uchar) + rays);  // ao, coverage
+  const std::size_t ao_and_coverage = output == FrameOutput::GBuffer ? 0 : sizeof(cl_float) + sizeof(cl_uchar);
+  const std::size_t image = pixels * (ao_and_coverage + second_moment + variance + gbuffer + rays);
   const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
   const std::size_t wavefront =
       ao && s.organisation == KernelOrganisation::Wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
@@ -66,8 +66,10 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
       gbuffer_planes_(gbuffer_planes(s, output)) {
   const bool ao = output == FrameOutput::AmbientOcclusion;
   if (ao) buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
-  buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
-  buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
+  if (output != FrameOutput::GBuffer) {  // a G-buffer frame's image is its planes
+    buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
+    buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
+  }
   if (ao) buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
   if (primaries == PrimarySurfaces::GivenPoints)
     buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
