@@ -8,11 +8,11 @@
 // sample), directions come from unit_circle.h rather than sin and cos, a
 // sample's pixel is rounded by truncation (PoCL's code for rint, floor or
 // convert_int_rte makes the pass slower), and a sample that does not count is
-// masked, not skipped. The loops over directions
-// and steps run the same number of times in every work item, so a barrier
-// every few steps is legal; PoCL cuts the loop body there into a loop over the
-// group's work items of its own, which it turns into vector code (a loop
-// whose count is a kernel argument would otherwise keep it scalar).
+// masked, not skipped. The loops over directions and steps run the same
+// number of times in every work item, so a barrier every few steps is legal;
+// PoCL cuts the loop body there into a loop over the group's work items of its
+// own, which it turns into vector code (a loop whose count is a kernel
+// argument would otherwise keep it scalar).
 #include "mbao/gbuffer.h"
 #include "mbao/unit_circle.h"
 #include "sampling.h"

@@ -86,10 +86,10 @@ static inline float3 camera_sample_direction(float4 forward, float4 right, float
 // Camera rays (SPEC 3.1). One work item per camera sample of the tile, the
 // positions [first_position, first_position + pixel_count); the closest hit is
 // stored as (t, triangle, b1, b2) bits where `camera_hits` is given (a frame
-// with no AO passes none: it reads the G-buffer alone). Where `gbuffer` is given (at spp = 1:
-// the rays through the pixel centres) the pass also writes the planes of its
-// texels that `gbuffer_planes` names: one G-buffer pass for every screen-space
-// pass and the AO's primary hits.
+// with no AO passes none: it reads the G-buffer alone). Where `gbuffer` is
+// given (at spp = 1: the rays through the pixel centres) the pass also writes
+// the planes of its texels that `gbuffer_planes` names: one G-buffer pass for
+// every screen-space pass and the AO's primary hits.
 __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
                                 float4 up, float2 film_scale, uint width, uint height, uint spp,
                                 uint2 seed, uint first_position, uint pixel_count,
@@ -103,7 +103,8 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
   Hit hit;
   TraversalCounts counts = no_traversal_counts();
   trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit, &counts);
-  if (camera_hits) camera_hits[sample_index] = (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
+  if (camera_hits)
+    camera_hits[sample_index] = (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
   if (gbuffer)
     store_gbuffer_texel(&scene, hit, eye, forward, (uint2)(width, height), film_scale.y,
                         pixel_at_position(first_position + sample_index, width, height), gbuffer, gbuffer_planes);

@@ -12,8 +12,9 @@ namespace mbao {
 // The buffers of one render that the AO kernels share, whichever way they are
 // organised: the tile's camera hits in, the frame's image out.
 struct FrameBuffers {
-  cl::Buffer camera_hits;       // per camera sample of the tile
-  cl::Buffer ao, coverage, secondary_rays;  // per pixel of the frame
+  cl::Buffer camera_hits;       // per camera sample of the tile: AO frames only
+  cl::Buffer ao, coverage;      // per pixel of the frame: not in a G-buffer frame
+  cl::Buffer secondary_rays;    // per pixel of the frame: AO frames only
   cl::Buffer ao_second_moment;  // per pixel, the mean of its samples' squares: bakes only (SPEC 6.4)
   cl::Buffer ao_variance;       // per pixel, its variance: when asked or filtered (SPEC 7.1)
   cl::Buffer gbuffer;           // GBUFFER_PLANES floats per pixel, as planes: when filtered (SPEC 7.2)
@@ -24,8 +25,8 @@ struct FrameBuffers {
 // surface points a bake gives tile by tile, shaded on their front sides (SPEC 6.1).
 enum class PrimarySurfaces { CameraHits, GivenPoints };
 
-// What a frame's tiles make beside their camera hits: the AO, with the
-// G-buffer planes that the screen-space passes after it read (where
+// What a frame's tiles make: the AO from their camera hits, with the G-buffer
+// planes that the screen-space passes after it read (where
 // RenderSettings::filtered); the planes HBAO reads, alone; or the whole G-buffer.
 enum class FrameOutput { AmbientOcclusion, HbaoGBuffer, GBuffer };
 
