@@ -3,6 +3,7 @@
 #ifndef MBAO_SURFACE_H
 #define MBAO_SURFACE_H
 
+#include "mbao/float_steps.h"
 #include "scene.h"
 
 // Compiled in only when the render uses shading normals and the scene has them.
@@ -36,7 +37,9 @@ static inline float3 geometric_normal(float3 p0, float3 p1, float3 p2) {
 // computes overflows or underflows. Zero stays zero.
 static inline float3 unit_scale(float3 v) {
   const float largest = fmax(fmax(fabs(v.x), fabs(v.y)), fabs(v.z));
-  return largest > 0.0f ? ldexp(v, -ilogb(largest)) : v;
+  if (!(largest > 0.0f)) return v;
+  const PowerOfTwo scale = inverse_power_of_two(largest);
+  return v * scale.high * scale.low;
 }
 
 // The unit direction of the vertex normals n0, n1, n2 interpolated with weights
@@ -48,8 +51,9 @@ static inline float3 interpolated_normal(float3 n0, float3 n1, float3 n2, float 
   const float3 m = fmax(fmax(fabs(n0), fabs(n1)), fabs(n2));
   const float largest = fmax(fmax(m.x, m.y), m.z);
   if (largest == 0.0f) return m;
-  const int exponent = -ilogb(largest);
-  const float3 n = unit_scale(b0 * ldexp(n0, exponent) + b1 * ldexp(n1, exponent) + b2 * ldexp(n2, exponent));
+  const PowerOfTwo scale = inverse_power_of_two(largest);
+  const float3 m0 = n0 * scale.high * scale.low, m1 = n1 * scale.high * scale.low, m2 = n2 * scale.high * scale.low;
+  const float3 n = unit_scale(b0 * m0 + b1 * m1 + b2 * m2);
   return any(n != 0.0f) ? normalize(n) : n;
 }
 
@@ -99,9 +103,9 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
 static inline float3 leaving_point(const Surface* s) {
   const float3 offset = s->offset * s->geometric_normal;
   float3 p = s->position + offset;
-  p.x = offset.x > 0.0f ? nextafter(p.x, INFINITY) : (offset.x < 0.0f ? nextafter(p.x, -INFINITY) : p.x);
-  p.y = offset.y > 0.0f ? nextafter(p.y, INFINITY) : (offset.y < 0.0f ? nextafter(p.y, -INFINITY) : p.y);
-  p.z = offset.z > 0.0f ? nextafter(p.z, INFINITY) : (offset.z < 0.0f ? nextafter(p.z, -INFINITY) : p.z);
+  p.x = float_step_toward(p.x, offset.x);
+  p.y = float_step_toward(p.y, offset.y);
+  p.z = float_step_toward(p.z, offset.z);
   return p;
 }
 
