@@ -23,7 +23,7 @@ MBAO_FN float float_step_toward(float x, float toward) {
 }
 
 // 2^-ilogb(x) for a finite x > 0, as two factors, each a normal float: one
-// float cannot hold it where x is below 2^-126 or from 2^127 up. Multiplying v
+// normal float cannot hold it where x is below 2^-127 or from 2^127 up. Multiplying v
 // by `high`, then by `low` gives ldexp(v, -ilogb(x)) exactly for every v from
 // x 2^-62 to x in magnitude (the product after `high` is a normal float then)
 // and for zero; smaller v may round differently in their last denormal bit.
@@ -34,7 +34,7 @@ typedef struct PowerOfTwo {
 MBAO_FN PowerOfTwo inverse_power_of_two(float x) {
   const mbao_u32 bits = mbao_float_as_u32(x);
   const int biased = (int)(bits >> 23);
-  // A denormal's from its highest set bit, at 2^-149 a unit.
+  // A denormal's exponent is its highest set bit's, at 2^-149 a unit.
   const int exponent = biased != 0 ? biased - 127 : 31 - (int)mbao_clz(bits) - 149;  // ilogb(x)
   const int high = -exponent / 2, low = -exponent - high;  // each in [-64, 75]
   const PowerOfTwo p = {mbao_u32_as_float((mbao_u32)(high + 127) << 23),
