@@ -35,21 +35,28 @@ cl_uint gbuffer_planes(const RenderSettings& s, FrameOutput output) {
 
 }  // namespace
 
-std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries,
-                                FrameOutput output) {
+Frame::BufferSizes Frame::buffer_sizes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries,
+                                       FrameOutput output) {
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   const bool ao = output == FrameOutput::AmbientOcclusion;
-  const std::size_t second_moment = primaries == PrimarySurfaces::GivenPoints ? sizeof(cl_float) : 0;
-  const std::size_t variance = ao && (s.variance || s.filtered()) ? sizeof(cl_float) : 0;
-  const std::size_t gbuffer = gbuffer_planes(s, output) ? GBUFFER_PLANES * sizeof(cl_float) : 0;
-  const std::size_t rays = ao ? sizeof(cl_uint) : 0;
-  const std::size_t ao_and_coverage = output == FrameOutput::GBuffer ? 0 : sizeof(cl_float) + sizeof(cl_uchar);
-  const std::size_t image = pixels * (ao_and_coverage + second_moment + variance + gbuffer + rays);
-  const std::size_t totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
-  const std::size_t wavefront =
-      ao && s.organisation == KernelOrganisation::Wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
-  const std::size_t hits = ao ? camera_hit_bytes(s, tile_pixels) : 0;
-  return hits + image + totals + wavefront;
+  const bool image = output != FrameOutput::GBuffer;  // a G-buffer frame's image is its planes
+  BufferSizes sizes;
+  sizes.camera_hits = ao ? camera_hit_bytes(s, tile_pixels) : 0;
+  sizes.ao = image ? pixels * sizeof(cl_float) : 0;
+  sizes.coverage = image ? pixels * sizeof(cl_uchar) : 0;
+  sizes.secondary_rays = ao ? pixels * sizeof(cl_uint) : 0;
+  sizes.ao_second_moment = primaries == PrimarySurfaces::GivenPoints ? pixels * sizeof(cl_float) : 0;
+  sizes.ao_variance = ao && (s.variance || s.filtered()) ? pixels * sizeof(cl_float) : 0;
+  sizes.gbuffer = gbuffer_planes(s, output) ? pixels * GBUFFER_PLANES * sizeof(cl_float) : 0;
+  sizes.traversal_totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
+  const bool wavefront = ao && s.organisation == KernelOrganisation::Wavefront;
+  sizes.wavefront = wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
+  return sizes;
+}
+
+std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries,
+                                FrameOutput output) {
+  return buffer_sizes(s, tile_pixels, primaries, output).total();
 }
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
@@ -64,30 +71,28 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
       spp_(std::size_t(s.spp)),
       camera_rays_per_item_(camera_rays_per_item(s)),
       gbuffer_planes_(gbuffer_planes(s, output)) {
-  const bool ao = output == FrameOutput::AmbientOcclusion;
-  if (ao) buffers_.camera_hits = cl::Buffer(context, CL_MEM_READ_WRITE, camera_hit_bytes(s, tile_pixels));
-  if (output != FrameOutput::GBuffer) {  // a G-buffer frame's image is its planes
-    buffers_.ao = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
-    buffers_.coverage = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uchar));
-  }
-  if (ao) buffers_.secondary_rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_uint));
-  if (primaries == PrimarySurfaces::GivenPoints)
-    buffers_.ao_second_moment = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels_ * sizeof(cl_float));
-  if (ao && (s.variance || s.filtered()))
-    buffers_.ao_variance = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * sizeof(cl_float));
-  if (gbuffer_planes_)
-    buffers_.gbuffer = cl::Buffer(context, CL_MEM_READ_WRITE, pixels_ * GBUFFER_PLANES * sizeof(cl_float));
-  bytes_ = device_bytes(s, tile_pixels, primaries, output);
-  if (s.count_traversal) {
+  const BufferSizes sizes = buffer_sizes(s, tile_pixels, primaries, output);
+  const auto allocate = [&](cl_mem_flags flags, std::size_t bytes) {
+    return bytes ? cl::Buffer(context, flags, bytes) : cl::Buffer();
+  };
+  buffers_.camera_hits = allocate(CL_MEM_READ_WRITE, sizes.camera_hits);
+  buffers_.ao = allocate(CL_MEM_WRITE_ONLY, sizes.ao);
+  buffers_.coverage = allocate(CL_MEM_WRITE_ONLY, sizes.coverage);
+  buffers_.secondary_rays = allocate(CL_MEM_WRITE_ONLY, sizes.secondary_rays);
+  buffers_.ao_second_moment = allocate(CL_MEM_WRITE_ONLY, sizes.ao_second_moment);
+  buffers_.ao_variance = allocate(CL_MEM_READ_WRITE, sizes.ao_variance);
+  buffers_.gbuffer = allocate(CL_MEM_READ_WRITE, sizes.gbuffer);
+  if (sizes.traversal_totals) {
     const cl_ulong zeros[4] = {0, 0, 0, 0};
     buffers_.traversal_totals =
         cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zeros, const_cast<cl_ulong*>(zeros));
   }
+  bytes_ = sizes.total();
 
   camera_rays_ = cl::Kernel(program, camera_rays_per_item_ > 1 ? "trace_camera_packets" : "trace_camera_rays");
   camera_group_ = work_group_size_for(camera_rays_, device, s.work_group_size);
 
-  if (!ao) return;
+  if (output != FrameOutput::AmbientOcclusion) return;
   if (s.organisation == KernelOrganisation::Wavefront) {
     wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, ao_args_, s, tile_pixels, buffers_);
   } else {

@@ -60,6 +60,17 @@ class Frame {
   std::string launch_signature() const;
 
  private:
+  // Bytes of each buffer, 0 where the frame has none: what decides which buffers a frame has.
+  struct BufferSizes {
+    std::size_t camera_hits, ao, coverage, secondary_rays, ao_second_moment, ao_variance, gbuffer, traversal_totals;
+    std::size_t wavefront;  // the Wavefront's own, where the frame has one
+    std::size_t total() const {
+      return camera_hits + ao + coverage + secondary_rays + ao_second_moment + ao_variance + gbuffer +
+             traversal_totals + wavefront;
+    }
+  };
+  static BufferSizes buffer_sizes(const RenderSettings& settings, std::size_t tile_pixels, PrimarySurfaces primaries,
+                                  FrameOutput output);
   void set_up_megakernel(const cl::Device& device, const cl::Program& program, const RenderSettings& s);
   void set_tile(std::size_t first, std::size_t count);
   void enqueue_ao(cl::CommandQueue& queue, std::size_t first, std::size_t count);
