@@ -1,6 +1,8 @@
-// Where a frame's time goes: each kernel's and the read-backs' device time, from
-// OpenCL's profiling events, beside the frame's wall time. What they leave of
-// the frame is the host's launching and waiting.
+// Where a frame's time goes: each command's device time and the device's idle
+// time before it, from OpenCL's profiling events, beside the frame's wall time.
+// What they leave of the frame is the host's, before its first command was
+// queued and after its last one ended.
+#include <algorithm>
 #include <iostream>
 #include <limits>
 #include <numeric>
@@ -24,19 +26,31 @@ std::vector<Workload> workloads(const Options& options) {
   return {{"b=1", b1}, {"b=2", b2}, {"HBAO", hbao_settings(options.settings, std::numeric_limits<float>::infinity())}};
 }
 
-// The frames' mean wall time, and each command's runs and device time per
-// frame, means over the same frames, after one frame that builds and uploads.
+// The frames' mean wall time, and each command's runs, device time and idle
+// time before it per frame, means over the same frames, after one frame that
+// builds and uploads. Taken frame by frame, so that no idle time spans two.
 json profile_frames(mbao::Renderer& renderer, mbao::CommandTimes& times, const BenchScene& scene,
                     const mbao::RenderSettings& settings, int frames) {
   renderer.render(scene.scene, scene.camera, settings);
   times.take();
   std::vector<double> wall;
-  for (int f = 0; f < frames; ++f) wall.push_back(renderer.render(scene.scene, scene.camera, settings).stats.frame_ms);
+  std::vector<mbao::CommandTimes::Total> sums;  // by command, in the order of their first run
+  for (int f = 0; f < frames; ++f) {
+    wall.push_back(renderer.render(scene.scene, scene.camera, settings).stats.frame_ms);
+    for (const mbao::CommandTimes::Total& total : times.take()) {
+      auto sum = std::find_if(sums.begin(), sums.end(), [&](const auto& s) { return s.command == total.command; });
+      if (sum == sums.end()) sum = sums.insert(sums.end(), {total.command});
+      sum->runs += total.runs;
+      sum->device_ms += total.device_ms;
+      sum->idle_before_ms += total.idle_before_ms;
+    }
+  }
   json commands = json::array();
-  for (const mbao::CommandTimes::Total& total : times.take())
-    commands.push_back({{"command", total.command},
-                        {"runs_per_frame", double(total.runs) / frames},
-                        {"device_ms_per_frame", total.device_ms / frames}});
+  for (const mbao::CommandTimes::Total& sum : sums)
+    commands.push_back({{"command", sum.command},
+                        {"runs_per_frame", double(sum.runs) / frames},
+                        {"device_ms_per_frame", sum.device_ms / frames},
+                        {"idle_before_ms_per_frame", sum.idle_before_ms / frames}});
   const double mean_ms = std::accumulate(wall.begin(), wall.end(), 0.0) / double(frames);
   return {{"frame_ms", mean_ms}, {"frame_ms_all", wall}, {"commands", commands}};
 }
@@ -47,29 +61,30 @@ json profile(const mbao::DeviceInfo& device, const std::vector<BenchScene>& scen
   // A renderer of the section's own: only its queue records when commands ran.
   mbao::Renderer renderer(device, mbao::QueueTiming::On);
   mbao::CommandTimes times(renderer.queue());
-  std::cout << "| scene | frame | frame ms | command | runs | device ms | of the frame |\n"
-            << "|---|---|---:|---|---:|---:|---:|\n";
+  std::cout << "| scene | frame | frame ms | command | runs | device ms | idle before ms | of the frame |\n"
+            << "|---|---|---:|---|---:|---:|---:|---:|\n";
   json rows = json::array();
   for (const BenchScene& s : scenes) {
     for (const Workload& workload : workloads(options)) {
       const json frames = profile_frames(renderer, times, s, workload.settings, options.frames);
       const double frame_ms = frames["frame_ms"];
-      double commands_ms = 0.0;
+      double span_ms = 0.0;  // from the first command's queueing to the last one's end
       for (const json& command : frames["commands"]) {
-        const double ms = command["device_ms_per_frame"];
-        commands_ms += ms;
+        const double ms = command["device_ms_per_frame"], idle_ms = command["idle_before_ms_per_frame"];
+        span_ms += ms + idle_ms;
         std::cout << "| " << s.name << " | " << workload.name << " | " << fixed(frame_ms, 2) << " | "
                   << command["command"].get<std::string>() << " | " << fixed(command["runs_per_frame"], 1) << " | "
-                  << fixed(ms, 3) << " | " << fixed(ms / frame_ms, 2) << " |\n";
+                  << fixed(ms, 3) << " | " << fixed(idle_ms, 3) << " | " << fixed((ms + idle_ms) / frame_ms, 2)
+                  << " |\n";
       }
       std::cout << "| " << s.name << " | " << workload.name << " | " << fixed(frame_ms, 2)
-                << " | (the rest: launching and waiting) | | " << fixed(frame_ms - commands_ms, 3) << " | "
-                << fixed((frame_ms - commands_ms) / frame_ms, 2) << " |" << std::endl;
+                << " | (the host, before the first command and after the last) | | " << fixed(frame_ms - span_ms, 3)
+                << " | | " << fixed((frame_ms - span_ms) / frame_ms, 2) << " |" << std::endl;
       rows.push_back({{"scene", s.name}, {"frame", workload.name}, {"frames", frames}});
     }
   }
-  std::cout << "\nThe Table 1 workload at max_distance = inf, and HBAO at the scene's radius; frame ms and each "
-               "command's device ms (OpenCL's profiling events) are means over "
+  std::cout << "\nThe Table 1 workload at max_distance = inf, and HBAO at the scene's radius; frame ms, each "
+               "command's device ms and the device's idle ms before it (OpenCL's profiling events) are means over "
             << options.frames << " frames.\n\n";
   return rows;
 }

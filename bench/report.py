@@ -159,18 +159,29 @@ def traversals(run):
 
 
 def profile(run):
-    """Each frame's commands (kernels and read-backs) by device time, from OpenCL's profiling events, and what
-    they leave of its wall time: means over the same frames."""
-    header = ["scene", "frame", "frame ms", "commands, device ms per frame",
-              "the rest (launches, waits; read-backs where not listed) ms"]
+    """Each frame's commands (kernels, fills, read-backs) by device time and the device's idle time before each,
+    from OpenCL's profiling events, and what they leave of its wall time: means over the same frames. A run from
+    before the idle times were kept (and read-backs and fills timed) shows the commands' device times alone."""
+    with_idle = all("idle_before_ms_per_frame" in c for row in run["profile"] for c in row["frames"]["commands"])
+
+    def idle(command):
+        return command["idle_before_ms_per_frame"] if with_idle else 0.0
+
+    def shown(command):
+        device = f"`{command['command']}` {command['device_ms_per_frame']:.2f}"
+        return f"{device} ({idle(command):.2f})" if with_idle else device
+
+    rest = ("the host before the first command and after the last ms" if with_idle
+            else "the rest (launches, waits; read-backs where not listed) ms")
+    commands = ("commands, device ms per frame (the device idle before each, ms)" if with_idle
+                else "commands, device ms per frame")
     rows = []
     for row in run["profile"]:
         frame_ms = statistics.fmean(row["frames"]["frame_ms_all"])
-        commands = row["frames"]["commands"]
-        rest = frame_ms - sum(c["device_ms_per_frame"] for c in commands)
-        rows.append([row["scene"], row["frame"], ms(frame_ms),
-                     ", ".join(f"`{c['command']}` {c['device_ms_per_frame']:.2f}" for c in commands), ms(rest)])
-    return table(header, rows)
+        spent = sum(c["device_ms_per_frame"] + idle(c) for c in row["frames"]["commands"])
+        rows.append([row["scene"], row["frame"], ms(frame_ms), ", ".join(shown(c) for c in row["frames"]["commands"]),
+                     ms(frame_ms - spent)])
+    return table(["scene", "frame", "frame ms", commands, rest], rows)
 
 
 def organisation(run):

@@ -1,7 +1,9 @@
 #include "opencl/command_times.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 
 namespace mbao {
@@ -16,6 +18,9 @@ CommandTimes* find(cl_command_queue queue) {
     if (timed_queue == queue) return times;
   return nullptr;
 }
+
+// Signed: a driver whose clocks disagree shows as a negative time, not a huge one.
+double nanoseconds_to_ms(cl_ulong from, cl_ulong to) { return double(std::int64_t(to - from)) * 1e-6; }
 
 }  // namespace
 
@@ -51,6 +56,7 @@ std::vector<CommandTimes::Total> CommandTimes::take() {
     runs.swap(runs_);
   }
   std::vector<Total> totals;
+  std::optional<cl_ulong> previous_end;
   for (const auto& run : runs) {
     const std::string& command = run.first;
     const cl::Event& event = run.second;
@@ -58,8 +64,11 @@ std::vector<CommandTimes::Total> CommandTimes::take() {
     if (total == totals.end()) total = totals.insert(totals.end(), Total{command});
     const cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     const cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+    const cl_ulong idle_from = previous_end ? *previous_end : event.getProfilingInfo<CL_PROFILING_COMMAND_QUEUED>();
     ++total->runs;
-    total->device_ms += double(end - start) * 1e-6;
+    total->device_ms += nanoseconds_to_ms(start, end);
+    total->idle_before_ms += nanoseconds_to_ms(idle_from, start);
+    previous_end = end;
   }
   return totals;
 }

@@ -10,8 +10,9 @@
 namespace mbao {
 
 // The device time of the commands that one queue runs, by command (a kernel by
-// its name, every read-back as "read-back"), from OpenCL's profiling events:
-// where a frame's time goes (mbao_bench's profile section). While it lives,
+// its name, every read-back as "read-back", every fill as "fill"), and the
+// device's idle time before each, from OpenCL's profiling events: where a
+// frame's time goes (mbao_bench's profile section). While it lives,
 // every launch and read-back on its queue through opencl/launch.h keeps an event
 // for it; the queue must have been made with CL_QUEUE_PROFILING_ENABLE
 // (ComputeContext with QueueTiming::On). It registers itself with its queue
@@ -23,6 +24,13 @@ class CommandTimes {
     std::string command;
     std::size_t runs = 0;
     double device_ms = 0.0;  // the runs' start-to-end times, summed
+    // From the end of the run before each run on the queue (for the first run
+    // since the last take, from its queueing) to its start, summed: the time
+    // the device waited for it, for the host to enqueue it, the driver to
+    // launch it or memory to be made ready. On an in-order queue the device
+    // ran the runs one after the other, so the runs' device and idle times
+    // add up to the time from the first one's queueing to the last one's end.
+    double idle_before_ms = 0.0;
   };
 
   // Throws std::invalid_argument for a queue that does not record when its commands ran.

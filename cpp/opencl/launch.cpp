@@ -53,6 +53,16 @@ void read_buffer(cl::CommandQueue& queue, const cl::Buffer& buffer, bool blockin
   CommandTimes::record(queue, "read-back", event);
 }
 
+void zero_words(cl::CommandQueue& queue, const cl::Buffer& buffer, std::size_t count) {
+  if (!CommandTimes::timed(queue)) {
+    queue.enqueueFillBuffer(buffer, cl_uint(0), 0, count * sizeof(cl_uint));
+    return;
+  }
+  cl::Event event;
+  queue.enqueueFillBuffer(buffer, cl_uint(0), 0, count * sizeof(cl_uint), nullptr, &event);
+  CommandTimes::record(queue, "fill", event);
+}
+
 std::size_t rays_per_lane_item(std::size_t rays, const cl::Device& device, std::size_t work_group) {
   constexpr std::size_t kMost = 512, kLeast = 16, kGroupsPerUnit = 4;
   const std::size_t units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();

@@ -27,6 +27,10 @@ void launch_rows(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t 
 void read_buffer(cl::CommandQueue& queue, const cl::Buffer& buffer, bool blocking, std::size_t offset,
                  std::size_t bytes, void* into);
 
+// Enqueues setting `count` unsigned words of `buffer` to zero, as
+// enqueueFillBuffer, where a timed queue sees it.
+void zero_words(cl::CommandQueue& queue, const cl::Buffer& buffer, std::size_t count);
+
 // How many rays each work item of a kernel that walks rays in lanes
 // (kernels/kd_lanes.h) takes, of `rays` in all: 512 where there are enough,
 // fewer where that would leave the device's compute units under four groups

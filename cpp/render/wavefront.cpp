@@ -77,7 +77,7 @@ void Wavefront::set_up_bounce_kernels(const cl::Device& device, const cl::Progra
 }
 
 void Wavefront::start_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {
-  queue.enqueueFillBuffer(queue_lengths_, cl_uint(0), 0, (bounces_ + 1) * sizeof(cl_uint));
+  zero_words(queue, queue_lengths_, bounces_ + 1);
   first_position_ = first;
   if (streams_) {
     streams_->set_tile(first);

@@ -1,5 +1,6 @@
-// CommandTimes: a timed renderer's queue reports each kernel and read-back of
-// a frame, and nothing is timed that was not asked for.
+// CommandTimes: a timed renderer's queue reports each kernel, fill and
+// read-back of a frame and the device's idle time before each, and nothing is
+// timed that was not asked for.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -33,21 +34,24 @@ TEST(CommandTimes, AFrameOfATimedRendererShowsEachOfItsCommandsWithinItsTime) {
   const RenderResult result = renderer.render(scene, *scene->camera(), wavefront_settings());
   const std::vector<CommandTimes::Total> totals = times.take();
 
-  // One tile: the camera rays; the first bounce; the length of its queue read back for the second;
-  // the pixels' values; then the image (AO, coverage, rays per pixel) read back.
+  // One tile: the camera rays; the bounce queues' lengths zeroed; the first bounce; the length of its
+  // queue read back for the second; the pixels' values; then the image (AO, coverage, rays per pixel)
+  // read back.
   const std::vector<std::pair<std::string, std::size_t>> expected = {
-      {"trace_camera_rays", 1}, {"wavefront_first_bounce", 1}, {"read-back", 4}, {"wavefront_bounce", 1},
-      {"wavefront_finish", 1}};
+      {"trace_camera_rays", 1}, {"fill", 1},          {"wavefront_first_bounce", 1},
+      {"read-back", 4},         {"wavefront_bounce", 1}, {"wavefront_finish", 1}};
   ASSERT_EQ(totals.size(), expected.size());
-  double device_ms = 0.0;
+  double span_ms = 0.0;
   for (std::size_t i = 0; i < totals.size(); ++i) {
     EXPECT_EQ(totals[i].command, expected[i].first);
     EXPECT_EQ(totals[i].runs, expected[i].second) << totals[i].command;
     EXPECT_GT(totals[i].device_ms, 0.0) << totals[i].command;
-    device_ms += totals[i].device_ms;
+    // An in-order queue starts a command only once the one before it has ended.
+    EXPECT_GE(totals[i].idle_before_ms, 0.0) << totals[i].command;
+    span_ms += totals[i].device_ms + totals[i].idle_before_ms;
   }
-  // An in-order queue runs them one after another, all inside the frame.
-  EXPECT_LE(device_ms, result.stats.frame_ms);
+  // From the first command's queueing to the last one's end, all inside the frame.
+  EXPECT_LE(span_ms, result.stats.frame_ms);
   EXPECT_TRUE(times.take().empty());
 }
 
