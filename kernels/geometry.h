@@ -47,6 +47,20 @@ static inline Hit no_hit(void) {
   return hit;
 }
 
+// A hit as the kernels store it in their buffers: (t, triangle, b1, b2) as bits.
+static inline uint4 bits_of_hit(Hit hit) {
+  return (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
+}
+
+static inline Hit hit_of_bits(uint4 bits) {
+  Hit hit;
+  hit.t = as_float(bits.x);
+  hit.triangle = bits.y;
+  hit.b1 = as_float(bits.z);
+  hit.b2 = as_float(bits.w);
+  return hit;
+}
+
 // Per-ray setup of the watertight test (Woop, Benthin and Wald, JCGT 2013): the
 // ray is turned into +z of a sheared frame where the triangle test is 2D.
 typedef struct WatertightRay {

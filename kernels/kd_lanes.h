@@ -87,7 +87,7 @@ static inline void set_lane_uints(uint* lanes, uint16 v) { *(uint16*)lanes = v; 
 // The hit of lane k's ray (a miss where the ray found none) into its slot.
 static inline void lanes_store_hit(const RayStream* stream, const Lanes* lanes, uint k, TraversalCounts* totals) {
   const Hit best = lanes->best[k].triangle == MBAO_NO_TRIANGLE ? no_hit() : lanes->best[k];
-  stream->hits[lanes->ray[k]] = (uint4)(as_uint(best.t), best.triangle, as_uint(best.b1), as_uint(best.b2));
+  stream->hits[lanes->ray[k]] = bits_of_hit(best);
 #if MBAO_COUNT_TRAVERSAL
   const TraversalCounts c = lanes->counts[k];
   if (stream->ray_counts) stream->ray_counts[lanes->ray[k]] = (uint4)(c.nodes, c.leaves, c.triangles, c.restarts);

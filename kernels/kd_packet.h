@@ -303,7 +303,7 @@ static void trace_packet(const SceneView* scene, float3 origin, const float* dir
   vstore16(as_uint16(best.b1), 0, b1_bits);
   vstore16(as_uint16(best.b2), 0, b2_bits);
   for (uint k = 0; k < MBAO_LANES; ++k)
-    hit_bits[k] = triangle[k] == MBAO_NO_TRIANGLE ? (uint4)(as_uint(INFINITY), MBAO_NO_TRIANGLE, 0u, 0u)
+    hit_bits[k] = triangle[k] == MBAO_NO_TRIANGLE ? bits_of_hit(no_hit())
                                                   : (uint4)(t_bits[k], triangle[k], b1_bits[k], b2_bits[k]);
 }
 

@@ -20,16 +20,6 @@
 #include "mbao/gbuffer.h"
 #include "mbao/pixel_order.h"
 
-// A hit as the kernels store it: (t, triangle, b1, b2) bits.
-static inline Hit hit_of_bits(uint4 bits) {
-  Hit hit;
-  hit.t = as_float(bits.x);
-  hit.triangle = bits.y;
-  hit.b1 = as_float(bits.z);
-  hit.b2 = as_float(bits.w);
-  return hit;
-}
-
 static inline Hit stored_hit(__global const uint4* hits, uint index) { return hit_of_bits(hits[index]); }
 
 // A camera hit, seen from the eye; with eye.w = 1 a bake's point, given
@@ -104,7 +94,7 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
   TraversalCounts counts = no_traversal_counts();
   trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit, &counts);
   if (camera_hits)
-    camera_hits[sample_index] = (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
+    camera_hits[sample_index] = bits_of_hit(hit);
   if (gbuffer)
     store_gbuffer_texel(&scene, hit, eye, forward, (uint2)(width, height), film_scale.y,
                         pixel_at_position(first_position + sample_index, width, height), gbuffer, gbuffer_planes);

@@ -14,7 +14,7 @@ __kernel void trace_rays(MBAO_SCENE_PARAMS, __global const float4* origins,
   Hit hit;
   TraversalCounts counts = no_traversal_counts();
   trace_ray(&scene, origins[i].xyz, directions[i].xyz, directions[i].w, any_hit, &hit, &counts);
-  hits[i] = (uint4)(as_uint(hit.t), hit.triangle, as_uint(hit.b1), as_uint(hit.b2));
+  hits[i] = bits_of_hit(hit);
 #if MBAO_COUNT_TRAVERSAL
   ray_counts[i] = (uint4)(counts.nodes, counts.leaves, counts.triangles, counts.restarts);
 #endif
