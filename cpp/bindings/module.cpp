@@ -10,6 +10,7 @@ namespace py = pybind11;
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "mbao's C++ core: scenes, kd-tree, OpenCL devices and the renderer. Use the mbao package.";
+  m.attr("__version__") = MBAO_VERSION;
   auto error = py::register_exception<mbao::Error>(m, "Error", PyExc_RuntimeError);
   py::register_exception<mbao::LoadError>(m, "LoadError", error.ptr());
   py::register_exception<mbao::DeviceError>(m, "DeviceError", error.ptr());

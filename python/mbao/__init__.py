@@ -12,6 +12,7 @@ in the docstrings refer to it).
 from .bake import Bake, bake
 from .batch import render_many
 from .bake_file import bake_file
+from . import _core
 from ._core import (DEFAULT_MAX_RAYS, HBAO, Camera, Denoise, Device, DeviceError, Error, LoadError, Scene, Temporal,
                     cornell_box)
 from .convergence import convergence, format_convergence, plot_convergence
@@ -58,4 +59,4 @@ __all__ = [
     "save_image",
     "trace",
 ]
-__version__ = "0.1.0"
+__version__ = _core.__version__  # the repository's VERSION, as the module was built with it
