@@ -13,8 +13,8 @@ namespace mbao {
 // its name, every read-back as "read-back", every fill as "fill"), and the
 // device's idle time before each, from OpenCL's profiling events: where a
 // frame's time goes (mbao_bench's profile section). While it lives,
-// every launch and read-back on its queue through opencl/launch.h keeps an event
-// for it; the queue must have been made with CL_QUEUE_PROFILING_ENABLE
+// every launch, read-back and fill on its queue through opencl/launch.h keeps
+// an event for it; the queue must have been made with CL_QUEUE_PROFILING_ENABLE
 // (ComputeContext with QueueTiming::On). It registers itself with its queue
 // rather than being an argument of every launch: the launch helpers take the
 // queue alone, and timing observes a render without being one of its settings.

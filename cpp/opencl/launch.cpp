@@ -9,15 +9,25 @@
 namespace mbao {
 namespace {
 
-// Every launch goes through here, so that a timed queue (opencl/command_times.h) sees them all.
-void enqueue(cl::CommandQueue& queue, const cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
+// Every command of a frame goes through here, so that a timed queue
+// (opencl/command_times.h) sees them all: enqueue(event) enqueues it, with an
+// event where the queue is timed, which is kept under name().
+template <class Enqueue, class Name>
+void enqueue_seen(cl::CommandQueue& queue, const Enqueue& enqueue, const Name& name) {
   if (!CommandTimes::timed(queue)) {
-    queue.enqueueNDRangeKernel(kernel, cl::NullRange, global, local);
+    enqueue(nullptr);
     return;
   }
   cl::Event event;
-  queue.enqueueNDRangeKernel(kernel, cl::NullRange, global, local, nullptr, &event);
-  CommandTimes::record(queue, kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(), event);
+  enqueue(&event);
+  CommandTimes::record(queue, name(), event);
+}
+
+void enqueue(cl::CommandQueue& queue, const cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
+  const auto run = [&](cl::Event* event) {
+    queue.enqueueNDRangeKernel(kernel, cl::NullRange, global, local, nullptr, event);
+  };
+  enqueue_seen(queue, run, [&] { return kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(); });
 }
 
 }  // namespace
@@ -44,23 +54,17 @@ void launch_rows(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t 
 
 void read_buffer(cl::CommandQueue& queue, const cl::Buffer& buffer, bool blocking, std::size_t offset,
                  std::size_t bytes, void* into) {
-  if (!CommandTimes::timed(queue)) {
-    queue.enqueueReadBuffer(buffer, blocking, offset, bytes, into);
-    return;
-  }
-  cl::Event event;
-  queue.enqueueReadBuffer(buffer, blocking, offset, bytes, into, nullptr, &event);
-  CommandTimes::record(queue, "read-back", event);
+  const auto read = [&](cl::Event* event) {
+    queue.enqueueReadBuffer(buffer, blocking, offset, bytes, into, nullptr, event);
+  };
+  enqueue_seen(queue, read, [] { return "read-back"; });
 }
 
 void zero_words(cl::CommandQueue& queue, const cl::Buffer& buffer, std::size_t count) {
-  if (!CommandTimes::timed(queue)) {
-    queue.enqueueFillBuffer(buffer, cl_uint(0), 0, count * sizeof(cl_uint));
-    return;
-  }
-  cl::Event event;
-  queue.enqueueFillBuffer(buffer, cl_uint(0), 0, count * sizeof(cl_uint), nullptr, &event);
-  CommandTimes::record(queue, "fill", event);
+  const auto fill = [&](cl::Event* event) {
+    queue.enqueueFillBuffer(buffer, cl_uint(0), 0, count * sizeof(cl_uint), nullptr, event);
+  };
+  enqueue_seen(queue, fill, [] { return "fill"; });
 }
 
 std::size_t rays_per_lane_item(std::size_t rays, const cl::Device& device, std::size_t work_group) {
