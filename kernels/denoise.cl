@@ -44,7 +44,7 @@ ALWAYS_INLINE Tap tap_at(const Images* images, int x, int y, int dx, int dy, int
 // g(v) at (x, y): the variance blurred by (1, 2, 1)^2 over the 3 x 3 taps
 // that hit, normalised over them; what the value weights compare with.
 ALWAYS_INLINE float blurred_variance(const Images* images, int x, int y, int columns_inside) {
-  const __global float* t = gbuffer_plane(images->gbuffer, images->width * images->height, GBUFFER_T);
+  const __global float* t = filter_gbuffer_plane(images->gbuffer, images->width * images->height, GBUFFER_T);
   float sum = 0.0f, weights = 0.0f;
 #pragma unroll
   for (int dy = -1; dy <= 1; ++dy)
@@ -74,14 +74,18 @@ ALWAYS_INLINE void filter_pixel(const Images* images, FilterWeights f, int x, in
                                 __global float* ao_out, __global float* variance_out) {
   const uint pixels = images->width * images->height;
   const __global float* g = images->gbuffer;
-  const __global float *gx = gbuffer_plane(g, pixels, GBUFFER_X), *gy = gbuffer_plane(g, pixels, GBUFFER_Y),
-                       *gz = gbuffer_plane(g, pixels, GBUFFER_Z), *gt = gbuffer_plane(g, pixels, GBUFFER_T),
-                       *gnx = gbuffer_plane(g, pixels, GBUFFER_NX), *gny = gbuffer_plane(g, pixels, GBUFFER_NY),
-                       *gnz = gbuffer_plane(g, pixels, GBUFFER_NZ);
+  const __global float *gx = filter_gbuffer_plane(g, pixels, GBUFFER_X),
+                       *gy = filter_gbuffer_plane(g, pixels, GBUFFER_Y),
+                       *gz = filter_gbuffer_plane(g, pixels, GBUFFER_Z),
+                       *gt = filter_gbuffer_plane(g, pixels, GBUFFER_T),
+                       *gnx = filter_gbuffer_plane(g, pixels, GBUFFER_NX),
+                       *gny = filter_gbuffer_plane(g, pixels, GBUFFER_NY),
+                       *gnz = filter_gbuffer_plane(g, pixels, GBUFFER_NZ);
   const int pixel = y * images->width + x;
   const float px = gx[pixel], py = gy[pixel], pz = gz[pixel];
   const float nx = gnx[pixel], ny = gny[pixel], nz = gnz[pixel];
-  const float per_plane_distance = 1.0f / (f.sigma_plane * gbuffer_plane(g, pixels, GBUFFER_FOOTPRINT)[pixel]);
+  const float footprint = filter_gbuffer_plane(g, pixels, GBUFFER_FOOTPRINT)[pixel];
+  const float per_plane_distance = 1.0f / (f.sigma_plane * footprint);
   const float value_p = images->ao[pixel];
   const float per_value_difference =
       1.0f / (f.sigma_value * sqrt(blurred_variance(images, x, y, columns_inside)) + 1e-6f);

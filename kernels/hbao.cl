@@ -43,11 +43,11 @@ __kernel void hbao(__global const float* gbuffer, uint width, uint height, float
   // work item of a group must reach the barriers.
   const uint x = min((uint)get_global_id(0), width - 1), y = min((uint)get_global_id(1), height - 1);
   const uint pixels = width * height, pixel = y * width + x;
-  const __global float* depths = gbuffer_plane(gbuffer, pixels, GBUFFER_DEPTH);
+  const __global float* depths = hbao_gbuffer_plane(gbuffer, pixels, GBUFFER_DEPTH);
   const float depth = depths[pixel];
-  const float sx = gbuffer_plane(gbuffer, pixels, GBUFFER_SX)[pixel];
-  const float sy = gbuffer_plane(gbuffer, pixels, GBUFFER_SY)[pixel];
-  const float sz = gbuffer_plane(gbuffer, pixels, GBUFFER_SZ)[pixel];
+  const float sx = hbao_gbuffer_plane(gbuffer, pixels, GBUFFER_SX)[pixel];
+  const float sy = hbao_gbuffer_plane(gbuffer, pixels, GBUFFER_SY)[pixel];
+  const float sz = hbao_gbuffer_plane(gbuffer, pixels, GBUFFER_SZ)[pixel];
   // The shading normal in view space.
   const float nx = sx * right.x + sy * right.y + sz * right.z;
   const float ny = sx * up.x + sy * up.y + sz * up.z;

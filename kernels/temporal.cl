@@ -11,14 +11,14 @@ typedef struct Surfel {
 } Surfel;
 
 static inline Surfel surfel_at(const __global float* gbuffer, uint pixels, uint pixel) {
-  const Surfel s = {(float3)(gbuffer_plane(gbuffer, pixels, GBUFFER_X)[pixel],
-                             gbuffer_plane(gbuffer, pixels, GBUFFER_Y)[pixel],
-                             gbuffer_plane(gbuffer, pixels, GBUFFER_Z)[pixel]),
-                    (float3)(gbuffer_plane(gbuffer, pixels, GBUFFER_NX)[pixel],
-                             gbuffer_plane(gbuffer, pixels, GBUFFER_NY)[pixel],
-                             gbuffer_plane(gbuffer, pixels, GBUFFER_NZ)[pixel]),
-                    gbuffer_plane(gbuffer, pixels, GBUFFER_T)[pixel],
-                    gbuffer_plane(gbuffer, pixels, GBUFFER_FOOTPRINT)[pixel]};
+  const Surfel s = {(float3)(filter_gbuffer_plane(gbuffer, pixels, GBUFFER_X)[pixel],
+                             filter_gbuffer_plane(gbuffer, pixels, GBUFFER_Y)[pixel],
+                             filter_gbuffer_plane(gbuffer, pixels, GBUFFER_Z)[pixel]),
+                    (float3)(filter_gbuffer_plane(gbuffer, pixels, GBUFFER_NX)[pixel],
+                             filter_gbuffer_plane(gbuffer, pixels, GBUFFER_NY)[pixel],
+                             filter_gbuffer_plane(gbuffer, pixels, GBUFFER_NZ)[pixel]),
+                    filter_gbuffer_plane(gbuffer, pixels, GBUFFER_T)[pixel],
+                    filter_gbuffer_plane(gbuffer, pixels, GBUFFER_FOOTPRINT)[pixel]};
   return s;
 }
 

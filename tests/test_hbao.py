@@ -163,7 +163,11 @@ def test_more_radius_finds_more_occluders(cornell):
 def test_stats_describe_an_hbao_frame(cornell):
     result = render_hbao(cornell, cornell.camera, 100.0)
     assert result.stats["rays_primary"] == SIZE * SIZE and result.stats["rays_secondary"] == 0
-    assert result.stats["frame_ms"] > 0 and result.stats["memory_bytes"] > SIZE * SIZE * 32
+    assert result.stats["frame_ms"] > 0
+    # The scene's few kB, and per pixel the four G-buffer planes HBAO reads (depth, shading normal), its
+    # AO and its coverage: no room for a fifth plane.
+    per_pixel = 4 * 4 + 4 + 1
+    assert SIZE * SIZE * per_pixel < result.stats["memory_bytes"] < SIZE * SIZE * (per_pixel + 4)
     assert result.stats["organisation"] is None  # the kernel organisations are the ray-traced method's
 
 

@@ -17,7 +17,7 @@ struct FrameBuffers {
   cl::Buffer secondary_rays;    // per pixel of the frame: AO frames only
   cl::Buffer ao_second_moment;  // per pixel, the mean of its samples' squares: bakes only (SPEC 6.4)
   cl::Buffer ao_variance;       // per pixel, its variance: when asked or filtered (SPEC 7.1)
-  cl::Buffer gbuffer;           // GBUFFER_PLANES floats per pixel, as planes: when filtered (SPEC 7.2)
+  cl::Buffer gbuffer;           // the planes of the frame's set (kernels/mbao/gbuffer.h): when read (SPEC 7.2)
   cl::Buffer traversal_totals;  // 4 x ulong, only when counting
 };
 

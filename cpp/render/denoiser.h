@@ -17,7 +17,7 @@ class Denoiser {
            std::size_t height, const DenoiseSettings& settings, std::size_t work_group_size = 0);
 
   // Filters `ao` and `variance` (a float per pixel, row by row) in place,
-  // guided by `gbuffer` (GBUFFER_PLANES planes of a float per pixel, kernels/mbao/gbuffer.h).
+  // guided by `gbuffer` (the filters' planes, MBAO_GBUFFER_FILTER_PLANES of kernels/mbao/gbuffer.h).
   void enqueue(cl::CommandQueue& queue, const cl::Buffer& gbuffer, const cl::Buffer& ao, const cl::Buffer& variance);
 
   // Its own buffers: an image and a variance.

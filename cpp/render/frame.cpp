@@ -47,7 +47,7 @@ Frame::BufferSizes Frame::buffer_sizes(const RenderSettings& s, std::size_t tile
   sizes.secondary_rays = ao ? pixels * sizeof(cl_uint) : 0;
   sizes.ao_second_moment = primaries == PrimarySurfaces::GivenPoints ? pixels * sizeof(cl_float) : 0;
   sizes.ao_variance = ao && (s.variance || s.filtered()) ? pixels * sizeof(cl_float) : 0;
-  sizes.gbuffer = gbuffer_planes(s, output) ? pixels * GBUFFER_PLANES * sizeof(cl_float) : 0;
+  sizes.gbuffer = pixels * gbuffer_plane_count(gbuffer_planes(s, output)) * sizeof(cl_float);
   sizes.traversal_totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
   const bool wavefront = ao && s.organisation == KernelOrganisation::Wavefront;
   sizes.wavefront = wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;

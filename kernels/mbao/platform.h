@@ -14,6 +14,7 @@ typedef uchar mbao_u8;
 #define mbao_u32_as_float(x) as_float(x)
 #define mbao_floor(x) floor(x)
 #define mbao_clz(x) clz(x)
+#define mbao_popcount(x) popcount(x)
 // A loop of constant count unrolled before PoCL builds its loops over work
 // items, which it turns into vector code only where their bodies have no loops.
 #define MBAO_UNROLL _Pragma("unroll")
@@ -30,6 +31,7 @@ typedef std::uint8_t mbao_u8;
 inline float mbao_floor(float x) { return std::floor(x); }
 // Leading zero bits, 32 for zero as OpenCL's clz.
 inline int mbao_clz(mbao_u32 x) { return x ? __builtin_clz(x) : 32; }
+inline int mbao_popcount(mbao_u32 x) { return __builtin_popcount(x); }
 inline mbao_u32 mbao_float_as_u32(float x) {
   mbao_u32 u;
   std::memcpy(&u, &x, sizeof u);
