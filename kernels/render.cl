@@ -93,8 +93,7 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
   Hit hit;
   TraversalCounts counts = no_traversal_counts();
   trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit, &counts);
-  if (camera_hits)
-    camera_hits[sample_index] = bits_of_hit(hit);
+  if (camera_hits) camera_hits[sample_index] = bits_of_hit(hit);
   if (gbuffer)
     store_gbuffer_texel(&scene, hit, eye, forward, (uint2)(width, height), film_scale.y,
                         pixel_at_position(first_position + sample_index, width, height), gbuffer, gbuffer_planes);

@@ -32,14 +32,17 @@ static inline float3 geometric_normal(float3 p0, float3 p1, float3 p2) {
 #endif
 }
 
+// v times 2^-ilogb(x) where p = inverse_power_of_two(x): by p.high, then by
+// p.low, the order in which the product is exact (mbao/float_steps.h).
+static inline float3 scaled_by(float3 v, PowerOfTwo p) { return v * p.high * p.low; }
+
 // Scales v by a power of two so that its largest component lies in [1, 2):
 // direction kept exactly, and nothing a dot product or sum of such vectors
 // computes overflows or underflows. Zero stays zero.
 static inline float3 unit_scale(float3 v) {
   const float largest = fmax(fmax(fabs(v.x), fabs(v.y)), fabs(v.z));
   if (!(largest > 0.0f)) return v;
-  const PowerOfTwo scale = inverse_power_of_two(largest);
-  return v * scale.high * scale.low;
+  return scaled_by(v, inverse_power_of_two(largest));
 }
 
 // The unit direction of the vertex normals n0, n1, n2 interpolated with weights
@@ -52,8 +55,7 @@ static inline float3 interpolated_normal(float3 n0, float3 n1, float3 n2, float 
   const float largest = fmax(fmax(m.x, m.y), m.z);
   if (largest == 0.0f) return m;
   const PowerOfTwo scale = inverse_power_of_two(largest);
-  const float3 m0 = n0 * scale.high * scale.low, m1 = n1 * scale.high * scale.low, m2 = n2 * scale.high * scale.low;
-  const float3 n = unit_scale(b0 * m0 + b1 * m1 + b2 * m2);
+  const float3 n = unit_scale(b0 * scaled_by(n0, scale) + b1 * scaled_by(n1, scale) + b2 * scaled_by(n2, scale));
   return any(n != 0.0f) ? normalize(n) : n;
 }
 
