@@ -2,7 +2,6 @@
 // time before it, from OpenCL's profiling events, beside the frame's wall time.
 // What they leave of the frame is the host's, before its first command was
 // queued and after its last one ended.
-#include <algorithm>
 #include <iostream>
 #include <limits>
 #include <numeric>
@@ -37,13 +36,7 @@ json profile_frames(mbao::Renderer& renderer, mbao::CommandTimes& times, const B
   std::vector<mbao::CommandTimes::Total> sums;  // by command, in the order of their first run
   for (int f = 0; f < frames; ++f) {
     wall.push_back(renderer.render(scene.scene, scene.camera, settings).stats.frame_ms);
-    for (const mbao::CommandTimes::Total& total : times.take()) {
-      auto sum = std::find_if(sums.begin(), sums.end(), [&](const auto& s) { return s.command == total.command; });
-      if (sum == sums.end()) sum = sums.insert(sums.end(), {total.command});
-      sum->runs += total.runs;
-      sum->device_ms += total.device_ms;
-      sum->idle_before_ms += total.idle_before_ms;
-    }
+    for (const mbao::CommandTimes::Total& total : times.take()) mbao::CommandTimes::add(sums, total);
   }
   json commands = json::array();
   for (const mbao::CommandTimes::Total& sum : sums)

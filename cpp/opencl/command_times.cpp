@@ -60,17 +60,21 @@ std::vector<CommandTimes::Total> CommandTimes::take() {
   for (const auto& run : runs) {
     const std::string& command = run.first;
     const cl::Event& event = run.second;
-    auto total = std::find_if(totals.begin(), totals.end(), [&](const Total& t) { return t.command == command; });
-    if (total == totals.end()) total = totals.insert(totals.end(), Total{command});
     const cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     const cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
     const cl_ulong idle_from = previous_end ? *previous_end : event.getProfilingInfo<CL_PROFILING_COMMAND_QUEUED>();
-    ++total->runs;
-    total->device_ms += nanoseconds_to_ms(start, end);
-    total->idle_before_ms += nanoseconds_to_ms(idle_from, start);
+    add(totals, {command, 1, nanoseconds_to_ms(start, end), nanoseconds_to_ms(idle_from, start)});
     previous_end = end;
   }
   return totals;
+}
+
+void CommandTimes::add(std::vector<Total>& totals, const Total& total) {
+  auto sum = std::find_if(totals.begin(), totals.end(), [&](const Total& t) { return t.command == total.command; });
+  if (sum == totals.end()) sum = totals.insert(totals.end(), Total{total.command});
+  sum->runs += total.runs;
+  sum->device_ms += total.device_ms;
+  sum->idle_before_ms += total.idle_before_ms;
 }
 
 }  // namespace mbao

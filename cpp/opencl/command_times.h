@@ -48,6 +48,10 @@ class CommandTimes {
   // first run; waits for them to finish.
   std::vector<Total> take();
 
+  // Adds `total` into the entry of its command in `totals`, a new last entry
+  // where there is none: sums by command in the order of their first run.
+  static void add(std::vector<Total>& totals, const Total& total);
+
  private:
   cl::CommandQueue queue_;
   std::vector<std::pair<std::string, cl::Event>> runs_;
