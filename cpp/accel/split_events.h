@@ -72,22 +72,33 @@ inline bool operator<(const Event& a, const Event& b) { return a.bits < b.bits; 
 // Sorts events that were made in increasing triangle order (as the root's are)
 // into the events' order. A stable radix sort on the bits above the triangle
 // (position and type) leaves events with equal ones in the order they were
-// made, which is by triangle, so the result is what std::sort gives, in three
-// linear passes instead of n log n comparisons.
+// made, which is by triangle, so the result is what std::sort gives, in a few
+// linear passes instead of n log n comparisons. Digits are about as wide as
+// n has bits, up to 12, so that clearing and summing the counts costs no
+// more than the pass over the events; only digits whose bits differ between
+// the events get a pass (in a bucket of make_sorted_events, the top bits of
+// the positions are the bucket's).
 inline void sort_events_made_by_triangle(Event* first, Event* last) {
-  constexpr int kDigitBits = 12;
-  constexpr std::size_t kDigits = std::size_t(1) << kDigitBits;
+  constexpr int kTriangleBits = 30, kMinDigitBits = 4, kMaxDigitBits = 12;
   const std::size_t n = std::size_t(last - first);
+  std::uint64_t differing = 0;
+  for (std::size_t i = 1; i < n; ++i) differing |= first[i].bits ^ first[0].bits;
+  differing >>= kTriangleBits;
+  if (differing == 0) return;  // one position and type: already in triangle order
+  int digit_bits = kMinDigitBits;
+  while (digit_bits < kMaxDigitBits && (std::size_t(1) << digit_bits) < n) ++digit_bits;
+  const std::size_t digits = std::size_t(1) << digit_bits;
   std::unique_ptr<Event[]> buffer(new Event[n]);
+  std::unique_ptr<std::size_t[]> slot(new std::size_t[digits]);
   Event* from = first;
   Event* to = buffer.get();
-  for (int shift = 30; shift < 64; shift += kDigitBits) {
-    const auto digit = [shift](const Event& e) { return std::size_t(e.bits >> shift) & (kDigits - 1); };
-    std::vector<std::size_t> slot(kDigits, 0);
+  for (int shift = 0; shift < 64 - kTriangleBits; shift += digit_bits) {
+    if (((differing >> shift) & (digits - 1)) == 0) continue;  // the pass would copy
+    const auto digit = [&](const Event& e) { return std::size_t(e.bits >> (kTriangleBits + shift)) & (digits - 1); };
+    std::fill_n(slot.get(), digits, 0);
     for (std::size_t i = 0; i < n; ++i) ++slot[digit(from[i])];
-    if (n > 0 && slot[digit(from[0])] == n) continue;  // one digit value: the pass would copy
     std::size_t start = 0;
-    for (std::size_t& s : slot) start += std::exchange(s, start);
+    for (std::size_t d = 0; d < digits; ++d) start += std::exchange(slot[d], start);
     for (std::size_t i = 0; i < n; ++i) to[slot[digit(from[i])]++] = from[i];
     std::swap(from, to);
   }

@@ -127,7 +127,9 @@ struct Walk {
           << "triangle " << t;
       listed.push_back(t);
     }
-    if (count % 2) ASSERT_EQ(kd_leaf_entry(tree.nodes, node, count), 0u) << "the unused word of leaf " << index;
+    if (count % 2) {
+      ASSERT_EQ(kd_leaf_entry(tree.nodes, node, count), 0u) << "the unused word of leaf " << index;
+    }
     ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end()));
     const std::set<std::uint32_t> in_leaf(listed.begin(), listed.end());
     ASSERT_EQ(in_leaf.size(), listed.size()) << "a triangle listed twice";
@@ -280,14 +282,22 @@ std::vector<Event> root_like_events(std::uint32_t triangles, float centre, float
 }
 
 // The root's events are made triangle by triangle and radix-sorted on their
-// position and type alone: the result must be the full order all the same.
+// position and type alone: the result must be the full order all the same,
+// for any count (the digits' width follows it) and whether the positions
+// differ in every digit, in the low ones alone (a few float steps apart, as
+// in a bucket of make_sorted_events) or not at all.
 TEST(SplitEvent, RadixSortOfEventsMadeByTriangleIsTheFullOrder) {
-  std::vector<Event> events = root_like_events(20000, 0.0f, 1e6f);
-  std::vector<Event> expected = events;
-  std::sort(expected.begin(), expected.end());
-  sort_events_made_by_triangle(events.data(), events.data() + events.size());
-  ASSERT_EQ(events.size(), expected.size());
-  for (std::size_t i = 0; i < events.size(); ++i) ASSERT_EQ(events[i].bits, expected[i].bits) << "at " << i;
+  for (const std::uint32_t triangles : {1u, 7u, 40u, 300u, 20000u})
+    for (const auto& [centre, spread] : {std::pair{0.0f, 1e6f}, {1.0f, 1e-5f}, {3.0f, 0.0f}}) {
+      std::vector<Event> events = root_like_events(triangles, centre, spread);
+      std::vector<Event> expected = events;
+      std::sort(expected.begin(), expected.end());
+      sort_events_made_by_triangle(events.data(), events.data() + events.size());
+      ASSERT_EQ(events.size(), expected.size());
+      for (std::size_t i = 0; i < events.size(); ++i)
+        ASSERT_EQ(events[i].bits, expected[i].bits) << triangles << " triangles, " << centre << " +- " << spread
+                                                    << ", at " << i;
+    }
 }
 
 // make_sorted_events buckets the events by the top bits of their position
