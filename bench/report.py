@@ -219,12 +219,12 @@ def scale(run):
               "peak bytes per triangle, rendered"]
     rows = []
     for row in run["scale"]:
-        embree, spatial = row.get("embree_build_ms"), row.get("embree_not_robust_build_ms")
-        rows.append([row["triangles"], ms(row["build_ms"]), ms(embree) if embree else "",
-                     f"{row['build_ms'] / embree:.2f}" if embree else "", ms(spatial) if embree else "",
-                     f"{row['build_ms'] / spatial:.2f}" if embree else "", ms(row["frame_ms"]),
-                     f"{row['build_peak_bytes_per_triangle']:.0f}", f"{row['peak_rss_kb'] / 1024:.0f}",
-                     f"{row['peak_bytes_per_triangle']:.0f}"])
+        embree = "rounds" in row  # build times and ratios: the medians of the rounds
+        rows.append([row["triangles"], ms(row["rounds_build_ms" if embree else "build_ms"])]
+                    + ([ms(row["embree_build_ms"]), f"{row['build_ratio']:.2f}", ms(row["embree_not_robust_build_ms"]),
+                        f"{row['build_ratio_not_robust']:.2f}"] if embree else ["", "", "", ""])
+                    + [ms(row["frame_ms"]), f"{row['build_peak_bytes_per_triangle']:.0f}",
+                       f"{row['peak_rss_kb'] / 1024:.0f}", f"{row['peak_bytes_per_triangle']:.0f}"])
     return table(header, rows)
 
 
