@@ -55,12 +55,13 @@ mbao::TriangleMesh spheres(std::size_t triangles) {
 }
 
 #ifdef MBAO_BENCH_EMBREE
-// Each round builds mbao's tree again (the scene's mesh and origin: the same
-// tree, which is checked) and Embree's two BVHs, in turn, so that this
-// machine's drift, often larger than a change being measured, reaches all three
-// alike. The build time of one round's tree, its own.
+// The build ratios come from rounds, each building mbao's tree again (from
+// the scene's mesh and origin: the same tree, which is checked) and Embree's
+// two BVHs in turn: this machine's speed drifts by more than a change being
+// measured, and within a round the drift reaches all three builds alike.
 constexpr int kBuildRounds = 3;
 
+// One rebuild of the scene's tree, timed alone.
 double rebuild_ms(const mbao::Scene& scene, const mbao::KdTreeStats& built) {
   const mbao::Stopwatch clock;
   const mbao::KdTree tree = mbao::build_kd_tree(scene.mesh(), mbao::KdBuildOptions{}, scene.render_origin());

@@ -27,7 +27,8 @@ inline bool begins_triangle(EventType type) { return type != EventType::End; }
 inline bool ends_triangle(EventType type) { return type != EventType::Start; }
 
 // Triangle indices share a word with the event type.
-constexpr std::uint32_t kMaxEventTriangle = (1u << 30) - 1u;
+constexpr int kEventTriangleBits = 30;
+constexpr std::uint32_t kMaxEventTriangle = (1u << kEventTriangleBits) - 1u;
 
 // 8 bytes: the build streams hundreds of millions of these. One 64-bit word
 // whose integer order is the events' order: the position's bits, mapped so that
@@ -37,14 +38,14 @@ struct Event {
   std::uint64_t bits;
 
   static Event make(float position, EventType type, std::uint32_t triangle) {
-    const std::uint32_t key = (std::uint32_t(type) << 30) | triangle;
+    const std::uint32_t key = (std::uint32_t(type) << kEventTriangleBits) | triangle;
     return {(std::uint64_t(ordered_bits(position)) << 32) | key};
   }
   // Orders after every event of a real position (its top half would be a NaN's).
   static Event after_all() { return {~std::uint64_t(0)}; }
   float position() const { return float_of_ordered(std::uint32_t(bits >> 32)); }
   std::uint32_t position_order() const { return std::uint32_t(bits >> 32); }
-  EventType type() const { return EventType((bits >> 30) & 3u); }
+  EventType type() const { return EventType((bits >> kEventTriangleBits) & 3u); }
   std::uint32_t triangle() const { return std::uint32_t(bits) & kMaxEventTriangle; }
 
  private:
@@ -79,11 +80,11 @@ inline bool operator<(const Event& a, const Event& b) { return a.bits < b.bits; 
 // the events get a pass (in a bucket of make_sorted_events, the top bits of
 // the positions are the bucket's).
 inline void sort_events_made_by_triangle(Event* first, Event* last) {
-  constexpr int kTriangleBits = 30, kMinDigitBits = 4, kMaxDigitBits = 12;
+  constexpr int kMinDigitBits = 4, kMaxDigitBits = 12;
   const std::size_t n = std::size_t(last - first);
   std::uint64_t differing = 0;
   for (std::size_t i = 1; i < n; ++i) differing |= first[i].bits ^ first[0].bits;
-  differing >>= kTriangleBits;
+  differing >>= kEventTriangleBits;
   if (differing == 0) return;  // one position and type: already in triangle order
   int digit_bits = kMinDigitBits;
   while (digit_bits < kMaxDigitBits && (std::size_t(1) << digit_bits) < n) ++digit_bits;
@@ -92,9 +93,11 @@ inline void sort_events_made_by_triangle(Event* first, Event* last) {
   std::unique_ptr<std::size_t[]> slot(new std::size_t[digits]);
   Event* from = first;
   Event* to = buffer.get();
-  for (int shift = 0; shift < 64 - kTriangleBits; shift += digit_bits) {
+  for (int shift = 0; shift < 64 - kEventTriangleBits; shift += digit_bits) {
     if (((differing >> shift) & (digits - 1)) == 0) continue;  // the pass would copy
-    const auto digit = [&](const Event& e) { return std::size_t(e.bits >> (kTriangleBits + shift)) & (digits - 1); };
+    const auto digit = [&](const Event& e) {
+      return std::size_t(e.bits >> (kEventTriangleBits + shift)) & (digits - 1);
+    };
     std::fill_n(slot.get(), digits, 0);
     for (std::size_t i = 0; i < n; ++i) ++slot[digit(from[i])];
     std::size_t start = 0;
