@@ -16,58 +16,66 @@ struct Polygon {
   int size = 0;
 };
 
+// The axis a polygon is clipped along is a template parameter: a corner's
+// coordinate along it is then a register, not a load from an index (a
+// build clips millions of triangles).
+
 // Where the edge from a to b, at signed distances da and db from the plane,
 // crosses it: exactly on the plane, whatever the rounding of the rest.
-glm::dvec3 crossing(const glm::dvec3& a, const glm::dvec3& b, double da, double db, int axis, double plane) {
+template <int Axis>
+glm::dvec3 crossing(const glm::dvec3& a, const glm::dvec3& b, double da, double db, double plane) {
   glm::dvec3 p = a + (b - a) * (da / (da - db));
-  p[axis] = plane;
+  p[Axis] = plane;
   return p;
 }
 
 // Hands `keep` the corners of the part of `polygon` with
-// sign * (p[axis] - plane) <= 0, in order: each corner on that side and where
+// sign * (p[Axis] - plane) <= 0, in order: each corner on that side and where
 // each edge crosses the plane. Edges go from a corner to the next (the index
 // wraps by a compare, not %, which is a division).
-template <class Keep>
-void for_each_clipped_corner(const Polygon& polygon, int axis, double plane, double sign, Keep&& keep) {
+template <int Axis, class Keep>
+void for_each_clipped_corner(const Polygon& polygon, double plane, double sign, Keep&& keep) {
   for (int i = 0, j = polygon.size > 1 ? 1 : 0; i < polygon.size; ++i, j = j + 1 < polygon.size ? j + 1 : 0) {
     const glm::dvec3& a = polygon.points[i];
     const glm::dvec3& b = polygon.points[j];
-    const double da = sign * (a[axis] - plane), db = sign * (b[axis] - plane);
+    const double da = sign * (a[Axis] - plane), db = sign * (b[Axis] - plane);
     if (da <= 0.0) keep(a);
-    if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) keep(crossing(a, b, da, db, axis, plane));
+    if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) keep(crossing<Axis>(a, b, da, db, plane));
   }
 }
 
-// Keeps the part of `polygon` with sign * (p[axis] - plane) <= 0.
-void clip(Polygon& polygon, int axis, double plane, double sign) {
+// Keeps the part of `polygon` with sign * (p[Axis] - plane) <= 0.
+template <int Axis>
+void clip(Polygon& polygon, double plane, double sign) {
   Polygon in;  // only the corners in use: most polygons have 3 or 4
   in.size = polygon.size;
   std::copy_n(polygon.points.begin(), polygon.size, in.points.begin());
   polygon.size = 0;
-  for_each_clipped_corner(in, axis, plane, sign, [&](const glm::dvec3& p) { polygon.points[polygon.size++] = p; });
+  for_each_clipped_corner<Axis>(in, plane, sign, [&](const glm::dvec3& p) { polygon.points[polygon.size++] = p; });
 }
 
-// The least and greatest coordinate of the polygon's corners along `axis`.
-std::array<double, 2> extent_along(const Polygon& polygon, int axis) {
-  double min = polygon.points[0][axis], max = min;
+// The least and greatest coordinate of the polygon's corners along Axis.
+template <int Axis>
+std::array<double, 2> extent_along(const Polygon& polygon) {
+  double min = polygon.points[0][Axis], max = min;
   for (int i = 1; i < polygon.size; ++i) {
-    min = std::min(min, polygon.points[i][axis]);
-    max = std::max(max, polygon.points[i][axis]);
+    min = std::min(min, polygon.points[i][Axis]);
+    max = std::max(max, polygon.points[i][Axis]);
   }
   return {min, max};
 }
 
-// Clips `polygon` to lo <= p[axis] <= hi. Most triangles a split straddles
+// Clips `polygon` to lo <= p[Axis] <= hi. Most triangles a split straddles
 // cross only the split plane: planes the polygon does not cross cost nothing.
-void clip_to_slab(Polygon& polygon, int axis, double lo, double hi) {
-  const auto [min, max] = extent_along(polygon, axis);
+template <int Axis>
+void clip_to_slab(Polygon& polygon, double lo, double hi) {
+  const auto [min, max] = extent_along<Axis>(polygon);
   if (max < lo || min > hi) {
     polygon.size = 0;
     return;
   }
-  if (min < lo) clip(polygon, axis, lo, -1.0);
-  if (max > hi) clip(polygon, axis, hi, 1.0);
+  if (min < lo) clip<Axis>(polygon, lo, -1.0);
+  if (max > hi) clip<Axis>(polygon, hi, 1.0);
 }
 
 Polygon polygon_of(const std::array<glm::vec3, 3>& triangle) {
@@ -85,10 +93,11 @@ std::array<double, 2> slab_of(const Bounds3& cell, int axis) {
   return {double(cell.lo[axis]) - margin, double(cell.hi[axis]) + margin};
 }
 
-void clip_to_cell(Polygon& polygon, const Bounds3& cell, int axis) {
+template <int Axis>
+void clip_to_cell(Polygon& polygon, const Bounds3& cell) {
   if (polygon.size == 0) return;
-  const auto [lo, hi] = slab_of(cell, axis);
-  clip_to_slab(polygon, axis, lo, hi);
+  const auto [lo, hi] = slab_of(cell, Axis);
+  clip_to_slab<Axis>(polygon, lo, hi);
 }
 
 // A box in double, grown corner by corner.
@@ -108,58 +117,78 @@ CornerBox box_of(const Polygon& polygon) {
   return box;
 }
 
-// The box of what clip(polygon, axis, plane, sign) would keep, without
+// The box of what clip<Axis>(polygon, plane, sign) would keep, without
 // storing it: the last clip of a part only needs its box.
-CornerBox box_of_clipped(const Polygon& polygon, int axis, double plane, double sign) {
+template <int Axis>
+CornerBox box_of_clipped(const Polygon& polygon, double plane, double sign) {
   CornerBox box;
-  for_each_clipped_corner(polygon, axis, plane, sign, [&](const glm::dvec3& p) { box.extend(p); });
+  for_each_clipped_corner<Axis>(polygon, plane, sign, [&](const glm::dvec3& p) { box.extend(p); });
   return box;
 }
 
 // The box, rounded outward to float and clamped to the cell.
 std::optional<Bounds3> rounded_into(const CornerBox& corners, const Bounds3& cell) {
   if (corners.is_empty()) return std::nullopt;
+  // Whole vectors, not one float at a time: a box stored float by float and
+  // then read as a vector waits for the stores.
+  const auto lo = [&](int axis) { return std::max(round_down(corners.lo[axis]), cell.lo[axis]); };
+  const auto hi = [&](int axis) { return std::min(round_up(corners.hi[axis]), cell.hi[axis]); };
   Bounds3 box;
-  for (int axis = 0; axis < 3; ++axis) {
-    box.lo[axis] = std::max(round_down(corners.lo[axis]), cell.lo[axis]);
-    box.hi[axis] = std::min(round_up(corners.hi[axis]), cell.hi[axis]);
-  }
+  box.lo = glm::vec3(lo(0), lo(1), lo(2));
+  box.hi = glm::vec3(hi(0), hi(1), hi(2));
   return box;
 }
 
-// clip_to_cell of a copy of `polygon` along `axis`, then its box rounded into
-// the cell, bit for bit, without copying or storing more corners than needed.
-std::optional<Bounds3> part_in_cell(const Polygon& polygon, const Bounds3& cell, int axis) {
+// clip_to_cell<Axis> of a copy of `polygon`, then its box rounded into the
+// cell, bit for bit, without copying or storing more corners than needed.
+template <int Axis>
+std::optional<Bounds3> part_in_cell(const Polygon& polygon, const Bounds3& cell) {
   if (polygon.size == 0) return std::nullopt;
-  const auto [lo, hi] = slab_of(cell, axis);
-  const auto [min, max] = extent_along(polygon, axis);
+  const auto [lo, hi] = slab_of(cell, Axis);
+  const auto [min, max] = extent_along<Axis>(polygon);
   if (max < lo || min > hi) return std::nullopt;
   if (min < lo && max > hi) {
     Polygon part = polygon;
-    clip(part, axis, lo, -1.0);
-    return rounded_into(box_of_clipped(part, axis, hi, 1.0), cell);
+    clip<Axis>(part, lo, -1.0);
+    return rounded_into(box_of_clipped<Axis>(part, hi, 1.0), cell);
   }
-  if (min < lo) return rounded_into(box_of_clipped(polygon, axis, lo, -1.0), cell);
-  if (max > hi) return rounded_into(box_of_clipped(polygon, axis, hi, 1.0), cell);
+  if (min < lo) return rounded_into(box_of_clipped<Axis>(polygon, lo, -1.0), cell);
+  if (max > hi) return rounded_into(box_of_clipped<Axis>(polygon, hi, 1.0), cell);
   return rounded_into(box_of(polygon), cell);
+}
+
+// clipped_bounds_of_split along Axis: the walls both cells share (the other
+// axes', in increasing order) first.
+template <int Axis>
+std::array<std::optional<Bounds3>, 2> parts_of_split(const std::array<glm::vec3, 3>& triangle, const Bounds3& below,
+                                                     const Bounds3& above) {
+  constexpr int kFirstOther = Axis == 0 ? 1 : 0, kSecondOther = Axis == 2 ? 1 : 2;
+  Polygon shared = polygon_of(triangle);
+  clip_to_cell<kFirstOther>(shared, below);
+  clip_to_cell<kSecondOther>(shared, below);
+  return {part_in_cell<Axis>(shared, below), part_in_cell<Axis>(shared, above)};
 }
 
 }  // namespace
 
 std::optional<Bounds3> clipped_bounds(const std::array<glm::vec3, 3>& triangle, const Bounds3& cell) {
   Polygon polygon = polygon_of(triangle);
-  clip_to_cell(polygon, cell, 0);
-  clip_to_cell(polygon, cell, 1);
-  return part_in_cell(polygon, cell, 2);
+  clip_to_cell<0>(polygon, cell);
+  clip_to_cell<1>(polygon, cell);
+  return part_in_cell<2>(polygon, cell);
 }
 
 std::array<std::optional<Bounds3>, 2> clipped_bounds_of_split(const std::array<glm::vec3, 3>& triangle,
                                                               const Bounds3& below, const Bounds3& above,
                                                               int axis) {
-  Polygon shared = polygon_of(triangle);
-  for (int other = 0; other < 3; ++other)
-    if (other != axis) clip_to_cell(shared, below, other);  // the walls both cells share
-  return {part_in_cell(shared, below, axis), part_in_cell(shared, above, axis)};
+  switch (axis) {
+    case 0:
+      return parts_of_split<0>(triangle, below, above);
+    case 1:
+      return parts_of_split<1>(triangle, below, above);
+    default:
+      return parts_of_split<2>(triangle, below, above);
+  }
 }
 
 }  // namespace mbao
