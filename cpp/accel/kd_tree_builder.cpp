@@ -30,6 +30,7 @@
 // the number of threads.
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <future>
 #include <glm/geometric.hpp>
@@ -217,6 +218,13 @@ class AxisCost {
     return priced(position - lo_, hi_ - position, n_below, n_above, lambda);
   }
 
+  // operator() of a plane between two events, which has triangles on both
+  // sides: no empty bonus to choose, the same cost.
+  double between_events(float position, std::size_t n_below, std::size_t n_above) const {
+    assert(n_below > 0 && n_above > 0);
+    return priced(position - lo_, hi_ - position, n_below, n_above);
+  }
+
   // At most the cost of any plane from `lowest` to `highest` with at least
   // n_below triangles below and n_above above (the cost grows with each);
   // -infinity where costs with negative constants need not grow.
@@ -230,9 +238,12 @@ class AxisCost {
   // One formula for costs and bounds, so that a bound rounds as the costs it bounds.
   double priced(double width_below, double width_above, std::size_t n_below, std::size_t n_above,
                 double lambda) const {
+    return lambda * priced(width_below, width_above, n_below, n_above);
+  }
+  double priced(double width_below, double width_above, std::size_t n_below, std::size_t n_above) const {
     const double area_below = cap_ + width_below * girth_;
     const double area_above = cap_ + width_above * girth_;
-    return lambda * (traversal_ + intersection_ * (area_below * as_double(n_below) + area_above * as_double(n_above)));
+    return traversal_ + intersection_ * (area_below * as_double(n_below) + area_above * as_double(n_above));
   }
 
   // Counts are far below 2^63: through a signed integer the conversion is one
@@ -485,10 +496,10 @@ class Builder {
             const bool take_right = (n_below != n_above) & ((n_below > n_above) != (left <= right));
             const float ends_of_gap[2] = {left, right};
             const float cheaper = ends_of_gap[take_right], dearer = ends_of_gap[!take_right];
-            if (fits(cheaper)) {
-              consider(cheaper, n_below, n_above, std::ptrdiff_t(i));
-            } else if (fits(dearer)) {
-              consider(dearer, n_below, n_above, std::ptrdiff_t(i));
+            const float chosen = fits(cheaper) ? cheaper : dearer;
+            if (fits(chosen)) {
+              const Split candidate{axis, chosen, cost.between_events(chosen, n_below, n_above), std::ptrdiff_t(i)};
+              if (best.is_beaten_by(candidate)) best = candidate;
             }
           }
           starts += begins_triangle(e.type());
