@@ -466,13 +466,13 @@ class Builder {
       const std::size_t count = events.size(axis);
       if (count == 0) continue;
       const auto fits = [&](float position) { return position - lo >= min_width_ && hi - position >= min_width_; };
-      const auto consider = [&](float position, std::size_t n_below, std::size_t n_above, std::ptrdiff_t index) {
-        const Split candidate{axis, position, cost(position, n_below, n_above), index};
+      const auto consider = [&](float position, double price, std::ptrdiff_t index) {
+        const Split candidate{axis, position, price, index};
         if (best.is_beaten_by(candidate)) best = candidate;
       };
       const float below_all = first->position() - min_width_, above_all = first[count - 1].position() + min_width_;
-      if (fits(below_all)) consider(below_all, 0, n, -1);
-      if (fits(above_all)) consider(above_all, n, 0, std::ptrdiff_t(count));
+      if (fits(below_all)) consider(below_all, cost(below_all, 0, n), -1);
+      if (fits(above_all)) consider(above_all, cost(above_all, n, 0), std::ptrdiff_t(count));
       // Between two positions the cost is linear in the plane's position,
       // rising where more triangles lie below than above: only the cheaper
       // end is priced (the lower one on a tie), or the other one where the
@@ -497,10 +497,7 @@ class Builder {
             const float ends_of_gap[2] = {left, right};
             const float cheaper = ends_of_gap[take_right], dearer = ends_of_gap[!take_right];
             const float chosen = fits(cheaper) ? cheaper : dearer;
-            if (fits(chosen)) {
-              const Split candidate{axis, chosen, cost.between_events(chosen, n_below, n_above), std::ptrdiff_t(i)};
-              if (best.is_beaten_by(candidate)) best = candidate;
-            }
+            if (fits(chosen)) consider(chosen, cost.between_events(chosen, n_below, n_above), std::ptrdiff_t(i));
           }
           starts += begins_triangle(e.type());
           ends += ends_triangle(e.type());
