@@ -38,7 +38,8 @@ def load_results():
 def device_name(run):
     platform, _, name = run["device"].partition(": ")
     if platform == "Portable Computing Language":
-        return "PoCL, " + name.split("-")[-1]
+        cpu = name.split("-")[-1]  # after PoCL's "pthread-<target>-"
+        return "PoCL, " + " ".join(word for word in re.sub(r"\((R|TM)\)", "", cpu).split() if word != "Processor")
     return name
 
 
