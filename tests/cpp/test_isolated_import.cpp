@@ -74,6 +74,24 @@ TEST(IsolatedImport, TurnsACrashIntoALoadErrorNamingTheFile) {
   }
 }
 
+// Whatever handlers the process has (a sanitizer's, in the sanitizer build),
+// the importer's process dies of its crash, and the error names the signal.
+TEST(IsolatedImport, ReportsACrashByItsSignal) {
+  for (const int crash : {SIGSEGV, SIGBUS, SIGFPE}) {
+    try {
+      import_isolated([crash]() -> ImportedScene {
+        std::raise(crash);
+        return {};
+      }, "file.off", 60.0);
+      FAIL() << "no error for signal " << crash;
+    } catch (const LoadError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind("file.off: the importer stopped on it (signal " + std::to_string(crash) + ", ", 0), 0u)
+          << message;
+    }
+  }
+}
+
 TEST(IsolatedImport, StopsAnImportThatRunsPastItsTime) {
   try {
     import_isolated(
