@@ -59,6 +59,77 @@ double edge_side(glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) {
 // The 4 x 4 sample points of a texel, offset by d = 1/1000 so that they are not dyadic like most UVs.
 constexpr int kClaimPoints = 4;
 double claim_offset(int i) { return (i + 0.5 + 1e-3) / kClaimPoints; }
+constexpr std::uint16_t kAllClaimPoints = 0xffff;
+
+// Per edge k of a triangle (corners k, k + 1): edge_side of the third
+// corner, whose sign is that of the triangle's side. Returns false where one
+// is 0: the triangle is too thin for edge_side to tell its sides.
+bool inside_signs(const std::array<glm::dvec2, 3>& c, double sign[3]) {
+  for (int k = 0; k < 3; ++k)
+    sign[k] = edge_side(c[std::size_t(k)], c[std::size_t((k + 1) % 3)], c[std::size_t((k + 2) % 3)]);
+  return sign[0] != 0.0 && sign[1] != 0.0 && sign[2] != 0.0;
+}
+
+// Where a cell of the UV plane lies against a triangle: inside it, or
+// outside one of its edges, by far more than edge_side's rounding (a few ulps
+// of its two products) at all four corners, and so, edge_side being linear,
+// at every point between them; else across its boundary. A cell inside is
+// the triangle's piece whole, of area 1, and holds all its sample points; one
+// outside holds nothing; in one across, a point lies on the triangle's side
+// of every edge whose line does not cross the cell. These are the answers of
+// clipping and of testing 16 points, at a fraction of their cost, for most
+// cells of a triangle's box.
+struct CellPlace {
+  bool outside = false;       // wholly outside an edge
+  unsigned edges_across = 0;  // bit k: edge k's line may cross the cell
+  bool inside() const { return !outside && edges_across == 0; }
+};
+
+class CellPlaces {
+ public:
+  // sign: inside_signs of the triangle c. An edge of sign 0 crosses every cell.
+  CellPlaces(const std::array<glm::dvec2, 3>& c, const double sign[3]) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const glm::dvec2 a = c[k], b = c[(k + 1) % 3];
+      const bool in_order = a.x < b.x || (a.x == b.x && a.y < b.y);  // as edge_side orders them
+      Edge& e = edges_[k];
+      e.lo = in_order ? a : b;
+      e.d = (in_order ? b : a) - e.lo;
+      e.toward_inside = sign[k] > 0.0 ? 1.0 : (sign[k] < 0.0 ? -1.0 : 0.0);
+      // From corner (x, y) to (x + 1, y), (x, y + 1) and (x + 1, y + 1), edge_side changes by -d.y, d.x and both.
+      const double steps[4] = {0.0, -e.d.y, e.d.x, e.d.x - e.d.y};
+      e.least = e.most = 0.0;
+      for (const double step : steps) {
+        e.least = std::min(e.least, e.toward_inside * step);
+        e.most = std::max(e.most, e.toward_inside * step);
+      }
+    }
+  }
+
+  // Cell (x, y): [x, x + 1] x [y, y + 1].
+  CellPlace operator()(double x, double y) const {
+    constexpr double kMargin = 1e-9;  // relative to the products' size; rounding is ~1e-16 of it
+    CellPlace place;
+    for (unsigned k = 0; k < 3; ++k) {
+      const Edge& e = edges_[k];
+      const glm::dvec2 from = glm::dvec2(x, y) - e.lo;
+      const double side = e.toward_inside * cross(e.d, from);
+      const double margin = kMargin * (std::abs(e.d.x) * (std::abs(from.y) + 1.0) +
+                                       std::abs(e.d.y) * (std::abs(from.x) + 1.0));
+      if (side + e.most < -margin) return {true, 0};
+      if (!(side + e.least > margin)) place.edges_across |= 1u << k;
+    }
+    return place;
+  }
+
+ private:
+  struct Edge {
+    glm::dvec2 lo, d;      // edge_side's lower end and its way to the other
+    double toward_inside;  // +1 or -1: the sign of edge_side on the triangle's side (0: unknown)
+    double least, most;    // the least and most change toward the inside from corner (x, y) to the others
+  };
+  std::array<Edge, 3> edges_;
+};
 
 }  // namespace
 
@@ -149,10 +220,15 @@ void TexelLayout::add_pieces(std::uint32_t local, double surface_per_texel, std:
     throw std::invalid_argument("texcoords: the UVs of triangle " + std::to_string(triangles_[local]) + " span " +
                                 std::to_string(cells) + " texels; a layout holds at most " +
                                 std::to_string(kMaxPieces) + " pieces (are the UVs in the range [0, 1]?)");
+  double sign[3];
+  inside_signs(c, sign);
+  const CellPlaces places(c, sign);
   for (double y = std::floor(lo.y); y <= hi.y; y += 1.0) {
     const Polygon row = clip(clip(triangle, 1, y, true), 1, y + 1.0, false);
     for (double x = std::floor(lo.x); x <= hi.x; x += 1.0) {
-      const double a = area(clip(clip(row, 0, x, true), 0, x + 1.0, false));
+      const CellPlace place = places(x, y);
+      if (place.outside) continue;
+      const double a = place.inside() ? 1.0 : area(clip(clip(row, 0, x, true), 0, x + 1.0, false));
       if (!(a > 0.0)) continue;
       bool mirrored;
       const std::int64_t tx = texel_along(std::int64_t(x), width_, wrap_s_, false, &mirrored);
@@ -165,13 +241,12 @@ void TexelLayout::add_pieces(std::uint32_t local, double surface_per_texel, std:
 bool TexelLayout::count_claims(std::uint32_t local, std::vector<std::uint16_t>& once,
                                std::vector<std::uint16_t>& twice) const {
   const Corners& c = corners_[local];
-  double inside_sign[3];  // per edge k (corners k, k + 1): the sign of the side the triangle is on
-  for (int k = 0; k < 3; ++k) {
-    inside_sign[k] = edge_side(c[std::size_t(k)], c[std::size_t((k + 1) % 3)], c[std::size_t((k + 2) % 3)]);
-    if (inside_sign[k] == 0.0) return false;  // too thin to hold a point
-  }
-  const auto inside = [&](glm::dvec2 p) {
+  double inside_sign[3];
+  if (!inside_signs(c, inside_sign)) return false;  // too thin to hold a point
+  const CellPlaces places(c, inside_sign);
+  const auto inside = [&](glm::dvec2 p, unsigned edges) {
     for (int k = 0; k < 3; ++k) {
+      if (!(edges & (1u << k))) continue;
       const double side = edge_side(c[std::size_t(k)], c[std::size_t((k + 1) % 3)], p);
       if (side == 0.0 ? inside_sign[k] < 0.0 : (side > 0.0) != (inside_sign[k] > 0.0)) return false;
     }
@@ -187,14 +262,20 @@ bool TexelLayout::count_claims(std::uint32_t local, std::vector<std::uint16_t>& 
       bool mirrored_x;
       const std::int64_t tx = texel_along(std::int64_t(x), width_, wrap_s_, true, &mirrored_x);
       if (tx < 0) continue;
+      const CellPlace place = places(x, y);
+      if (place.outside) continue;
       std::uint16_t claimed = 0;
-      for (int j = 0; j < kClaimPoints; ++j)
-        for (int i = 0; i < kClaimPoints; ++i) {
-          // Sample point (i, j) of the texel, where this cell holds it (mirrored cells hold it mirrored).
-          const double px = mirrored_x ? 1.0 - claim_offset(i) : claim_offset(i);
-          const double py = mirrored_y ? 1.0 - claim_offset(j) : claim_offset(j);
-          if (inside({x + px, y + py})) claimed |= std::uint16_t(1u << (j * kClaimPoints + i));
-        }
+      if (place.inside()) {
+        claimed = kAllClaimPoints;
+      } else {
+        for (int j = 0; j < kClaimPoints; ++j)
+          for (int i = 0; i < kClaimPoints; ++i) {
+            // Sample point (i, j) of the texel, where this cell holds it (mirrored cells hold it mirrored).
+            const double px = mirrored_x ? 1.0 - claim_offset(i) : claim_offset(i);
+            const double py = mirrored_y ? 1.0 - claim_offset(j) : claim_offset(j);
+            if (inside({x + px, y + py}, place.edges_across)) claimed |= std::uint16_t(1u << (j * kClaimPoints + i));
+          }
+      }
       const std::size_t texel = std::size_t(ty) * std::size_t(width_) + std::size_t(tx);
       twice[texel] |= once[texel] & claimed;
       again = again || (once[texel] & claimed) != 0;

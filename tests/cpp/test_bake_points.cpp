@@ -3,7 +3,9 @@
 // the layout's pieces, coverage and claims, exactly.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <random>
 
 #include "bake/dilation.h"
 #include "bake/texel_layout.h"
@@ -93,6 +95,97 @@ TEST(TexelLayout, DrawsEachTexelsSurfaceUniformly) {
   EXPECT_NEAR(x / n, 0.75, tolerance);
   EXPECT_NEAR(z / n, 0.75, tolerance);
   EXPECT_FALSE(layout.point(3 * 4 + 3, estimate_random(15, 0, 0)));
+}
+
+// Brute force for the layout's coverage and claims (SPEC 6.3): a texel is
+// covered where a triangle's UV image clipped to it has positive area, and
+// claimed twice where two images hold one of its 4 x 4 sample points.
+double area_in_cell(std::vector<glm::dvec2> polygon, double x, double y) {
+  const auto clip = [&](int axis, double bound, double keep) {  // keep: +1 above the bound, -1 below
+    std::vector<glm::dvec2> out;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const glm::dvec2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+      const double da = keep * (a[axis] - bound), db = keep * (b[axis] - bound);
+      if (da >= 0.0) out.push_back(a);
+      if ((da < 0.0) != (db < 0.0)) out.push_back(a + (b - a) * (da / (da - db)));
+    }
+    polygon = out;
+  };
+  clip(0, x, 1.0);
+  clip(0, x + 1.0, -1.0);
+  clip(1, y, 1.0);
+  clip(1, y + 1.0, -1.0);
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const glm::dvec2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+    twice += a.x * b.y - a.y * b.x;
+  }
+  return 0.5 * std::abs(twice);
+}
+
+bool holds_point(const std::array<glm::dvec2, 3>& t, glm::dvec2 p) {
+  double sides[3];
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec2 a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
+    sides[k] = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+  }
+  return (sides[0] > 0.0 && sides[1] > 0.0 && sides[2] > 0.0) || (sides[0] < 0.0 && sides[1] < 0.0 && sides[2] < 0.0);
+}
+
+TEST(TexelLayout, CoversAndClaimsWhatClippingAndPointTestsGive) {
+  // Overlapping triangles from a texel's size to a quarter of a 64 x 64
+  // texture at random, so that most texels of the large ones lie wholly inside
+  // or outside them, and a few dozen points fall on no edge's rounding.
+  constexpr int kSide = 64, kTriangles = 60;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> uniform(0.02f, 0.98f), offset(-0.4f, 0.4f);
+  TriangleMesh mesh;
+  std::vector<std::uint32_t> triangles;
+  std::vector<glm::vec2> uvs;
+  std::vector<std::array<glm::dvec2, 3>> texels_of;  // each triangle's UVs in texels
+  for (std::uint32_t t = 0; t < kTriangles; ++t) {
+    const float size = t % 3 == 0 ? 0.02f : 1.0f;
+    const glm::vec2 centre(uniform(random), uniform(random));
+    std::array<glm::dvec2, 3> corners;
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec2 uv = glm::clamp(centre + size * glm::vec2(offset(random), offset(random)), 0.0f, 0.999f);
+      uvs.push_back(uv);
+      corners[std::size_t(k)] = glm::dvec2(uv) * double(kSide);
+      mesh.positions.push_back({uv.x, float(k), uv.y});
+    }
+    mesh.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+    triangles.push_back(t);
+    texels_of.push_back(corners);
+  }
+  const TexelLayout layout(mesh, triangles, uvs, kSide, kSide, WrapMode::Repeat, WrapMode::Repeat);
+
+  std::vector<std::uint8_t> covered(kSide * kSide, 0);
+  std::vector<std::uint16_t> once(kSide * kSide, 0), twice(kSide * kSide, 0);
+  std::vector<std::size_t> second_claimants;
+  for (std::size_t t = 0; t < texels_of.size(); ++t) {
+    const std::vector<glm::dvec2> image(texels_of[t].begin(), texels_of[t].end());
+    bool again = false;
+    for (int y = 0; y < kSide; ++y)
+      for (int x = 0; x < kSide; ++x) {
+        const std::size_t texel = std::size_t(y * kSide + x);
+        covered[texel] |= area_in_cell(image, x, y) > 0.0;
+        std::uint16_t claimed = 0;
+        for (int j = 0; j < 4; ++j)
+          for (int i = 0; i < 4; ++i)
+            if (holds_point(texels_of[t], {x + (i + 0.5 + 1e-3) / 4, y + (j + 0.5 + 1e-3) / 4}))
+              claimed |= std::uint16_t(1u << (4 * j + i));
+        twice[texel] |= once[texel] & claimed;
+        again = again || (once[texel] & claimed) != 0;
+        once[texel] |= claimed;
+      }
+    if (again) second_claimants.push_back(t);
+  }
+  std::size_t claimed_twice = 0;
+  for (std::size_t texel = 0; texel < covered.size(); ++texel) claimed_twice += covered[texel] && twice[texel];
+  EXPECT_EQ(layout.covered(), covered);
+  EXPECT_EQ(layout.claimed_twice(), claimed_twice);
+  EXPECT_EQ(layout.second_claimants(), second_claimants);
+  EXPECT_GT(claimed_twice, 100u);  // the triangles overlap
 }
 
 TEST(TexelLayout, RefusesUvsThatAreNotFinite) {
