@@ -1,6 +1,7 @@
 """A bake split by its pixels' positions, here or on a Dask cluster, is the
 whole bake, bit for bit (SPEC 6.6)."""
 
+import gc
 import importlib
 
 import numpy as np
@@ -9,6 +10,7 @@ import pytest
 import mbao
 from mbao import _core
 from mbao.devices import resolve
+from mbao.scene import as_scene
 from mbao.settings import RENDER, checked, engine_values
 from meshes import box_grid, disk, merge, plane
 
@@ -66,3 +68,26 @@ def test_a_texture_bake_on_a_cluster_is_the_local_one(dask_client, small_parts, 
     for index, texture in here.textures.items():
         np.testing.assert_array_equal(there.textures[index].image, texture.image)
         np.testing.assert_array_equal(there.textures[index].standard_error, texture.standard_error)
+
+
+def test_a_worker_builds_each_texture_bakes_layout_once():
+    """Every part of a texture bake that a worker traces walks the layout the
+    first part built from the bake's recipe; the layout goes with the recipe."""
+    bake = importlib.import_module("mbao.bake")
+    floor, floor_indices = plane(1.0, divisions=4)
+    texcoords = (np.asarray(floor)[:, [0, 2]] + 1.0) / 2.0
+    mesh = mbao.Mesh(floor, floor_indices, texcoords=texcoords)
+    scene = as_scene(mesh)
+    material = bake._texture_materials(mesh, 0, None)[0]
+
+    def recipe():
+        return bake._TexelRecipe(material.texcoords, material.triangles, 16, 16, material.wrap)
+
+    this_bake, next_bake = recipe(), recipe()
+    layout = bake._layout_on_worker(scene, this_bake)
+    assert layout.covered_count == 16 * 16
+    assert bake._layout_on_worker(scene, this_bake) is layout
+    assert bake._layout_on_worker(scene, next_bake) is not layout
+    del this_bake, next_bake, layout
+    gc.collect()
+    assert len(bake._layouts_on_worker) == 0

@@ -3,6 +3,8 @@
 import dataclasses
 import math
 import os
+import threading
+import weakref
 
 import numpy as np
 
@@ -180,7 +182,7 @@ def _bake_textures(scene, materials, resolution, padding, values, samples, devic
                 image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples,
                                                                          padding, on_tile)
             else:
-                recipe = (material.texcoords, material.triangles, width, height, *material.wrap)
+                recipe = _TexelRecipe(material.texcoords, material.triangles, width, height, material.wrap)
                 mean, second_moment, stats = _traced_on(client, scene, recipe, layout.bake_positions(samples),
                                                         values, samples, on_tile)
                 image, standard_error, filled = _core.finish_texel_bake(layout, samples, padding, mean,
@@ -203,13 +205,15 @@ _MIN_POSITIONS_PER_PART = 1 << 14
 def _traced_on(client, scene, texels, positions, values, samples, on_part):
     """Every position's two moments of a bake, traced in parts on the cluster's
     workers, and the parts' stats, frame_ms and rays_secondary summed.
-    texels: None for a vertex bake, else what rebuilds the TexelLayout."""
+    texels: None for a vertex bake, else the _TexelRecipe of its layout."""
     from ._cluster import default_in_flight, results_of, scene_for_workers  # only bakes on a cluster need Dask
 
     parts = max(1, min(2 * default_in_flight(client), positions // _MIN_POSITIONS_PER_PART))
     bounds = [positions * k // parts for k in range(parts + 1)]
     ranges = list(zip(bounds, bounds[1:]))
     on_cluster = scene_for_workers(client, scene, broadcast=True)
+    if texels is not None:  # to each worker once, like the scene
+        texels = client.scatter(texels, broadcast=True, hash=False)
     tasks = ((_trace_part, on_cluster, texels, values, samples, first, end) for first, end in ranges)
     mean, second_moment = np.empty(positions, np.float32), np.empty(positions, np.float32)
     stats, totals = None, dict(frame_ms=0.0, rays_secondary=0)
@@ -230,8 +234,34 @@ def _trace_part(scene, texels, values, samples, first, end):
     """On a worker: positions [first, end) of a bake."""
     if texels is None:
         return _core.trace_vertex_bake(scene, resolve(None), values, samples, first, end, None)
-    layout = _core.TexelLayout(scene, *texels)
-    return _core.trace_texel_bake(layout, resolve(None), values, samples, first, end, None)
+    return _core.trace_texel_bake(_layout_on_worker(scene, texels), resolve(None), values, samples, first, end, None)
+
+
+@dataclasses.dataclass(eq=False)
+class _TexelRecipe:
+    """What a worker builds a texture bake's TexelLayout from."""
+
+    texcoords: np.ndarray
+    triangles: np.ndarray
+    width: int
+    height: int
+    wrap: tuple
+
+
+# On a worker: the layout of each recipe it holds, built by the first part
+# that needs it and dropped with the recipe once the bake is done. Building
+# one rasterizes the whole UV set, which each part would otherwise repeat.
+_layouts_on_worker = weakref.WeakKeyDictionary()
+_layouts_lock = threading.Lock()
+
+
+def _layout_on_worker(scene, recipe):
+    with _layouts_lock:  # a worker's other threads wait for the layout rather than build it again
+        layout = _layouts_on_worker.get(recipe)
+        if layout is None:
+            layout = _layouts_on_worker[recipe] = _core.TexelLayout(scene, recipe.texcoords, recipe.triangles,
+                                                                     recipe.width, recipe.height, *recipe.wrap)
+        return layout
 
 
 def _resolution(resolution):
