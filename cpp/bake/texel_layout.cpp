@@ -47,13 +47,24 @@ double area(const Polygon& poly) {
 
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
 
-// The side of the edge between a and b that p is on, computed from the two
-// endpoints in one fixed order, so that two triangles sharing the edge get
-// the same number with opposite meanings (SPEC 6.3's fill rule).
-double edge_side(glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) {
+// The edge between a and b from its endpoints in one fixed order, whichever
+// triangle names it: its lower end and its way to the other.
+struct OrderedEdge {
+  glm::dvec2 lo, d;
+};
+
+OrderedEdge ordered_edge(glm::dvec2 a, glm::dvec2 b) {
   const bool in_order = a.x < b.x || (a.x == b.x && a.y < b.y);
-  const glm::dvec2 lo = in_order ? a : b, hi = in_order ? b : a;
-  return cross(hi - lo, p - lo);
+  const glm::dvec2 lo = in_order ? a : b;
+  return {lo, (in_order ? b : a) - lo};
+}
+
+// The side of the edge between a and b that p is on, computed from the
+// ordered edge, so that two triangles sharing the edge get the same number
+// with opposite meanings (SPEC 6.3's fill rule).
+double edge_side(glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) {
+  const OrderedEdge e = ordered_edge(a, b);
+  return cross(e.d, p - e.lo);
 }
 
 // The 4 x 4 sample points of a texel, offset by d = 1/1000 so that they are not dyadic like most UVs.
@@ -90,14 +101,12 @@ class CellPlaces {
   // sign: inside_signs of the triangle c. An edge of sign 0 crosses every cell.
   CellPlaces(const std::array<glm::dvec2, 3>& c, const double sign[3]) {
     for (std::size_t k = 0; k < 3; ++k) {
-      const glm::dvec2 a = c[k], b = c[(k + 1) % 3];
-      const bool in_order = a.x < b.x || (a.x == b.x && a.y < b.y);  // as edge_side orders them
       Edge& e = edges_[k];
-      e.lo = in_order ? a : b;
-      e.d = (in_order ? b : a) - e.lo;
+      e.line = ordered_edge(c[k], c[(k + 1) % 3]);  // as edge_side orders it
+      const glm::dvec2 d = e.line.d;
       e.toward_inside = sign[k] > 0.0 ? 1.0 : (sign[k] < 0.0 ? -1.0 : 0.0);
       // From corner (x, y) to (x + 1, y), (x, y + 1) and (x + 1, y + 1), edge_side changes by -d.y, d.x and both.
-      const double steps[4] = {0.0, -e.d.y, e.d.x, e.d.x - e.d.y};
+      const double steps[4] = {0.0, -d.y, d.x, d.x - d.y};
       e.least = e.most = 0.0;
       for (const double step : steps) {
         e.least = std::min(e.least, e.toward_inside * step);
@@ -112,10 +121,10 @@ class CellPlaces {
     CellPlace place;
     for (unsigned k = 0; k < 3; ++k) {
       const Edge& e = edges_[k];
-      const glm::dvec2 from = glm::dvec2(x, y) - e.lo;
-      const double side = e.toward_inside * cross(e.d, from);
-      const double margin = kMargin * (std::abs(e.d.x) * (std::abs(from.y) + 1.0) +
-                                       std::abs(e.d.y) * (std::abs(from.x) + 1.0));
+      const glm::dvec2 d = e.line.d, from = glm::dvec2(x, y) - e.line.lo;
+      const double side = e.toward_inside * cross(d, from);
+      const double margin =
+          kMargin * (std::abs(d.x) * (std::abs(from.y) + 1.0) + std::abs(d.y) * (std::abs(from.x) + 1.0));
       if (side + e.most < -margin) return {true, 0};
       if (!(side + e.least > margin)) place.edges_across |= 1u << k;
     }
@@ -124,7 +133,7 @@ class CellPlaces {
 
  private:
   struct Edge {
-    glm::dvec2 lo, d;      // edge_side's lower end and its way to the other
+    OrderedEdge line;
     double toward_inside;  // +1 or -1: the sign of edge_side on the triangle's side (0: unknown)
     double least, most;    // the least and most change toward the inside from corner (x, y) to the others
   };
