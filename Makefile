@@ -16,7 +16,7 @@ GLTF_VALIDATOR := tests/gltf_validator/node_modules/gltf-validator/package.json
 APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libassimp-dev \
   pocl-opencl-icd pybind11-dev python3-pybind11 python3-dev python3-venv python3-pip python3-numpy python3-pytest \
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbformat python3-ipykernel \
-  python3-matplotlib python3-tqdm python3-pil python3-distributed python3-dask libgtest-dev
+  python3-matplotlib python3-tqdm python3-pil python3-distributed python3-dask python3-aiohttp libgtest-dev
 
 .PHONY: demo test bench notebook notebook-kernel deps build sanitize-build clean
 
@@ -30,7 +30,9 @@ demo: build
 # the tests need clang, its sanitizer and libFuzzer runtimes and llvm-symbolizer
 # (for readable reports): the target-specific value reaches `deps`.
 SANITIZE_PACKAGES := clang libclang-rt-14-dev llvm
-test: APT_PACKAGES += $(SANITIZE_PACKAGES)
+# The viewer's tests drive a real browser, headless, and Jupyter's notebook server.
+BROWSER_TEST_PACKAGES := chromium chromium-driver python3-selenium python3-notebook
+test: APT_PACKAGES += $(SANITIZE_PACKAGES) $(BROWSER_TEST_PACKAGES)
 test: build sanitize-build $(GLTF_VALIDATOR)
 	cd $(BUILD) && ctest --output-on-failure
 	$(VENV)/bin/python -m pytest tests

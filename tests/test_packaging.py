@@ -21,6 +21,9 @@ def test_pip_install_gives_a_working_package(tmp_path):
     )  # fmt: skip
     assert install.returncode == 0, f"pip install failed:\n{install.stdout[-4000:]}\n{install.stderr[-4000:]}"
     assert list((target / "mbao").glob("_core*.so")), sorted(p.name for p in (target / "mbao").iterdir())
+    from mbao.viewer.server import STATIC_FILES
+
+    assert all((target / "mbao" / "viewer" / "static" / name).is_file() for name in STATIC_FILES)
 
     check = textwrap.dedent(
         """

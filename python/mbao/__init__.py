@@ -58,5 +58,18 @@ __all__ = [
     "render_sequence",
     "save_image",
     "trace",
+    "view",
+    "View",
 ]
+
+
+def __getattr__(name):
+    """mbao.view and mbao.View, imported on first use: only the viewer needs its web server (aiohttp)."""
+    if name in ("view", "View"):
+        from . import viewer
+
+        return getattr(viewer, name)
+    raise AttributeError(f"module 'mbao' has no attribute {name!r}")
+
+
 __version__ = _core.__version__  # the repository's VERSION, as the module was built with it

@@ -3,6 +3,7 @@
     python -m mbao render [scene.glb] [--bounces 2] [--samples 4] [-o ao.png] ...
     python -m mbao bake scene.glb -o baked.glb [--target texture|vertices] ...
     python -m mbao orbit [scene.glb] -o orbit.gif [--frames 60] [--temporal] [--denoise] ...
+    python -m mbao view [scene.glb] [--camera camera.json] [--bounces 2] [--host 127.0.0.1] [--port N] ...
     python -m mbao devices
 """
 
@@ -130,8 +131,33 @@ def _parser():
         _add_setting(o, spec)
     o.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
+    _add_view(commands)
+
     commands.add_parser("devices", help="list the OpenCL devices")
     return parser
+
+
+def _add_view(commands):
+    from .viewer.view_settings import METHODS, VIEWER
+
+    v = commands.add_parser("view", help="a live, progressive view in the browser (docs/viewer.md)")
+    v.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
+    v.add_argument("--camera", help="camera.json of the home view (default: the scene's own camera, else one framing it)")
+    for spec in RENDER.values():
+        if spec["name"] != "method":
+            _add_setting(v, spec)
+    v.add_argument("--method", choices=METHODS, default="raytraced",
+                   help="what the image shows: ray-traced AO, HBAO, HBAO with the GTAO fit (SPEC 8), or the bake "
+                        "the file holds, at the camera hits (default: %(default)s)")
+    v.add_argument("--denoise", action="store_true", help=VIEWER["denoise"]["doc"])
+    v.add_argument("--no-temporal", dest="temporal", action="store_false", help="a still view shows one frame, "
+                   "not frames accumulated (SPEC 7.4)")
+    v.add_argument("--frames", type=int, default=0, help=VIEWER["frames"]["doc"] + " (default: %(default)s)")
+    v.add_argument("--host", default="127.0.0.1", help="the address to serve on; another than loopback needs the "
+                   "token the printed URL carries (default: %(default)s)")
+    v.add_argument("--port", type=int, help="the port (default: the first free one from 8750)")
+    v.add_argument("--no-browser", action="store_true", help="print the URL without opening a browser")
+    v.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
 
 def _add_setting(parser, spec):
@@ -315,6 +341,41 @@ def _orbit(args):
     return 0
 
 
+def _view(args):
+    import asyncio
+
+    from .viewer import open_viewer
+    from .viewer.view_settings import VIEWER
+
+    settings = {name: getattr(args, name) for name in list(RENDER) + list(VIEWER)}
+    viewer = open_viewer(args.scene, camera=args.camera, device=_device_argument(args.device), host=args.host,
+                         port=args.port, **settings)
+
+    async def serve():
+        await viewer.start()
+        print(f"scene        {viewer.scene.name} ({viewer.scene.triangle_count} triangles)")
+        print(f"device       {viewer.device.name}")
+        print("serving the view at (Ctrl-C stops):")
+        print(viewer.url, flush=True)
+        if not args.no_browser:
+            _open_browser(viewer.url)
+        try:
+            await asyncio.Event().wait()
+        finally:
+            await viewer.stop()
+
+    asyncio.run(serve())
+
+
+def _open_browser(url):
+    """Opens `url` where the machine has a graphical browser; a terminal's text browser would take the terminal."""
+    import os
+    import webbrowser
+
+    if sys.platform in ("darwin", "win32") or os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
+        webbrowser.open(url)
+
+
 def _print_warning(message, category, filename, lineno, file=None, line=None):
     """A warning as one line, like the command's errors: no source line."""
     print(f"mbao: warning: {message}", file=sys.stderr)
@@ -335,10 +396,15 @@ def main(argv=None):
                 return _bake(args)
             if args.command == "orbit":
                 return _orbit(args)
+            if args.command == "view":
+                return _view(args)
             return _render(args)
     except (ValueError, TypeError, OSError, _core.Error) as error:
         print(f"mbao: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        if args.command == "view":
+            print("mbao: stopped", file=sys.stderr)
+            return 0
         print("mbao: interrupted", file=sys.stderr)
         return 130  # the shell's code for a command stopped by SIGINT

@@ -58,7 +58,8 @@ def render(scene, *, camera=None, hbao=None, denoise=None, engine=None, device=N
     return _render(scene, camera, values, resolve(device), progress=progress, hbao=hbao, denoise=denoise)
 
 
-def render_sequence(scene, cameras, *, temporal=True, denoise=None, engine=None, device=None, **settings):
+def render_sequence(scene, cameras, *, temporal=True, denoise=None, engine=None, device=None, progress=None,
+                    **settings):
     """Renders a frame per camera, yielding a Result for each as it is done.
 
     scene: as render's; loaded once for the whole sequence.
@@ -82,14 +83,14 @@ def render_sequence(scene, cameras, *, temporal=True, denoise=None, engine=None,
     values = _setting_values("render_sequence", _engine(engine, settings), settings)
     history = _core.TemporalHistory(_temporal_settings(temporal)) if temporal is not False else None
     _denoise_settings(denoise)
-    return _frames(scene, cameras, values, resolve(device), denoise, history)
+    return _frames(scene, cameras, values, resolve(device), denoise, history, _progress(progress))
 
 
-def _frames(scene, cameras, values, device, denoise, history):
+def _frames(scene, cameras, values, device, denoise, history, progress):
     first_seed = values.get("seed", RENDER["seed"]["default"])
     for k, camera in enumerate(cameras):
         frame = dict(values, seed=checked(RENDER["seed"], first_seed + k))
-        yield _render(scene, as_camera(camera), frame, device, denoise=denoise, history=history)
+        yield _render(scene, as_camera(camera), frame, device, progress=progress, denoise=denoise, history=history)
 
 
 def _setting_values(function, engine, settings):
