@@ -39,8 +39,8 @@ class View:
     close(): stops the server; the cell's view goes blank.
     """
 
-    def __init__(self, viewer, server, height):
-        self._viewer, self._server, self._height = viewer, server, height
+    def __init__(self, viewer, server, cell_height):
+        self._viewer, self._server, self._cell_height = viewer, server, cell_height
 
     @property
     def url(self):
@@ -91,13 +91,13 @@ class View:
 
     def _iframe(self):
         return (f'<iframe src="{html.escape(self.url)}" title="mbao view" style="width: 100%; '
-                f'height: {int(self._height)}px; border: 0"></iframe>')
+                f'height: {int(self._cell_height)}px; border: 0"></iframe>')
 
     def __repr__(self):
         return f"<mbao.View of {self._viewer.scene.name} at {self.url}>"
 
 
-def view(scene=None, *, camera=None, device=None, host="127.0.0.1", port=None, height=620, **settings):
+def view(scene=None, *, camera=None, device=None, host="127.0.0.1", port=None, cell_height=620, **settings):
     """Shows a live, progressive view of `scene` in a notebook cell and returns
     its handle, an mbao.View.
 
@@ -109,13 +109,13 @@ def view(scene=None, *, camera=None, device=None, host="127.0.0.1", port=None, h
         holds a bake), denoise, temporal and frames (docs/viewer.md).
     host, port: where the server listens: 127.0.0.1 and a free port from 8750
         by default. Another address needs the token the URL carries.
-    height: the cell's view height in pixels.
+    cell_height: the height of the view in the cell's output, in pixels.
 
     The page is served by a server in this process, which the browser showing
     the notebook must reach: on another machine, forward the port (docs/viewer.md).
     """
     viewer = open_viewer(scene, camera=camera, device=device, host=host, port=port, **settings)
-    handle = View(viewer, BackgroundServer(viewer), height)
+    handle = View(viewer, BackgroundServer(viewer), cell_height)
     if _in_a_kernel():
         handle.show()
     return handle

@@ -96,7 +96,8 @@
       buildControls(message.specs);
       showSettings();
       text("device", message.device);
-      text("scene", `${message.scene.name} (${message.scene.triangles.toLocaleString()} triangles)`);
+      const file = message.scene.name.split(/[\\/]/).pop();  // a loaded scene's name is its path
+      text("scene", `${file} (${message.scene.triangles.toLocaleString()} triangles)`);
       sendView({ camera: state.camera }, false);
     } else if (message.type === "state") {
       state.camera = message.camera;
