@@ -303,3 +303,34 @@ def test_a_busy_port_is_named():
                               capture_output=True, text=True, timeout=FRAME_TIMEOUT_S)
     assert done.returncode == 2
     assert f"127.0.0.1:{viewer.port}" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_hbao_with_the_gtao_fit_shows_the_fit_of_hbaos_image():
+    with served(**SMALL, method="hbao+gtao", rho=0.6, max_distance=200.0) as viewer:
+        async def still():
+            async with connected(viewer) as page:
+                await page.send(type="set", camera=page.hello["home"])
+                return await page.still_frame(1)
+
+        header, payload = run(still())
+        hbao = mbao.render(viewer.scene, camera=viewer.home_camera, method="hbao", max_distance=200.0, **SMALL)
+    fitted = np.where(hbao.mask, mbao.gtao_multibounce(np.clip(hbao.ao, 0, 1), 0.6), hbao.ao)
+    assert header["final"] and (fitted > hbao.ao + 0.02).any()
+    np.testing.assert_array_equal(decode(payload), to_8bit(fitted))
+
+
+def test_a_views_handle_reads_sets_and_snapshots_outside_a_notebook():
+    view = mbao.view(port=0, **SMALL, samples=2, frames=1)
+    try:
+        assert view.settings["samples"] == 2 and re.fullmatch(r"http://127\.0\.0\.1:\d+/", view.url)
+        view.settings = {"bounces": 2}
+        assert view.settings["bounces"] == 2
+        with pytest.raises(ValueError, match="brightness"):
+            view.settings = {"brightness": 1}
+        with pytest.raises(TypeError, match="camera"):
+            view.camera = 3
+        snapshot = view.snapshot()  # no page yet: the view's first frame
+        first = next(mbao.render_sequence(mbao.cornell_box(), [view.camera], **SMALL, samples=2, bounces=2))
+        np.testing.assert_array_equal(snapshot.ao, first.ao)
+    finally:
+        view.close()

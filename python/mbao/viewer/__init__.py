@@ -5,10 +5,9 @@ import types
 
 from .. import _core
 from ..devices import resolve
-from ..render import render
 from ..scene import as_camera, is_gltf_path, load
 from .baked import load_bake
-from .frames import render_settings
+from .frames import StillView
 from .server import BackgroundServer, Viewer
 
 __all__ = ["View", "view", "open_viewer"]
@@ -73,9 +72,9 @@ class View:
         session = self._active()
         if session is not None and session.last_still is not None:
             return session.last_still.result
-        values = render_settings(dict(self.settings))
-        return render(self._viewer.scene, camera=self.camera, device=self._viewer.device,
-                      denoise=self.settings["denoise"] or None, **values)
+        viewer = self._viewer
+        first = StillView(viewer.scene, self.camera, dict(self.settings), viewer.device, viewer.bake)
+        return first.next_frame(cancelled=lambda: None).result
 
     def show(self):
         """Shows the view in the cell's output (mbao.view does on its own)."""

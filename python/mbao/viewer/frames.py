@@ -34,16 +34,13 @@ class Superseded(Exception):
 
 @dataclasses.dataclass
 class Frame:
-    """A frame as the page gets it."""
+    """A frame as the page gets it: result, an mbao.Result of the image shown."""
 
-    ao: np.ndarray
-    coverage: np.ndarray
+    result: object
     frames: int  # accumulated into it: 1 without temporal accumulation
     final: bool  # no further frame of this view will refine it
     moving: bool
-    stats: dict
     standard_error: float = None  # the mean over covered pixels, where a variance is known
-    result: object = None  # the mbao.Result, for a still frame
 
 
 def render_settings(settings):
@@ -66,13 +63,14 @@ def moving_size(settings, ms_per_pixel):
     return max(1, round(width * scale)), max(1, round(height * scale))
 
 
-def moving_frame(scene, camera, settings, size, device, cancelled, bake):
-    """One frame of a moving camera, at `size`, without history."""
+def moving_frame(scene, camera, settings, size, device, bake):
+    """One frame of a moving camera, at `size`, without history. It is not
+    cancelled: it fits the frame budget, and a frame of the camera a moment
+    ago shows more than none."""
     values = dict(render_settings(settings), width=size[0], height=size[1])
     if settings["method"] == "baked":
         return _baked_frame(scene, camera, values, device, bake, moving=True)
-    result = render(scene, camera=camera, device=device, progress=lambda done, total: cancelled(),
-                    denoise=settings["denoise"] or None, **values)
+    result = render(scene, camera=camera, device=device, denoise=settings["denoise"] or None, **values)
     return _frame(result, settings, frames=1, final=False, moving=True)
 
 
@@ -107,14 +105,14 @@ class StillView:
         return frame
 
     def _single(self):
-        values = _with_variance(render_settings(self.settings), self.settings)
+        values = _with_variance(render_settings(self.settings))
         result = render(self.scene, camera=self.camera, device=self.device, progress=self._progress,
                         denoise=self.settings["denoise"] or None, **values, engine=_STILL_ENGINE)
         return _frame(result, self.settings, frames=1, final=True, moving=False)
 
     def _accumulated(self):
         if self._sequence is None:
-            values = _with_variance(render_settings(self.settings), self.settings)
+            values = _with_variance(render_settings(self.settings))
             self._sequence = render_sequence(self.scene, _forever(self.camera), temporal=True,
                                              denoise=self.settings["denoise"] or None, device=self.device,
                                              progress=self._progress, engine=_STILL_ENGINE, **values)
@@ -134,24 +132,22 @@ def _forever(camera):
         yield camera
 
 
-def _with_variance(values, settings):
+def _with_variance(values):
     """`values` with the variance estimated, where it can be (SPEC 7.1), for the readout of the standard error."""
     can = values["method"] == "raytraced" and (values["spp"] >= 2 or values["samples"] >= 2)
     return dict(values, variance=True) if can else values
 
 
 def _frame(result, settings, frames, final, moving):
-    ao = result.ao
     if settings["method"] == "hbao+gtao":
-        ao = np.where(result.mask, gtao_multibounce(np.clip(ao, 0, 1), settings["rho"]), ao).astype(np.float32)
+        fitted = gtao_multibounce(np.clip(result.ao, 0, 1), settings["rho"])
+        result = dataclasses.replace(result, ao=np.where(result.mask, fitted, result.ao).astype(np.float32))
     standard_error = None
     if result.variance is not None and result.mask.any():
         standard_error = float(np.sqrt(np.maximum(result.variance[result.mask], 0)).mean())
-    return Frame(ao=ao, coverage=result.coverage, frames=frames, final=final, moving=moving, stats=result.stats,
-                 standard_error=standard_error, result=None if moving else result)
+    return Frame(result, frames=frames, final=final, moving=moving, standard_error=standard_error)
 
 
 def _baked_frame(scene, camera, values, device, bake, moving):
     result = baked_occlusion(scene, bake, camera, values["width"], values["height"], device)
-    return Frame(ao=result.ao, coverage=result.coverage, frames=1, final=True, moving=moving, stats=result.stats,
-                 result=None if moving else result)
+    return Frame(result, frames=1, final=not moving, moving=moving)

@@ -81,12 +81,12 @@ class ViewSession:
                 if generation == self.generation:
                     await self.send_json(type="error", message=str(error))
                 continue
-            if generation != self.generation:
-                continue
+            if generation != self.generation and not frame.moving:
+                continue  # a still frame of a view that has changed: its accumulation is void
             if not frame.moving:
                 self.last_still = frame
             await self._send_frame(frame, payload, camera, generation)
-            if not frame.final:
+            if not (frame.final or frame.moving):
                 self._wake.set()
 
     def _render_and_encode(self, generation, camera, settings, still):
@@ -100,19 +100,18 @@ class ViewSession:
         start = time.perf_counter()
         if still is None:
             size = moving_size(settings, self._ms_per_pixel)
-            frame = moving_frame(self.viewer.scene, camera, settings, size, self.viewer.device, cancelled,
-                                 self.viewer.bake)
-            payload = encode(frame.ao, "jpeg")
+            frame = moving_frame(self.viewer.scene, camera, settings, size, self.viewer.device, self.viewer.bake)
+            payload = encode(frame.result.ao, "jpeg")
             self._ms_per_pixel = (time.perf_counter() - start) * 1e3 / (size[0] * size[1])
             return frame, payload
         frame = still.next_frame(cancelled)
         if self._ms_per_pixel is None:
-            self._ms_per_pixel = (time.perf_counter() - start) * 1e3 / frame.ao.size
-        return frame, encode(frame.ao, "png")
+            self._ms_per_pixel = (time.perf_counter() - start) * 1e3 / frame.result.ao.size
+        return frame, encode(frame.result.ao, "png")
 
     async def _send_frame(self, frame, payload, camera, generation):
-        height, width = frame.ao.shape
-        stats = frame.stats
+        height, width = frame.result.ao.shape
+        stats = frame.result.stats
         rays = stats.get("rays_primary", 0) + stats.get("rays_secondary", 0)
         header = dict(type="frame", format="jpeg" if frame.moving else "png", width=width, height=height,
                       frames=frame.frames, final=frame.final, moving=frame.moving, frame_ms=stats["frame_ms"],
@@ -177,6 +176,6 @@ def image_file(frame, what):
 
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, f"ao.{what}")
-        save_image(path, frame.ao, alpha=frame.coverage)
+        save_image(path, frame.result.ao, alpha=frame.result.coverage)
         with open(path, "rb") as file:
             return file.read()

@@ -11,6 +11,7 @@
   const state = {
     camera: null, settings: null, home: null, radius: 1, defaultRadius: UNLIMITED,
     frames: 0, final: false, received: 0, last_frame_ms: null, width: 0, height: 0, error: null,
+    frame_camera: null,  // the camera of the frame shown, as its header gives it (state.camera may be ahead)
   };
   let socket = null;
   let pendingCamera = false;  // a camera change waits for the next animation frame
@@ -129,6 +130,7 @@
     state.last_frame_ms = header.frame_ms;
     state.width = header.width;
     state.height = header.height;
+    state.frame_camera = header.camera;
     text("frame-ms", `${header.frame_ms.toFixed(1)} ms` + (header.moving ? " (moving)" : ""));
     text("mrays", header.mrays_per_s == null ? "\u2013" : `${header.mrays_per_s.toFixed(2)} Mrays/s`);
     text("frames", `${header.frames}` + (header.final ? " (done)" : ""));
@@ -268,6 +270,7 @@
       camera: state.camera, settings: state.settings, frames: state.frames, final: state.final,
       received: state.received,
       last_frame_ms: state.last_frame_ms, width: state.width, height: state.height, error: state.error,
+      frame_camera: state.frame_camera,
     })),
     set: ({ camera, settings } = {}) => {
       const changes = {};
