@@ -334,3 +334,25 @@ def test_a_views_handle_reads_sets_and_snapshots_outside_a_notebook():
         np.testing.assert_array_equal(snapshot.ao, first.ao)
     finally:
         view.close()
+
+
+def test_an_unset_radius_is_the_home_cameras_suggestion(tmp_path):
+    """A camera from the page carries the home camera's max_distance, as render's default radius (SPEC 1)."""
+    home = mbao.cornell_box().default_camera(48, 40)
+    path = tmp_path / "camera.json"
+    path.write_text(json.dumps(dict(eye=list(home.eye), target=list(home.target), up=list(home.up),
+                                    vfov_deg=home.vfov_deg, max_distance=120.0)))
+    with served(camera=str(path), **SMALL, samples=2, temporal=False) as viewer:
+        async def still():
+            async with connected(viewer) as page:
+                assert page.hello["scene"]["default_radius"] == 120.0
+                await page.send(type="set", camera=page.hello["home"])
+                frame = await page.still_frame(1)
+                await page.send(type="save", what="camera")
+                return frame, await page.until(lambda m, p: m["type"] == "file")
+
+        (_, payload), (_, saved) = run(still())
+    expected = mbao.render(mbao.cornell_box(), camera=mbao.Camera.load(str(path)), **SMALL, samples=2)
+    assert expected.stats["max_distance"] == 120.0
+    np.testing.assert_array_equal(decode(payload), to_8bit(expected.ao))
+    assert json.loads(saved)["max_distance"] == 120.0

@@ -48,7 +48,7 @@ class View:
     @property
     def camera(self):
         session = self._active()
-        return session.camera if session else self._viewer.home_camera
+        return session.camera if session else self._viewer.camera
 
     @camera.setter
     def camera(self, camera):

@@ -18,10 +18,11 @@ _FIELDS = {
 SAVE_KINDS = ("png", "exr", "camera")
 
 
-def parse(text, settings, methods):
+def parse(text, settings, methods, suggested_radius=None):
     """The message in `text`, checked: {"type": ..., ...} with a camera as an
-    mbao.Camera and settings as the view's whole settings after the change.
-    Raises ValueError or TypeError naming what is wrong."""
+    mbao.Camera carrying `suggested_radius` (the home camera's, SPEC 1) and
+    settings as the view's whole settings after the change. Raises ValueError
+    or TypeError naming what is wrong."""
     if not isinstance(text, str):
         raise TypeError("messages are JSON text, got binary data")
     try:
@@ -37,13 +38,15 @@ def parse(text, settings, methods):
     if unknown:
         raise ValueError(f"a {kind!r} message has no field {', '.join(map(repr, sorted(unknown)))}; "
                          f"its fields are {', '.join(sorted(_FIELDS[kind]))}")
-    return {"set": _set, "pick": _pick, "save": _save}[kind](message, settings, methods)
+    if kind == "set":
+        return _set(message, settings, methods, suggested_radius)
+    return {"pick": _pick, "save": _save}[kind](message)
 
 
-def _set(message, settings, methods):
+def _set(message, settings, methods, suggested_radius):
     parsed = {"type": "set"}
     if "camera" in message:
-        parsed["camera"] = camera_from_json(message["camera"])
+        parsed["camera"] = camera_from_json(message["camera"], suggested_radius)
     if "settings" in message:
         parsed["settings"] = updated(settings, settings_from_json(message["settings"]), methods)
     if "interactive" in message:
@@ -51,7 +54,7 @@ def _set(message, settings, methods):
     return parsed
 
 
-def _pick(message, settings, methods):
+def _pick(message):
     point = {}
     for axis in ("x", "y"):
         value = _checks.real(axis, message.get(axis))
@@ -61,12 +64,13 @@ def _pick(message, settings, methods):
     return dict(type="pick", **point)
 
 
-def _save(message, settings, methods):
+def _save(message):
     return dict(type="save", what=_checks.choice("what", message.get("what"), SAVE_KINDS))
 
 
-def camera_from_json(value):
-    """An mbao.Camera from {eye, target, up, vfov_deg} (SPEC 3.1.1), each checked."""
+def camera_from_json(value, suggested_radius=None):
+    """An mbao.Camera from {eye, target, up, vfov_deg} (SPEC 3.1.1), each
+    checked, with `suggested_radius` as its max_distance."""
     if not isinstance(value, dict):
         raise TypeError(f"camera must be an object {{eye, target, up, vfov_deg}}, got {type(value).__name__}")
     unknown = set(value) - {"eye", "target", "up", "vfov_deg"}
@@ -78,7 +82,7 @@ def camera_from_json(value):
         raise ValueError(f"camera lacks {', '.join(sorted(missing))}")
     vectors = [_vector(f"camera {name}", value[name]) for name in ("eye", "target", "up")]
     vfov = _checks.real("camera vfov_deg", value["vfov_deg"])
-    return _core.Camera(*vectors, vfov_deg=vfov)
+    return _core.Camera(*vectors, vfov_deg=vfov, max_distance=suggested_radius)
 
 
 def _vector(name, value):

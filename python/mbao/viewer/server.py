@@ -39,6 +39,7 @@ class Viewer:
         self.methods = tuple(m for m in view_settings.METHODS if m != "baked" or bake is not None)
         self.settings = view_settings.updated(view_settings.defaults(), settings, self.methods)
         self.home_camera = camera or scene.default_camera(self.settings["width"], self.settings["height"])
+        self.camera = self.home_camera  # a new view's: a script may set it
         self.host, self.port = host, port
         self.token = token if token is not None or _is_loopback(host) else secrets.token_urlsafe(24)
         self.sessions = []
@@ -150,11 +151,13 @@ class Viewer:
         return socket
 
     def hello(self):
-        """What the page learns first: the scene, the device, the home camera, the settings and their specs."""
+        """What the page learns first: the scene, the device, the home camera
+        and the view's first, the settings and their specs."""
         lo, hi = (np.asarray(corner) for corner in self.scene.bounds)
         return dict(scene=dict(name=self.scene.name, triangles=self.scene.triangle_count, bounds=[lo.tolist(), hi.tolist()],
                                radius=self.suggested_radius(), default_radius=self._default_radius()),
                     device=self.device.name, home=messages.camera_json(self.home_camera),
+                    camera=messages.camera_json(self.camera),
                     settings=messages.settings_json(self.settings), specs=view_settings.described(self.methods))
 
     def suggested_radius(self):
@@ -185,7 +188,7 @@ class Viewer:
 
         async def apply():
             if camera is not None:
-                self.home_camera = camera
+                self.camera = camera
             if settings is not None:
                 self.settings = settings
             for session in self.sessions:

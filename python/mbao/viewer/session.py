@@ -19,7 +19,7 @@ class ViewSession:
     def __init__(self, viewer, send):
         self.viewer = viewer
         self._send = send  # a coroutine function taking str (JSON) or bytes
-        self.camera = viewer.home_camera
+        self.camera = viewer.camera
         self.settings = dict(viewer.settings)
         self.interactive = False
         self.generation = 0
@@ -47,7 +47,7 @@ class ViewSession:
     async def handle(self, text):
         """One message from the page; a bad one is answered with an error and changes nothing."""
         try:
-            message = messages.parse(text, self.settings, self.viewer.methods)
+            message = messages.parse(text, self.settings, self.viewer.methods, self.viewer.home_camera.max_distance)
         except (TypeError, ValueError) as error:
             await self.send_json(type="error", message=str(error))
             await self.send_state()  # the view as it still is, for a page that took the bad value as set
@@ -124,7 +124,7 @@ class ViewSession:
         if what == "camera":
             radius = self.settings["max_distance"]
             if radius is None:
-                radius = self.viewer.home_camera.max_distance
+                radius = self.camera.max_distance
             data = json.dumps(messages.camera_json(self.camera, radius), indent=2).encode()
             await self._send(pack(dict(type="file", name="camera.json", mime="application/json"), data))
             return

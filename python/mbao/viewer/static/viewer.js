@@ -90,7 +90,7 @@
   function onText(message) {
     if (message.type === "hello") {
       state.home = message.home;
-      state.camera = message.home;
+      state.camera = message.camera;
       state.settings = message.settings;
       state.radius = message.scene.radius;
       state.defaultRadius = message.scene.default_radius;
