@@ -263,9 +263,47 @@ def cluster(run):
     return table(header, rows)
 
 
+def viewer(run):
+    """bench/viewer.py: the live view in headless Chromium, each figure beside its target, met or not."""
+    targets, scenes, still = run["targets"], run["viewer"]["motion"], run["viewer"]["still"]
+
+    def judged(text, met):
+        return f"{text}, {'met' if met else 'not met'}"
+
+    def latency(figures, median, p90):
+        return judged(f"{figures[median]:.0f} ({figures[p90]:.0f})", figures[median] <= targets["input_to_frame_ms"])
+
+    def fps(scene):
+        return judged(f"{scene['drag']['fps']:.1f}", scene["drag"]["fps"] >= targets["drag_fps"])
+
+    def size(scene):
+        return f"{scene['drag']['median_width']:.0f} px, {ms(scene['drag']['median_frame_ms'])} ms"
+
+    def still_only(text):
+        return lambda scene: text if scene["scene"] == still["scene"] else ""
+
+    reached, last = still["seconds_to_target"], still["frames"][-1]
+    until = judged(f"{reached:.2f}", reached <= targets["rmse_within_s"]) if reached is not None else \
+        f"not within {still['seconds']:g} s, not met"
+    at_end = judged(f"{still['rmse_at_end']:.3f} ({last['frames']} frames)", still["rmse_at_end"] <= targets["rmse"])
+    measures = [
+        ("frames/s while dragging", f">= {targets['drag_fps']}", fps),
+        ("while dragging, a frame's median width and frame_ms", "", size),
+        ("input to frame, single moves: median (90th percentile) ms", f"<= {targets['input_to_frame_ms']}",
+         lambda scene: latency(scene["input_to_frame"], "median_ms", "p90_ms")),
+        ("input to frame while dragging: median (90th percentile) ms", f"<= {targets['input_to_frame_ms']}",
+         lambda scene: latency(scene["drag"], "latency_median_ms", "latency_p90_ms")),
+        (f"still view: s until RMSE <= {targets['rmse']}", f"<= {targets['rmse_within_s']}", still_only(until)),
+        (f"still view: RMSE at {still['seconds']:g} s", f"<= {targets['rmse']}", still_only(at_end)),
+        ("still view: the reference's own RMS standard error", "", still_only(f"{still['reference_noise']:.4f}")),
+    ]
+    rows = [[measure, target] + [cell(scene) for scene in scenes] for measure, target, cell in measures]
+    return table(["measure", "target"] + [scene["scene"] for scene in scenes], rows)
+
+
 TABLES = {"table1": table1, "embree": embree, "trees": trees, "kd-build": kd_build, "traversals": traversals,
           "profile": profile, "organisation": organisation, "bake": bake, "denoise": denoise,
-          "denoise-summary": denoise_summary, "scale": scale, "cluster": cluster}
+          "denoise-summary": denoise_summary, "scale": scale, "cluster": cluster, "viewer": viewer}
 ACROSS_FILES = {"summary": summary, "sources": sources}
 
 

@@ -257,3 +257,4 @@ class BackgroundServer:
         asyncio.run_coroutine_threadsafe(self.viewer.stop(), self._loop).result()
         self._loop.call_soon_threadsafe(self._loop.stop)
         self._thread.join()
+        self._loop.close()
