@@ -159,19 +159,29 @@ def test_save_gives_the_image_with_coverage_and_the_camera(tmp_path):
         async def save():
             async with connected(viewer) as page:
                 await page.send(type="set", camera=page.hello["home"])
-                frame, image = await page.still_frame(1)
+                _, image = await page.still_frame(1)
                 await page.send(type="save", what="png")
                 png = await page.until(lambda m, p: m["type"] == "file")
+                await page.send(type="save", what="exr")
+                exr = await page.until(lambda m, p: m["type"] == "file")
                 await page.send(type="save", what="camera")
                 camera = await page.until(lambda m, p: m["type"] == "file")
-                return image, png, camera
+                return image, png, exr, camera
 
-        image, (png_header, png), (camera_header, camera) = run(save())
+        image, (png_header, png), (exr_header, exr), (_, camera) = run(save())
     (tmp_path / png_header["name"]).write_bytes(png)
     saved = np.asarray(Image.open(tmp_path / "ao.png"))
     assert saved.shape == (40, 48, 2)  # grey and alpha
     np.testing.assert_array_equal(saved[..., 0], decode(image))
     assert (saved[..., 1] == 0).any() and (saved[..., 1] == 255).any()  # the box's front is open
+    import OpenImageIO as oiio
+
+    (tmp_path / exr_header["name"]).write_bytes(exr)
+    floats = oiio.ImageBuf(str(tmp_path / "ao.exr"))
+    assert floats.spec().channelnames == ("Y", "coverage")
+    values = floats.get_pixels(oiio.FLOAT)
+    np.testing.assert_array_equal(to_8bit(values[..., 0]), decode(image))
+    np.testing.assert_array_equal(values[..., 1] > 0, saved[..., 1] > 0)
     (tmp_path / "camera.json").write_bytes(camera)
     loaded = mbao.Camera.load(str(tmp_path / "camera.json"))
     assert loaded.eye == pytest.approx(viewer.home_camera.eye) and "max_distance" not in json.loads(camera)
