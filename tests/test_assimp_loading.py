@@ -147,6 +147,38 @@ def test_an_obj_material_cuts_its_surface_as_a_gltf_mask_does(tmp_path, material
     np.testing.assert_array_equal(render_square(scene).mask[clear], opaque[clear])
 
 
+@pytest.mark.parametrize("reference, place", [
+    (r"C:\Users\artist\textures\cut.png", "cut.png"),  # another machine's drive: the file name beside the model
+    (r"textures\cut.png", "textures/cut.png"),  # Windows' separators
+    ("//textures/cut.png", "textures/cut.png"),  # Blender's "relative to the .blend"
+    ("/no/such/folder/cut.png", "cut.png"),  # an absolute path that is not here
+], ids=["drive letter", "backslashes", "blender relative", "absolute elsewhere"])
+def test_an_image_path_from_another_machine_or_tool_is_found_as_it_means(tmp_path, reference, place):
+    """SPEC 3.2: as Blender and Assimp's viewer find them, relative to the model, else beside it."""
+    from test_alpha_masks import checkerboard
+
+    (tmp_path / place).parent.mkdir(exist_ok=True)
+    (tmp_path / place).write_bytes(png_bytes(checkerboard(), tmp_path))
+    scene = masked_obj(tmp_path, [f"map_d {reference}"], {})
+    assert scene.alpha_masks["textures"] == 1 and scene.warnings == []
+
+
+def test_a_diffuse_map_that_cannot_cut_is_not_opened(tmp_path):
+    """A JPEG has no alpha, so a missing one changes nothing; a missing PNG might have cut, and is named."""
+    scene = masked_obj(tmp_path, ["map_Kd C:\\textures\\missing.jpg"], {})
+    assert scene.alpha_masks is None and scene.warnings == []
+    with pytest.warns(UserWarning, match=r"material 'cut''s image missing.png: cannot read .*; the surface is opaque"):
+        scene = masked_obj(tmp_path, ["map_Kd missing.png"], {})
+    assert scene.alpha_masks is None and scene.triangle_count == 2
+
+
+def test_an_image_that_does_not_decode_leaves_the_surface_opaque(tmp_path):
+    (tmp_path / "broken.png").write_bytes(b"\x89PNG but nothing after")
+    with pytest.warns(UserWarning, match=r"square.obj: material 'cut''s image broken.png: cannot decode"):
+        scene = masked_obj(tmp_path, ["map_d broken.png", "d 0.2"], {})
+    assert scene.alpha_masks is None and scene.triangle_count == 2  # opaque, whatever its d says
+
+
 def test_an_obj_material_below_half_opacity_leaves_no_surface(tmp_path):
     from meshes import plane
 
@@ -160,12 +192,14 @@ def test_an_obj_material_below_half_opacity_leaves_no_surface(tmp_path):
     assert scene.triangle_count == 1 and scene.alpha_masks is None
 
 
-def test_a_mask_image_that_is_not_there_is_named(tmp_path):
+def test_a_mask_image_that_is_not_there_is_named_and_its_surface_is_opaque(tmp_path):
     (tmp_path / "lost.mtl").write_text("newmtl lost\nmap_d missing.png\n")
     (tmp_path / "lost.obj").write_text("mtllib lost.mtl\nusemtl lost\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\n"
                                        "vt 0 1\nf 1/1 2/2 3/3\n")
-    with pytest.raises(mbao.LoadError, match=r"lost.obj.*missing.png"):
-        mbao.load(tmp_path / "lost.obj")
+    expected = r"lost.obj: material 'lost''s image missing.png: cannot read .*missing.png: no such file; the surface is opaque"
+    with pytest.warns(UserWarning, match=expected):
+        scene = mbao.load(tmp_path / "lost.obj")
+    assert scene.triangle_count == 1 and scene.alpha_masks is None
 
 
 @pytest.mark.parametrize("alpha, triangles", [(200, 2), (100, 0)], ids=["opaque everywhere", "clear everywhere"])

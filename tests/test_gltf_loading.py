@@ -1094,15 +1094,15 @@ resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
 import mbao
 try:
     scene = mbao.load(sys.argv[1])
-    print(json.dumps({"type": None, "triangles": scene.triangle_count}))
+    print(json.dumps({"type": None, "triangles": scene.triangle_count, "warnings": scene.warnings}))
 except Exception as e:
     print(json.dumps({"type": type(e).__name__, "message": str(e)}))
 """
 
 
 def load_in_child(path, timeout=60):
-    """What mbao.load(path) gives in a child process: {"type": None, "triangles": n},
-    or the exception's {"type", "message"}."""
+    """What mbao.load(path) gives in a child process: {"type": None, "triangles": n,
+    "warnings": [...]}, or the exception's {"type", "message"}."""
     done = subprocess.run([sys.executable, "-c", CHILD_LOAD, str(path)], capture_output=True, text=True,
                           timeout=timeout)
     assert done.returncode == 0, f"mbao.load crashed (exit {done.returncode}): {done.stderr[-3000:]}"
@@ -1171,7 +1171,7 @@ def test_a_deep_node_chain_loads_without_recursion(tmp_path):
     for i in range(depth):
         b.add_node(children=[i + 1]) if i < depth - 1 else b.add_node(mesh=mesh, translation=(0, 0, 1))
     b.add_scene([0])
-    assert load_in_child(b.write(tmp_path / "chain.glb")) == {"type": None, "triangles": 1}
+    assert load_in_child(b.write(tmp_path / "chain.glb")) == {"type": None, "triangles": 1, "warnings": []}
 
 
 @pytest.mark.parametrize(
@@ -1227,14 +1227,44 @@ def mask_image_file(tmp_path, uri):
     return b.write(tmp_path / "masked.glb")
 
 
+def assert_child_load_warns_of_image(path, *elements):
+    """A load that skips its mask image, with a warning naming it: the surface is opaque (SPEC 3.2)."""
+    outcome = load_in_child(path)
+    assert outcome["type"] is None and outcome["triangles"] == 2, outcome
+    warning = next((w for w in outcome["warnings"] if "the surface is opaque" in w), None)
+    assert warning is not None, outcome["warnings"]
+    for element in elements:
+        assert re.search(rf"\b{re.escape(element)}\b", warning), f"{element!r} not named in: {warning}"
+
+
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
-@pytest.mark.parametrize("make_file", [external_buffer_file, mask_image_file], ids=["buffer", "image"])
-def test_external_fifo_is_refused_not_read(tmp_path, make_file):
+def test_an_external_fifo_buffer_is_refused_not_read(tmp_path):
     # Opening a FIFO with no writer blocks forever.
     os.mkfifo(tmp_path / "pipe")
-    assert_child_load_error(make_file(tmp_path, "pipe"), "not a regular file")
+    assert_child_load_error(external_buffer_file(tmp_path, "pipe"), "not a regular file")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_an_external_fifo_mask_image_is_skipped_not_read(tmp_path):
+    os.mkfifo(tmp_path / "pipe")
+    assert_child_load_warns_of_image(mask_image_file(tmp_path, "pipe"), "image 0", "not a regular file")
 
 
 @pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="needs /dev/zero")
-def test_endless_device_as_a_mask_image_is_refused_not_read(tmp_path):
-    assert_child_load_error(mask_image_file(tmp_path, "/dev/zero"), "image 0", "not a regular file")
+def test_endless_device_as_a_mask_image_is_skipped_not_read(tmp_path):
+    assert_child_load_warns_of_image(mask_image_file(tmp_path, "/dev/zero"), "image 0", "not a regular file")
+
+
+def test_a_missing_mask_image_is_named_and_its_surface_is_opaque(tmp_path):
+    """SPEC 3.2: no load fails for a texture."""
+    with pytest.warns(UserWarning, match=r"masked.glb: material 0's image 0: cannot read .*missing.png: no such file; "
+                                         r"the surface is opaque"):
+        scene = mbao.load(mask_image_file(tmp_path, "missing.png"))
+    assert scene.triangle_count == 2 and scene.alpha_masks is None
+
+
+def test_a_jpeg_mask_image_is_not_opened(tmp_path):
+    """A JPEG holds no alpha: the material's constant alpha alone cuts, and a missing one is no matter to AO."""
+    scene = mbao.load(mask_image_file(tmp_path, "missing.jpg"))
+    assert scene.triangle_count == 2 and scene.alpha_masks is None
+    assert not [w for w in scene.warnings if "the surface is opaque" in w]

@@ -25,6 +25,7 @@
 #include "scene/gltf_files.h"
 #include "scene/image_alpha.h"
 #include "scene/isolated_import.h"
+#include "scene/texture_files.h"
 
 namespace mbao {
 namespace {
@@ -54,8 +55,13 @@ class AssimpMasks {
     unsigned uv_channel = 0;
   };
 
-  AssimpMasks(const aiScene& scene, std::string path)
-      : scene_(scene), path_(std::move(path)), base_dir_(std::filesystem::path(path_).parent_path()), builder_(path_) {}
+  // An image that cannot be read or decoded adds to `warnings`, and its material is opaque.
+  AssimpMasks(const aiScene& scene, std::string path, std::vector<std::string>& warnings)
+      : scene_(scene),
+        path_(std::move(path)),
+        base_dir_(std::filesystem::path(path_).parent_path()),
+        warnings_(warnings),
+        builder_(path_) {}
 
   Material material(unsigned index) {
     if (const auto found = materials_.find(index); found != materials_.end()) return found->second;
@@ -77,16 +83,18 @@ class AssimpMasks {
       aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
       unsigned uv_channel = 0;
       if (m.GetTexture(type, 0, &file, nullptr, &uv_channel, nullptr, nullptr, modes) != AI_SUCCESS) continue;
+      if (!first_channel && holds_no_alpha(file)) continue;  // a diffuse map cuts only by its alpha
       const std::string image_name = what + "'s image " + file.C_Str();
-      const AlphaImage image = alpha_of(file, first_channel, image_name);
-      if (!image.has_alpha) continue;
+      const std::optional<AlphaImage> image = readable_alpha(file, first_channel, image_name);
+      if (!image) return {};
+      if (!image->has_alpha) continue;
       // Bilinear lookups stay between the texels' least and greatest alpha:
       // where the cutoff does not fall between them, no texel needs looking up.
-      const auto [least, most] = std::minmax_element(image.alpha.begin(), image.alpha.end());
+      const auto [least, most] = std::minmax_element(image->alpha.begin(), image->alpha.end());
       if (opacity * float(*least) / 255.0f >= kMaskCutoff) return constant(1.0f);
       if (opacity * float(*most) / 255.0f < kMaskCutoff) return constant(0.0f);
       const std::uint32_t wrap = wrap_of(modes[0]) | (wrap_of(modes[1]) << 2);
-      return {Coverage::Masked, builder_.add_texture(image, wrap, opacity, kMaskCutoff, image_name), uv_channel};
+      return {Coverage::Masked, builder_.add_texture(*image, wrap, opacity, kMaskCutoff, image_name), uv_channel};
     }
     return constant(opacity);
   }
@@ -95,6 +103,24 @@ class AssimpMasks {
     Material m;
     m.coverage = opacity < kMaskCutoff ? Coverage::Transparent : Coverage::Opaque;
     return m;
+  }
+
+  // Whether the image, embedded or a file, is of a format without alpha (JPEG).
+  bool holds_no_alpha(const aiString& file) const {
+    if (const aiTexture* embedded = scene_.GetEmbeddedTexture(file.C_Str()))
+      return embedded->mHeight == 0 && (embedded->CheckFormat("jpg") || embedded->CheckFormat("jpeg"));
+    return cannot_hold_alpha(file.C_Str());
+  }
+
+  // alpha_of's image, or none where it cannot be read or decoded: then a
+  // warning says so, and the material is opaque (SPEC 3.2).
+  std::optional<AlphaImage> readable_alpha(const aiString& file, bool first_channel, const std::string& what) {
+    try {
+      return alpha_of(file, first_channel, what);
+    } catch (const LoadError& e) {
+      warnings_.push_back(std::string(e.what()) + "; the surface is opaque");
+      return std::nullopt;
+    }
   }
 
   // An image embedded in the file ("*n", or named by its file name) or a file beside it.
@@ -110,13 +136,15 @@ class AssimpMasks {
       for (std::size_t i = 0; i < texels; ++i) image.alpha.push_back(embedded->pcData[i].a);
       return image;
     }
-    const std::vector<unsigned char> bytes = read_regular_file(base_dir_ / file.C_Str(), path_ + ": " + what);
+    const std::vector<unsigned char> bytes = read_regular_file(find_texture_file(base_dir_, file.C_Str()),
+                                                               path_ + ": " + what);
     return decode_alpha(bytes.data(), bytes.size(), path_ + ": " + what, first_channel);
   }
 
   const aiScene& scene_;
   std::string path_;
   std::filesystem::path base_dir_;
+  std::vector<std::string>& warnings_;
   AlphaMaskBuilder builder_;
   std::map<unsigned, Material> materials_;
 };
@@ -132,8 +160,8 @@ glm::vec3 to_glm(const aiVector3D& v) { return {v.x, v.y, v.z}; }
 // their alpha masks.
 class Gatherer {
  public:
-  Gatherer(const aiScene& scene, const std::string& path, bool normals)
-      : scene_(scene), path_(path), normals_(normals), masks_(scene, path) {}
+  Gatherer(const aiScene& scene, const std::string& path, bool normals, std::vector<std::string>& warnings)
+      : scene_(scene), path_(path), normals_(normals), masks_(scene, path, warnings) {}
 
   void node(const aiNode& n, const glm::mat4& parent) {
     const glm::mat4 world = parent * to_glm(n.mTransformation);
@@ -259,9 +287,9 @@ ImportedScene imported(const Assimp::Importer& importer, const aiScene* scene, c
   if (!scene) throw LoadError(path + ": " + importer.GetErrorString());
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
     throw LoadError(path + ": Assimp read no complete scene from it");
-  Gatherer gatherer(*scene, path, options.normals);
-  gatherer.node(*scene->mRootNode, glm::mat4(1.0f));
   std::vector<std::string> warnings;
+  Gatherer gatherer(*scene, path, options.normals, warnings);
+  gatherer.node(*scene->mRootNode, glm::mat4(1.0f));
   if (const std::size_t dropped = dropped_primitives(*scene))
     warnings.push_back(path + ": " + std::to_string(dropped) + " points and lines skipped; only triangles render");
   std::optional<Camera> camera = first_camera(*scene, path, warnings);

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "scene/gltf_files.h"
 #include "scene/image_alpha.h"
+#include "scene/texture_files.h"
 #include "scene/wrap_mode.h"
 
 namespace mbao {
@@ -34,8 +35,13 @@ bool keep_data_uri_images(tinygltf::Image* image, const int, std::string*, std::
 }
 
 GltfAlphaMasks::GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path,
-                               std::filesystem::path base_dir)
-    : model_(model), accessors_(accessors), path_(std::move(path)), base_dir_(std::move(base_dir)), builder_(path_) {}
+                               std::filesystem::path base_dir, std::vector<std::string>& warnings)
+    : model_(model),
+      accessors_(accessors),
+      path_(std::move(path)),
+      base_dir_(std::move(base_dir)),
+      warnings_(warnings),
+      builder_(path_) {}
 
 GltfAlphaMasks::Material GltfAlphaMasks::material(int index) {
   const auto found = materials_.find(index);
@@ -59,16 +65,18 @@ GltfAlphaMasks::Material GltfAlphaMasks::resolve(int index) {
     return constant_material;
   };
   if (base.baseColorTexture.index < 0) return constant(factor);
+  const std::optional<std::uint32_t> texture = mask_texture(base.baseColorTexture.index, factor, cutoff, what);
+  if (!texture) return {};  // an image that cannot be read: opaque, with a warning
+  if (*texture == MBAO_NOT_MASKED) return constant(factor);  // an image without alpha
   Material material;
   material.coverage = Coverage::Masked;
   material.texcoord_set = base.baseColorTexture.texCoord;
-  material.texture = mask_texture(base.baseColorTexture.index, factor, cutoff, what);
-  if (material.texture == MBAO_NOT_MASKED) return constant(factor);  // an image without alpha
+  material.texture = *texture;
   return material;
 }
 
-std::uint32_t GltfAlphaMasks::mask_texture(int texture_index, float alpha_factor, float cutoff,
-                                           const std::string& what) {
+std::optional<std::uint32_t> GltfAlphaMasks::mask_texture(int texture_index, float alpha_factor, float cutoff,
+                                                          const std::string& what) {
   if (std::size_t(texture_index) >= model_.textures.size())
     throw LoadError(path_ + ": " + what + " uses texture " + std::to_string(texture_index) + ", which does not exist");
   const tinygltf::Texture& texture = model_.textures[std::size_t(texture_index)];
@@ -86,17 +94,30 @@ std::uint32_t GltfAlphaMasks::mask_texture(int texture_index, float alpha_factor
   const auto key = std::make_tuple(texture.source, wrap, alpha_factor, cutoff);
   if (const auto found = textures_.find(key); found != textures_.end()) return found->second;
 
-  const std::string image_name = "image " + std::to_string(texture.source);
-  const std::vector<unsigned char> encoded = encoded_image(texture.source, image_name);
-  const AlphaImage image = decode_alpha(encoded.data(), encoded.size(), path_ + ": " + image_name);
-  return textures_[key] = builder_.add_texture(image, wrap, alpha_factor, cutoff, image_name);
+  const std::string image_name = what + "'s image " + std::to_string(texture.source);
+  const std::optional<AlphaImage> image = alpha_image(texture.source, image_name);
+  if (!image) return textures_[key] = std::nullopt;
+  return textures_[key] = builder_.add_texture(*image, wrap, alpha_factor, cutoff, image_name);
+}
+
+std::optional<AlphaImage> GltfAlphaMasks::alpha_image(int image_index, const std::string& what) {
+  const tinygltf::Image& image = model_.images[std::size_t(image_index)];
+  if (image.mimeType == "image/jpeg" || (image.bufferView < 0 && cannot_hold_alpha(image.uri)))
+    return AlphaImage{};  // no alpha: the material's constant alpha alone cuts
+  try {
+    const std::vector<unsigned char> encoded = encoded_image(image_index, what);
+    return decode_alpha(encoded.data(), encoded.size(), path_ + ": " + what);
+  } catch (const LoadError& e) {
+    warnings_.push_back(std::string(e.what()) + "; the surface is opaque");
+    return std::nullopt;
+  }
 }
 
 std::vector<unsigned char> GltfAlphaMasks::encoded_image(int image_index, const std::string& what) const {
   const tinygltf::Image& image = model_.images[std::size_t(image_index)];
   if (image.bufferView >= 0) return accessors_.view_bytes(image.bufferView, what);
   if (image.uri.empty()) return image.image;  // a data URI, kept by keep_data_uri_images
-  return read_regular_file(base_dir_ / percent_decoded(image.uri), path_ + ": " + what);
+  return read_regular_file(find_texture_file(base_dir_, percent_decoded(image.uri)), path_ + ": " + what);
 }
 
 }  // namespace mbao

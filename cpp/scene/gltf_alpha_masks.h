@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "scene/alpha_mask_builder.h"
 #include "scene/alpha_masks.h"
 #include "scene/gltf_accessor_reader.h"
+#include "scene/image_alpha.h"
 
 namespace mbao {
 
@@ -26,9 +28,10 @@ class GltfAlphaMasks {
     int texcoord_set = 0;       // with Masked: n of the TEXCOORD_n attribute
   };
 
-  // `path` names the file in messages; relative image URIs are found in `base_dir`.
+  // `path` names the file in messages; relative image URIs are found in
+  // `base_dir`; an image that cannot be read or decoded adds to `warnings`.
   GltfAlphaMasks(const tinygltf::Model& model, const AccessorReader& accessors, std::string path,
-                 std::filesystem::path base_dir);
+                 std::filesystem::path base_dir, std::vector<std::string>& warnings);
 
   // What material `index` (-1: none) means for AO: everything but a MASK
   // material with an alpha texture, or with a constant alpha below the cutoff, is opaque.
@@ -41,17 +44,21 @@ class GltfAlphaMasks {
 
  private:
   Material resolve(int index);
-  std::uint32_t mask_texture(int texture_index, float alpha_factor, float cutoff, const std::string& what);
+  std::optional<std::uint32_t> mask_texture(int texture_index, float alpha_factor, float cutoff,
+                                           const std::string& what);
+  std::optional<AlphaImage> alpha_image(int image_index, const std::string& what);
   std::vector<unsigned char> encoded_image(int image_index, const std::string& what) const;
 
   const tinygltf::Model& model_;
   const AccessorReader& accessors_;
   std::string path_;
   std::filesystem::path base_dir_;
+  std::vector<std::string>& warnings_;
   AlphaMaskBuilder builder_;
   std::map<int, Material> materials_;
-  // (image, wrap, alpha factor, cutoff) -> MaskTexture, so an image decodes once per use.
-  std::map<std::tuple<int, std::uint32_t, float, float>, std::uint32_t> textures_;
+  // (image, wrap, alpha factor, cutoff) -> MaskTexture (none: the image is unreadable), so an image decodes
+  // once per use.
+  std::map<std::tuple<int, std::uint32_t, float, float>, std::optional<std::uint32_t>> textures_;
 };
 
 // Keeps the encoded bytes of images embedded as data URIs (tinygltf decodes

@@ -48,7 +48,7 @@ class SceneAssembler {
         path_(std::move(path)),
         options_(options),
         accessors_(model, path_),
-        masks_(model, accessors_, path_, base_dir) {
+        masks_(model, accessors_, path_, base_dir, warnings_) {
     if (!parser_warnings.empty()) warnings_.push_back(path_ + ": " + parser_warnings);
   }
 
@@ -370,11 +370,11 @@ class SceneAssembler {
   std::string path_;
   LoadOptions options_;
   std::vector<Instance> instances_;
+  std::vector<std::string> warnings_;
   AccessorReader accessors_;
   GltfAlphaMasks masks_;
   TriangleMesh mesh_;
   std::optional<Camera> camera_;
-  std::vector<std::string> warnings_;
   UvSets uv_sets_;
   std::unordered_map<int, int> parents_;  // node -> its parent, -1 for a scene root
 };
