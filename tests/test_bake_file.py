@@ -217,6 +217,23 @@ def test_generated_uvs_are_written_as_the_next_free_set_with_seams_split(tmp_pat
         np.testing.assert_array_equal(written, texture.texcoords)
 
 
+def test_a_strip_baked_into_generated_uvs_is_written_as_a_triangle_list(tmp_path):
+    """A strip's triangles, rewritten with their seams split, are a list: the primitive's mode says so."""
+    from gltf_writer import TRIANGLE_STRIP
+
+    vertices, triangles = plane(1.0)
+    corners = [triangles[0][0], triangles[0][1], triangles[0][2]] + [v for v in triangles[1] if v not in triangles[0]]
+    builder = GltfBuilder()
+    builder.add_scene([builder.add_node(mesh=builder.add_mesh([
+        builder.primitive(vertices, corners, mode=TRIANGLE_STRIP)]))], default=True)  # fmt: skip
+    source, output = builder.write(tmp_path / "strip.glb"), tmp_path / "baked.glb"
+    mbao.bake_file(source, output, target="texture", texcoord="generate", resolution=32, samples=2, progress=False)
+    assert validation_errors(output) == []
+    assert GltfDocument(output).doc["meshes"][0]["primitives"][0]["mode"] == 4
+    before, after = mbao.load(source), mbao.load(output)
+    np.testing.assert_array_equal(after.vertices[after.indices], before.vertices[before.indices])
+
+
 def test_generated_uvs_of_a_mesh_two_nodes_place_go_into_a_copy_each(tmp_path):
     b = GltfBuilder()
     floor = b.add_mesh([b.primitive(*plane(1.0, divisions=2))])

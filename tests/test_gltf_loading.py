@@ -469,8 +469,8 @@ def test_zero_normals_also_between_meshes_of_different_nodes(tmp_path):
 # == primitive modes ================================================================
 
 
-@pytest.mark.parametrize("mode", [POINTS, LINES, LINE_LOOP, LINE_STRIP, TRIANGLE_STRIP, TRIANGLE_FAN])
-def test_non_triangle_primitives_are_skipped_with_a_warning(tmp_path, mode):
+@pytest.mark.parametrize("mode", [POINTS, LINES, LINE_LOOP, LINE_STRIP])
+def test_points_and_lines_are_skipped_with_a_warning(tmp_path, mode):
     b = GltfBuilder()
     kept = b.primitive(TRIANGLE, [0, 1, 2])
     skipped = b.primitive(QUAD + np.float32([0, 0, 9]), [0, 1, 2, 3, 0, 2], mode=mode)
@@ -486,6 +486,23 @@ def test_non_triangle_primitives_are_skipped_with_a_warning(tmp_path, mode):
     assert [str(w.message) for w in caught] == scene.warnings
 
 
+@pytest.mark.parametrize("mode, expected", [
+    (TRIANGLE_STRIP, [[0, 1, 2], [1, 3, 2], [2, 3, 4]]),  # glTF 2.0 3.7.2.1: p_i = v_i, v_i+(1+i%2), v_i+(2-i%2)
+    (TRIANGLE_FAN, [[1, 2, 0], [2, 3, 0], [3, 4, 0]]),  # p_i = v_i+1, v_i+2, v_0
+], ids=["strip", "fan"])
+@pytest.mark.parametrize("indexed", [True, False], ids=["indexed", "not indexed"])
+def test_strips_and_fans_are_the_triangles_glTF_defines(tmp_path, mode, expected, indexed):
+    """Their corners in glTF's order (`expected` counts in the primitive's
+    corners), so that every triangle faces as the file means; the fan's last
+    triangle comes back to vertex 0, a degenerate one as in the file."""
+    corners = [0, 1, 2, 3, 0]
+    vertices = QUAD[corners] if not indexed else QUAD
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(vertices, corners if indexed else None, mode=mode)]))])
+    scene = load_clean(b.write(tmp_path / "strip.glb"))
+    np.testing.assert_array_equal(scene.vertices[scene.indices], QUAD[np.array(corners)[np.array(expected)]])
+
+
 def test_explicit_triangles_mode_is_loaded_without_warning(tmp_path):
     path = single_mesh_file(tmp_path / "m4.gltf", lambda b: [b.primitive(QUAD, QUAD_INDICES, mode=TRIANGLES)])
     assert load_clean(path).triangle_count == 2
@@ -494,7 +511,7 @@ def test_explicit_triangles_mode_is_loaded_without_warning(tmp_path):
 def test_each_skipped_primitive_gets_its_own_warning(tmp_path):
     b = GltfBuilder()
     lines = b.add_mesh([b.primitive(QUAD, [0, 1, 1, 2], mode=LINES)])
-    mixed = b.add_mesh([b.primitive(TRIANGLE), b.primitive(QUAD, [0, 1, 2, 3], mode=TRIANGLE_STRIP)])
+    mixed = b.add_mesh([b.primitive(TRIANGLE), b.primitive(QUAD, [0, 1, 2, 3], mode=LINE_STRIP)])
     b.add_scene([b.add_node(mesh=lines), b.add_node(mesh=mixed)])
     with pytest.warns(UserWarning):
         scene = mbao.load(b.write(tmp_path / "two_skips.glb"))
@@ -1074,7 +1091,7 @@ def test_file_with_no_triangles_at_all(tmp_path, layout):
         b.add_mesh([b.primitive(TRIANGLE)])
         b.add_scene([b.add_node(translation=(1, 0, 0), children=[b.add_node()])])
     else:
-        mesh = b.add_mesh([b.primitive(QUAD, mode=POINTS), b.primitive(QUAD, [0, 1, 2, 3], mode=TRIANGLE_STRIP)])
+        mesh = b.add_mesh([b.primitive(QUAD, mode=POINTS), b.primitive(QUAD, [0, 1, 2, 3], mode=LINE_STRIP)])
         b.add_scene([b.add_node(mesh=mesh)])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -197,8 +197,9 @@ class SceneAssembler {
 
   void add_primitive(const tinygltf::Primitive& primitive, const glm::dmat4& world, const std::string& what) {
     const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES) {
-      warnings_.push_back(path_ + ": " + what + " skipped: mode " + std::to_string(mode) + " is not TRIANGLES");
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      warnings_.push_back(path_ + ": " + what + " skipped: mode " + std::to_string(mode) +
+                          " is points or lines, not triangles");
       return;
     }
     const auto position = primitive.attributes.find("POSITION");
@@ -214,7 +215,7 @@ class SceneAssembler {
     if (vertex_count > kMaxVertices - mesh_.positions.size())
       throw LoadError(path_ + ": " + what + " brings the default scene to more than " + std::to_string(kMaxVertices) +
                       " vertices, more than 32-bit vertex indices reach");
-    const std::vector<std::uint32_t> indices = triangle_indices(primitive, vertex_count, what);
+    const std::vector<std::uint32_t> indices = triangle_indices(primitive, mode, vertex_count, what);
     const auto base = std::uint32_t(mesh_.positions.size());
     const bool in_place = world == glm::dmat4(1.0);  // the usual case: no transform to apply
     for (std::size_t v = 0; v < vertex_count; ++v) {
@@ -235,9 +236,11 @@ class SceneAssembler {
       masks_.triangles().add_opaque(indices.size() / 3);
   }
 
-  // The primitive's triangles as vertex indices, checked against its vertex count.
-  std::vector<std::uint32_t> triangle_indices(const tinygltf::Primitive& primitive, std::size_t vertex_count,
-                                              const std::string& what) const {
+  // The primitive's triangles as a list of vertex indices, three a triangle,
+  // checked against its vertex count: a strip's or a fan's as glTF orders
+  // their corners (glTF 2.0, 3.7.2.1), so that they face as the file means.
+  std::vector<std::uint32_t> triangle_indices(const tinygltf::Primitive& primitive, int mode,
+                                              std::size_t vertex_count, const std::string& what) const {
     std::vector<std::uint32_t> indices;
     if (primitive.indices >= 0) {
       indices = accessors_.indices(primitive.indices, what + " indices");
@@ -245,13 +248,26 @@ class SceneAssembler {
       indices.resize(vertex_count);
       for (std::size_t i = 0; i < vertex_count; ++i) indices[i] = std::uint32_t(i);
     }
-    if (indices.size() % 3 != 0)
+    if (mode == TINYGLTF_MODE_TRIANGLES && indices.size() % 3 != 0)
       throw LoadError(path_ + ": " + what + " has " + std::to_string(indices.size()) + " indices, not a multiple of 3");
     for (std::uint32_t i : indices)
       if (i >= vertex_count)
         throw LoadError(path_ + ": " + what + " uses vertex " + std::to_string(i) + ", but POSITION has only " +
                         std::to_string(vertex_count));
-    return indices;
+    if (mode == TINYGLTF_MODE_TRIANGLES) return indices;
+    return mode == TINYGLTF_MODE_TRIANGLE_STRIP ? strip_triangles(indices) : fan_triangles(indices);
+  }
+
+  static std::vector<std::uint32_t> strip_triangles(const std::vector<std::uint32_t>& v) {
+    std::vector<std::uint32_t> list;
+    for (std::size_t i = 0; i + 2 < v.size(); ++i) list.insert(list.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
+    return list;
+  }
+
+  static std::vector<std::uint32_t> fan_triangles(const std::vector<std::uint32_t>& v) {
+    std::vector<std::uint32_t> list;
+    for (std::size_t i = 0; i + 2 < v.size(); ++i) list.insert(list.end(), {v[i + 1], v[i + 2], v[0]});
+    return list;
   }
 
   std::vector<float> texcoords(const tinygltf::Primitive& primitive, int set, std::size_t vertex_count,

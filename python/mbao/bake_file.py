@@ -12,7 +12,7 @@ from ._gltf import GltfDocument
 from .bake import bake
 from .scene import is_gltf_path, load
 
-FLOAT, SCALAR = 5126, "SCALAR"
+FLOAT, SCALAR, TRIANGLES = 5126, "SCALAR", 4
 _NUMPY_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
 
 
@@ -209,6 +209,7 @@ def _split_along_seams(document, primitive, placed, scene, corner_uvs, new_set):
     attributes[f"TEXCOORD_{new_set}"] = uv_accessor
     indices = np.ascontiguousarray(corner_vertex, "<u4")
     primitive["indices"] = document.add_data(indices.tobytes(), componentType=5125, count=len(indices), type=SCALAR)
+    primitive["mode"] = TRIANGLES  # the indices written are a list, whether the file's made a strip or a fan
 
 
 def _add_occlusion_textures(document, scene, result, bit_depth, generated_sets, meshes):
