@@ -1,6 +1,8 @@
 # The two commands: `make demo` and `make test`. Each installs what is missing
 # (Debian packages, through apt-get), makes .venv on Debian's Python, builds,
-# then renders or tests. Afterwards `.venv/bin/python -m mbao ...` works.
+# registers .venv as the Jupyter kernel "mbao", then renders or tests.
+# Afterwards `.venv/bin/python -m mbao ...` works, and so does a headless run of
+# a notebook (`.venv/bin/python -m nbconvert --to notebook --execute ...`).
 
 PYTHON := /usr/bin/python3
 VENV := .venv
@@ -12,10 +14,10 @@ NODE_PACKAGES := nodejs npm
 GLTF_VALIDATOR := tests/gltf_validator/node_modules/gltf-validator/package.json
 
 # The C++ core and benchmark need only the first line; the rest is for the
-# Python module, the tests and image files.
+# Python module, the tests, image files and running the notebooks headless.
 APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libassimp-dev \
   pocl-opencl-icd pybind11-dev python3-pybind11 python3-dev python3-venv python3-pip python3-numpy python3-pytest \
-  python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbformat python3-ipykernel \
+  python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbconvert python3-nbformat python3-ipykernel \
   python3-matplotlib python3-tqdm python3-pil python3-distributed python3-dask python3-aiohttp libgtest-dev
 
 .PHONY: demo test bench notebook notebook-kernel deps build sanitize-build clean
@@ -55,15 +57,18 @@ bench: APT_PACKAGES += libembree-dev
 bench: build
 	$(BUILD)/bench/mbao_bench --scenes $(SCENES) --json bench/results/latest.json
 
-# Jupyter from Debian, started on notebooks/ with the venv as the kernel the
-# notebooks name, "mbao". Only this target installs Jupyter, which refuses
-# root unless told (containers and CI machines run as root).
+# Jupyter's notebook server from Debian, started on notebooks/, whose kernel
+# "mbao" `build` registered. Only this target (and `test`, for the viewer's
+# tests) installs the server, which refuses root unless told (containers and
+# CI machines run as root).
 notebook: APT_PACKAGES += python3-notebook
-notebook: build notebook-kernel
+notebook: build
 	cd notebooks && $(PYTHON) -m notebook $(if $(SUDO),,--allow-root)
 
-# The venv as the Jupyter kernel "mbao", in the user's Jupyter data directory
-# ($$JUPYTER_DATA_DIR where set), for any Jupyter on the machine.
+# The venv as the Jupyter kernel "mbao", which the notebooks name, in the
+# user's Jupyter data directory ($$JUPYTER_DATA_DIR where set), for any Jupyter
+# on the machine. It needs only ipykernel, not the notebook server, and works as
+# root. `build` runs it, so the two commands leave the notebooks runnable.
 notebook-kernel: $(VENV)/bin/python
 	$(VENV)/bin/python -m ipykernel install --user --name mbao --display-name "Python 3 (mbao)"
 
@@ -81,7 +86,7 @@ $(VENV)/bin/python: | deps
 # The extension is built next to the Python sources and a .pth file puts
 # python/ on the venv's path: an editable install that needs no rebuild of
 # anything but what changed.
-build: deps $(VENV)/bin/python
+build: deps $(VENV)/bin/python notebook-kernel
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=$(PYTHON)
 	cmake --build $(BUILD) -j$(JOBS)
 	echo "$(CURDIR)/python" > "$$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/mbao-dev.pth"

@@ -1,46 +1,44 @@
-"""The notebooks run, top to bottom, at a small image size, so they cannot rot."""
+"""The notebooks run headless on the kernel the two commands set up, with the command README.md gives,
+at a small image size, so they cannot rot."""
 
-import json
 import os
-import pathlib
+import json
+import re
+import shlex
 import subprocess
-import sys
 
 import nbformat
 import pytest
-from nbclient import NotebookClient
 
-NOTEBOOKS = sorted((pathlib.Path(__file__).resolve().parents[1] / "notebooks").glob("*.ipynb"))
+from conftest import REPO
 
-
-@pytest.fixture
-def kernel_of_this_python(tmp_path, monkeypatch):
-    """A Jupyter kernel on the interpreter running the tests (the venv's), not
-    whatever "python3" kernel the system has."""
-    spec = tmp_path / "kernels" / "mbao-tests"
-    spec.mkdir(parents=True)
-    argv = [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"]
-    (spec / "kernel.json").write_text(json.dumps({"argv": argv, "display_name": "mbao tests", "language": "python"}))
-    monkeypatch.setenv("JUPYTER_PATH", str(tmp_path))
-    return "mbao-tests"
+NOTEBOOKS = sorted((REPO / "notebooks").glob("*.ipynb"))
+README = (REPO / "README.md").read_text()
+HEADLESS = re.findall(r"^    (\.venv/bin/python -m nbconvert .*)$", README, re.M)
+KERNEL_INSTALL = '.venv/bin/python -m ipykernel install --user --name mbao'
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
-def test_notebook_runs(path, kernel_of_this_python, monkeypatch):
-    monkeypatch.setenv("MBAO_NOTEBOOK_SIZE", "24")
-    notebook = nbformat.read(path, as_version=4)
-    client = NotebookClient(
-        notebook, timeout=600, kernel_name=kernel_of_this_python, resources={"metadata": {"path": str(path.parent)}}
-    )
-    # Where Debian's ipywidgets 6 is installed (python3-notebook, which `make
-    # notebook` installs, brings it), the progress bars are widgets, whose comms
-    # lack the state nbclient 0.7 reads; a run without a browser ignores them.
-    client.comm_open_handlers.pop("jupyter.widget", None)
-    client.execute()
-    outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
-    assert not [o for o in outputs if o.output_type == "error"]
-    figures = [o for o in outputs if "image/png" in o.get("data", {})]
-    assert figures, "the notebook draws its figures"
+def make(*arguments, env=None, timeout=300):
+    return subprocess.run(["make", "-s", "-C", str(REPO), *arguments], env=env, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def jupyter_data_dir(tmp_path_factory):
+    """A scratch Jupyter data directory in which `make notebook-kernel` registered the kernel "mbao"."""
+    folder = tmp_path_factory.mktemp("jupyter")
+    done = make("notebook-kernel", env=dict(os.environ, JUPYTER_DATA_DIR=str(folder)))
+    assert done.returncode == 0, done.stderr
+    return folder
+
+
+def test_there_are_notebooks():
+    assert NOTEBOOKS
+
+
+def test_the_notebooks_name_the_kernel_mbao():
+    for path in NOTEBOOKS:
+        assert nbformat.read(path, as_version=4).metadata.kernelspec.name == "mbao", path.name
 
 
 def test_notebooks_are_committed_without_outputs():
@@ -49,19 +47,44 @@ def test_notebooks_are_committed_without_outputs():
         assert all(not cell.get("outputs") for cell in notebook.cells if cell.cell_type == "code"), path.name
 
 
-def test_there_are_notebooks():
-    assert NOTEBOOKS
+@pytest.mark.parametrize("target", ["demo", "test"])
+def test_the_two_commands_register_the_kernel(target):
+    """Their build step runs notebook-kernel (`make -n` lists the commands without running them)."""
+    planned = make("-n", target)
+    assert planned.returncode == 0, planned.stderr
+    assert KERNEL_INSTALL in planned.stdout
 
 
-def test_make_notebook_kernel_installs_the_kernel_the_notebooks_name(tmp_path):
-    """`make notebook` registers the venv as the Jupyter kernel "mbao"
-    (its notebook-kernel step, here into a scratch Jupyter data directory)."""
-    repo = pathlib.Path(__file__).resolve().parents[1]
-    env = dict(os.environ, JUPYTER_DATA_DIR=str(tmp_path))
-    done = subprocess.run(["make", "-s", "-C", str(repo), "notebook-kernel"], env=env, capture_output=True,
-                          text=True, timeout=300)
-    assert done.returncode == 0, done.stderr
-    spec = json.loads((tmp_path / "kernels" / "mbao" / "kernel.json").read_text())
-    assert pathlib.Path(spec["argv"][0]) == repo / ".venv" / "bin" / "python"
-    for path in NOTEBOOKS:
-        assert nbformat.read(path, as_version=4).metadata.kernelspec.name == "mbao", path.name
+def test_make_notebook_kernel_registers_the_venv_as_the_kernel_mbao(jupyter_data_dir):
+    spec = json.loads((jupyter_data_dir / "kernels" / "mbao" / "kernel.json").read_text())
+    assert spec["argv"][0] == str(REPO / ".venv" / "bin" / "python")
+
+
+def test_the_readme_says_how_to_run_a_notebook_headless_and_at_what_size():
+    assert len(HEADLESS) == 1, "one command line that runs a notebook with nbconvert"
+    assert "--execute" in HEADLESS[0]
+    assert "make notebook-kernel" in README
+    assert "MBAO_NOTEBOOK_SIZE" in README
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_the_readmes_command_runs_the_notebook_on_the_registered_kernel(path, jupyter_data_dir, tmp_path):
+    """README's command, on this notebook and writing to a scratch folder, with only the kernel that
+    `make notebook-kernel` registered (no JUPYTER_PATH to find another "mbao")."""
+    command = readme_command(notebook=path.relative_to(REPO), output_dir=tmp_path)
+    env = {k: v for k, v in os.environ.items() if k != "JUPYTER_PATH"}
+    env.update(JUPYTER_DATA_DIR=str(jupyter_data_dir), MBAO_NOTEBOOK_SIZE="24")
+    done = subprocess.run(command, cwd=REPO, env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    notebook = nbformat.read(tmp_path / path.name, as_version=4)
+    outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    assert [o for o in outputs if "image/png" in o.get("data", {})], "the notebook draws its figures"
+
+
+def readme_command(notebook, output_dir):
+    """README's headless command, with `notebook` and `output_dir` in place of its own."""
+    words = shlex.split(HEADLESS[0])
+    words[[word.endswith(".ipynb") for word in words].index(True)] = str(notebook)
+    words[words.index("--output-dir") + 1] = str(output_dir)
+    return words
