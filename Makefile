@@ -11,7 +11,8 @@ SANITIZE_BUILD := build-sanitize
 JOBS := $(shell nproc)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 NODE_PACKAGES := nodejs npm
-GLTF_VALIDATOR := tests/gltf_validator/node_modules/gltf-validator/package.json
+# The npm tools the tests run, each installed in its folder (below).
+NPM_TOOLS := tests/gltf_validator/node_modules/.installed tests/gltf_transform/node_modules/.installed
 
 # The C++ core and benchmark need only the first line; the rest is for the
 # Python module, the tests, image files and running the notebooks headless.
@@ -35,18 +36,21 @@ SANITIZE_PACKAGES := clang libclang-rt-14-dev llvm
 # The viewer's tests drive a real browser, headless, and Jupyter's notebook server.
 BROWSER_TEST_PACKAGES := chromium chromium-driver python3-selenium python3-notebook
 test: APT_PACKAGES += $(SANITIZE_PACKAGES) $(BROWSER_TEST_PACKAGES)
-test: build sanitize-build $(GLTF_VALIDATOR)
+test: build sanitize-build $(NPM_TOOLS)
 	cd $(BUILD) && ctest --output-on-failure
 	$(VENV)/bin/python -m pytest tests
 	cd $(SANITIZE_BUILD) && ctest --output-on-failure
 
-# The Khronos glTF-Validator, which checks the files `mbao bake` writes: the npm
-# package at the version tests/gltf_validator/package-lock.json pins, installed
-# beside it. Node.js and npm come from Debian where the machine has no npm.
-$(GLTF_VALIDATOR): tests/gltf_validator/package.json tests/gltf_validator/package-lock.json
+# The npm tools the tests run, each at the version its folder's
+# package-lock.json pins, installed beside it: tests/gltf_validator, the Khronos
+# glTF-Validator, which checks the files `mbao bake` writes, and
+# tests/gltf_transform, glTF-Transform's command line, which writes the
+# quantized and compressed copies of the shared scenes the loading tests read.
+# Node.js and npm come from Debian where the machine has no npm.
+tests/%/node_modules/.installed: tests/%/package.json tests/%/package-lock.json
 	command -v npm >/dev/null || { $(SUDO) apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $(NODE_PACKAGES); }
-	cd tests/gltf_validator && npm ci --no-audit --no-fund
+	cd tests/$* && npm ci --no-audit --no-fund
 	touch $@
 
 # The seed paper's Table 1 workload on the Cornell box and every shared scene,

@@ -39,10 +39,17 @@ std::string component_name(int component_type) {
   }
 }
 
-// One component, of an unsigned integer type or FLOAT, converted to T.
+// One component, of an integer type or FLOAT, converted to T.
 template <typename T>
 T component(const unsigned char* p, int component_type) {
   switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return T(static_cast<std::int8_t>(*p));
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      std::int16_t v;
+      std::memcpy(&v, p, 2);
+      return T(v);
+    }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
       return T(*p);
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
@@ -79,8 +86,36 @@ std::vector<float> AccessorReader::floats(int index, int type, const std::string
   return read<float>(accessor, index, role);
 }
 
+AccessorReader::AccessorReader(const tinygltf::Model& model, std::string path)
+    : model_(model),
+      path_(std::move(path)),
+      quantization_(std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), "KHR_mesh_quantization") !=
+                    model.extensionsUsed.end()) {}
+
+std::vector<float> AccessorReader::quantized(int index, int type, const std::string& role) const {
+  const tinygltf::Accessor& accessor = get(index, role);
+  const int component_type = accessor.componentType;
+  const bool small_integer = component_type == TINYGLTF_COMPONENT_TYPE_BYTE ||
+                             component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                             component_type == TINYGLTF_COMPONENT_TYPE_SHORT ||
+                             component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  if (!quantization_ || !small_integer) return floats(index, type, role);
+  expect_type(accessor, index, type, role);
+  std::vector<float> values = read<float>(accessor, index, role);
+  if (accessor.normalized) {
+    // glTF 2.0 3.11: signed values map to max(c / (2^(n-1) - 1), -1), unsigned ones to c / (2^n - 1).
+    const float largest = component_type == TINYGLTF_COMPONENT_TYPE_BYTE             ? 127.0f
+                          : component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE  ? 255.0f
+                          : component_type == TINYGLTF_COMPONENT_TYPE_SHORT          ? 32767.0f
+                                                                                     : 65535.0f;
+    for (float& v : values) v = std::max(v / largest, -1.0f);
+  }
+  return values;
+}
+
 std::vector<float> AccessorReader::texcoords(int index, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
+  if (quantization_) return quantized(index, TINYGLTF_TYPE_VEC2, role);
   expect_type(accessor, index, TINYGLTF_TYPE_VEC2, role);
   const int type = accessor.componentType;
   const bool normalized_integer = accessor.normalized && (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||

@@ -13,10 +13,14 @@ namespace mbao {
 // LoadError naming the file, the accessor and its role.
 class AccessorReader {
  public:
-  AccessorReader(const tinygltf::Model& model, std::string path) : model_(model), path_(std::move(path)) {}
+  AccessorReader(const tinygltf::Model& model, std::string path);
 
   // FLOAT elements of `type` (e.g. TINYGLTF_TYPE_VEC3), components in order.
   std::vector<float> floats(int index, int type, const std::string& role) const;
+  // As floats, or, for a file that uses KHR_mesh_quantization, elements of
+  // 8- or 16-bit integers, signed or not, normalized (to [-1, 1] or [0, 1],
+  // as glTF decodes them) or not, as floats.
+  std::vector<float> quantized(int index, int type, const std::string& role) const;
   // VEC2 texture coordinates: FLOAT, or normalized UNSIGNED_BYTE / UNSIGNED_SHORT.
   std::vector<float> texcoords(int index, const std::string& role) const;
   // SCALAR UNSIGNED_BYTE / SHORT / INT indices.
@@ -40,6 +44,7 @@ class AccessorReader {
 
   const tinygltf::Model& model_;
   std::string path_;
+  bool quantization_;  // the file uses KHR_mesh_quantization
 };
 
 }  // namespace mbao

@@ -210,7 +210,7 @@ class SceneAssembler {
     const GltfAlphaMasks::Material material = masks_.material(primitive.material);
     if (material.coverage == GltfAlphaMasks::Coverage::Transparent) return;  // cut away everywhere: no triangles
 
-    const std::vector<float> positions = accessors_.floats(position->second, TINYGLTF_TYPE_VEC3, what + " POSITION");
+    const std::vector<float> positions = accessors_.quantized(position->second, TINYGLTF_TYPE_VEC3, what + " POSITION");
     const std::size_t vertex_count = positions.size() / 3;
     if (vertex_count > kMaxVertices - mesh_.positions.size())
       throw LoadError(path_ + ": " + what + " brings the default scene to more than " + std::to_string(kMaxVertices) +
@@ -360,7 +360,7 @@ class SceneAssembler {
       if (mesh_.has_normals()) mesh_.normals.resize(mesh_.positions.size(), glm::vec3(0.0f));
       return;
     }
-    const std::vector<float> normals = accessors_.floats(normal->second, TINYGLTF_TYPE_VEC3, what + " NORMAL");
+    const std::vector<float> normals = accessors_.quantized(normal->second, TINYGLTF_TYPE_VEC3, what + " NORMAL");
     if (normals.size() / 3 != vertex_count)
       throw LoadError(path_ + ": " + what + " has " + std::to_string(normals.size() / 3) + " normals for " +
                       std::to_string(vertex_count) + " positions");
@@ -404,9 +404,11 @@ void check_supported(const tinygltf::Model& model, const std::string& name) {
     throw LoadError(name + ": asset.version is \"" + asset.version + "\"" +
                     (asset.minVersion.empty() ? "" : " (minVersion \"" + asset.minVersion + "\")") +
                     "; only glTF 2.0 is supported");
-  if (!model.extensionsRequired.empty())
-    throw LoadError(name + ": extensionsRequired lists " + model.extensionsRequired.front() +
-                    "; mbao supports no glTF extension");
+  for (const std::string& extension : model.extensionsRequired)
+    if (extension != "KHR_mesh_quantization")
+      throw LoadError(name + ": extensionsRequired lists " + extension +
+                      ", which mbao does not read; of the extensions a file may require, it reads "
+                      "KHR_mesh_quantization");
 }
 
 // tinygltf quotes in full a data URI it cannot decode, which may be megabytes
