@@ -26,39 +26,72 @@ def transformed(command, source, output, *options):
     return output
 
 
-@pytest.fixture(scope="module", params=["cornell_box", "sponza"])
-def quantized(request, tmp_path_factory):
-    source = shared_scene(request.param) / "scene.glb"
-    output = transformed("quantize", source, tmp_path_factory.mktemp("quantized") / "scene.glb",
+# glTF-Transform's commands, and the extension each file then requires.
+ENCODINGS = {"quantize": "KHR_mesh_quantization", "draco": "KHR_draco_mesh_compression"}
+
+
+@pytest.fixture(scope="module", params=[(scene, command) for scene in ("cornell_box", "sponza") for command in ENCODINGS],
+                ids=lambda p: f"{p[0]}-{p[1]}")
+def encoded(request, tmp_path_factory):
+    """(scene name, command, the original's path, the encoded copy's path)."""
+    name, command = request.param
+    source = shared_scene(name) / "scene.glb"
+    output = transformed(command, source, tmp_path_factory.mktemp(command) / "scene.glb",
                          "--quantize-position", str(POSITION_BITS))
-    return request.param, source, output
+    return name, command, source, output
 
 
-def test_a_quantized_file_requires_the_extension_mbao_reads(quantized):
-    _, _, output = quantized
+def test_an_encoded_file_requires_the_extension_mbao_reads(encoded):
     from mbao._gltf import GltfDocument
 
-    assert GltfDocument(output).doc["extensionsRequired"] == ["KHR_mesh_quantization"]
+    _, command, _, output = encoded
+    assert ENCODINGS[command] in GltfDocument(output).doc["extensionsRequired"]
 
 
-def test_a_quantized_file_has_the_triangles_of_the_original_within_its_rounding(quantized):
-    """Positions are stored on a grid of 2^14 - 1 steps across the longest side
-    of a mesh's box, the same step on every axis (a uniform scale); the
-    scene's box bounds every mesh's. A vertex lies within a step of where it was."""
-    _, source, output = quantized
+def position_step(scene):
+    """Positions are stored on a grid of 2^14 - 1 steps across the longest
+    side of a mesh's box, the same step on every axis (a uniform scale); the
+    scene's box bounds every mesh's."""
+    lo, hi = (np.asarray(corner) for corner in scene.bounds)
+    return (hi - lo).max() / (2 ** POSITION_BITS - 1)
+
+
+def triangle_areas(scene):
+    a, b, c = (scene.vertices[scene.indices[:, k]].astype(np.float64) for k in range(3))
+    return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+
+
+def test_an_encoded_file_has_the_originals_surface_within_its_rounding(encoded):
+    """The same triangles (Draco reorders them), each corner within a step of
+    the grid: the bounds move by at most a step, the total area by at most a
+    step times the perimeters (a corner's move changes its triangle's area by
+    at most that times the opposite side)."""
+    _, _, source, output = encoded
     original, read = mbao.load(source), mbao.load(output)
     assert read.triangle_count == original.triangle_count and read.warnings == []
-    lo, hi = (np.asarray(corner) for corner in original.bounds)
-    step = (hi - lo).max() / (2 ** POSITION_BITS - 1)
+    assert read.alpha_masks == original.alpha_masks
+    step = position_step(original)
+    np.testing.assert_allclose(np.array(read.bounds), np.array(original.bounds), rtol=0, atol=step)
+    corners = original.vertices[original.indices].astype(np.float64)
+    perimeters = sum(np.linalg.norm(corners[:, k] - corners[:, (k + 1) % 3], axis=1) for k in range(3))
+    assert abs(triangle_areas(read).sum() - triangle_areas(original).sum()) <= step * perimeters.sum()
+
+
+@pytest.mark.parametrize("encoded", [("cornell_box", "quantize"), ("sponza", "quantize")], indirect=True,
+                         ids=["cornell_box", "sponza"])
+def test_a_quantized_file_keeps_each_corner_within_a_step(encoded):
+    """Quantization keeps the triangles' order (Draco's does not), so corner by corner."""
+    _, _, source, output = encoded
+    original, read = mbao.load(source), mbao.load(output)
     error = np.abs(read.vertices[read.indices] - original.vertices[original.indices]).max(axis=(0, 1))
-    assert np.all(error <= step), (error, step)
+    assert np.all(error <= position_step(original)), error
     assert np.all(error > 0)  # the file was quantized: positions moved
 
 
-def test_a_quantized_file_renders_the_originals_image(quantized):
+def test_an_encoded_file_renders_the_originals_image(encoded):
     """The same seed, so the same noise: where a rounded vertex moves a hit the
     image may differ, but the means agree within four standard errors of each."""
-    name, source, output = quantized
+    name, _, source, output = encoded
     camera = mbao.Camera.load(str(source.parent / "camera.json"))
     settings = dict(camera=camera, width=96, height=96, samples=4, variance=True)
     original, read = mbao.render(mbao.load(source), **settings), mbao.render(mbao.load(output), **settings)
@@ -104,7 +137,26 @@ def test_a_required_extension_mbao_lacks_is_named(tmp_path):
     builder.add_scene([builder.add_node(mesh=builder.add_mesh([builder.primitive(
         np.float32([[0, 0, 0], [1, 0, 0], [0, 1, 0]]))]))], default=True)  # fmt: skip
     builder.doc["extensionsUsed"] = builder.doc["extensionsRequired"] = ["KHR_mesh_quantization",
-                                                                         "KHR_draco_mesh_compression"]
-    with pytest.raises(mbao.LoadError, match=r"extensionsRequired lists KHR_draco_mesh_compression, which mbao does "
+                                                                         "EXT_meshopt_compression"]
+    with pytest.raises(mbao.LoadError, match=r"extensionsRequired lists EXT_meshopt_compression, which mbao does "
                                              r"not read"):
-        mbao.load(builder.write(tmp_path / "draco.glb"))
+        mbao.load(builder.write(tmp_path / "meshopt.glb"))
+
+
+def test_a_draco_mesh_that_does_not_decode_is_named(tmp_path):
+    """The file, the primitive and the extension named; no crash on bytes that are not a Draco mesh."""
+    from mbao._gltf import GltfDocument
+
+    output = transformed("draco", shared_scene("cornell_box") / "scene.glb", tmp_path / "draco.glb")
+    document = GltfDocument(output)
+    extension = document.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]
+    view = document.doc["bufferViews"][extension["bufferView"]]
+    data = bytearray(output.read_bytes())
+    binary_chunk = 20 + int.from_bytes(data[12:16], "little") + 8  # after the JSON chunk and the binary's header
+    offset = binary_chunk + view.get("byteOffset", 0)
+    data[offset:offset + view["byteLength"]] = bytes(view["byteLength"])  # zeros: no Draco header
+    broken = tmp_path / "broken.glb"
+    broken.write_bytes(bytes(data))
+    with pytest.raises(mbao.LoadError, match=r"broken.glb: mesh 0 primitive 0 KHR_draco_mesh_compression: its Draco "
+                                             r"mesh does not decode"):
+        mbao.load(broken)

@@ -70,6 +70,16 @@ T component(const unsigned char* p, int component_type) {
   }
 }
 
+// Normalized integers as glTF 2.0 3.11 decodes them: signed ones to
+// max(c / (2^(n-1) - 1), -1), unsigned ones to c / (2^n - 1).
+void normalize(std::vector<float>& values, int component_type) {
+  const float largest = component_type == TINYGLTF_COMPONENT_TYPE_BYTE            ? 127.0f
+                        : component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 255.0f
+                        : component_type == TINYGLTF_COMPONENT_TYPE_SHORT         ? 32767.0f
+                                                                                  : 65535.0f;
+  for (float& v : values) v = std::max(v / largest, -1.0f);
+}
+
 bool is_unsigned_integer(int component_type) {
   return component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
          component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
@@ -80,6 +90,8 @@ bool is_unsigned_integer(int component_type) {
 
 std::vector<float> AccessorReader::floats(int index, int type, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
+  if (const auto found = substituted_.find(index); found != substituted_.end())
+    return typed(found->second, index, type, role);
   expect_type(accessor, index, type, role);
   if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
     fail(index, role, "has " + component_name(accessor.componentType) + " components; only FLOAT is supported");
@@ -94,6 +106,8 @@ AccessorReader::AccessorReader(const tinygltf::Model& model, std::string path)
 
 std::vector<float> AccessorReader::quantized(int index, int type, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
+  if (const auto found = substituted_.find(index); found != substituted_.end())
+    return typed(found->second, index, type, role);
   const int component_type = accessor.componentType;
   const bool small_integer = component_type == TINYGLTF_COMPONENT_TYPE_BYTE ||
                              component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
@@ -102,19 +116,42 @@ std::vector<float> AccessorReader::quantized(int index, int type, const std::str
   if (!quantization_ || !small_integer) return floats(index, type, role);
   expect_type(accessor, index, type, role);
   std::vector<float> values = read<float>(accessor, index, role);
-  if (accessor.normalized) {
-    // glTF 2.0 3.11: signed values map to max(c / (2^(n-1) - 1), -1), unsigned ones to c / (2^n - 1).
-    const float largest = component_type == TINYGLTF_COMPONENT_TYPE_BYTE             ? 127.0f
-                          : component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE  ? 255.0f
-                          : component_type == TINYGLTF_COMPONENT_TYPE_SHORT          ? 32767.0f
-                                                                                     : 65535.0f;
-    for (float& v : values) v = std::max(v / largest, -1.0f);
-  }
+  if (accessor.normalized) normalize(values, component_type);
   return values;
+}
+
+void AccessorReader::substitute(int index, std::vector<float> values, const std::string& role) {
+  const tinygltf::Accessor& accessor = get(index, role);
+  const int n = components(index, role);
+  if (values.size() != accessor.count * std::size_t(n))
+    fail(index, role, "has count " + std::to_string(accessor.count) + ", but its decoded data has " +
+                          std::to_string(values.size() / std::size_t(n)) + " elements");
+  if (accessor.normalized) normalize(values, accessor.componentType);
+  substituted_[index] = std::move(values);
+}
+
+void AccessorReader::substitute_indices(int index, std::vector<std::uint32_t> values, const std::string& role) {
+  const tinygltf::Accessor& accessor = get(index, role);
+  if (values.size() != accessor.count)
+    fail(index, role, "has count " + std::to_string(accessor.count) + ", but its decoded data has " +
+                          std::to_string(values.size()) + " indices");
+  substituted_indices_[index] = std::move(values);
+}
+
+std::vector<float> AccessorReader::typed(const std::vector<float>& values, int index, int type,
+                                         const std::string& role) const {
+  expect_type(get(index, role), index, type, role);
+  return values;
+}
+
+int AccessorReader::components(int index, const std::string& role) const {
+  return tinygltf::GetNumComponentsInType(std::uint32_t(get(index, role).type));
 }
 
 std::vector<float> AccessorReader::texcoords(int index, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
+  if (const auto found = substituted_.find(index); found != substituted_.end())
+    return typed(found->second, index, TINYGLTF_TYPE_VEC2, role);
   if (quantization_) return quantized(index, TINYGLTF_TYPE_VEC2, role);
   expect_type(accessor, index, TINYGLTF_TYPE_VEC2, role);
   const int type = accessor.componentType;
@@ -134,6 +171,10 @@ std::vector<float> AccessorReader::texcoords(int index, const std::string& role)
 
 std::vector<std::uint32_t> AccessorReader::indices(int index, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
+  if (const auto found = substituted_indices_.find(index); found != substituted_indices_.end()) {
+    expect_type(accessor, index, TINYGLTF_TYPE_SCALAR, role);
+    return found->second;
+  }
   expect_type(accessor, index, TINYGLTF_TYPE_SCALAR, role);
   if (!is_unsigned_integer(accessor.componentType))
     fail(index, role,

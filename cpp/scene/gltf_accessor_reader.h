@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,8 +29,20 @@ class AccessorReader {
   // The bytes of a buffer view, checked against its buffer.
   std::vector<unsigned char> view_bytes(int view_index, const std::string& role) const;
 
+  // Accessor `index`'s values as a decoder gave them (KHR_draco_mesh_compression),
+  // read in place of its bufferView from then on: `count` elements of its
+  // type's components, as floats (normalized integer types decoded as glTF
+  // says), or indices. Throws LoadError where the count is not the accessor's.
+  void substitute(int index, std::vector<float> values, const std::string& role);
+  void substitute_indices(int index, std::vector<std::uint32_t> values, const std::string& role);
+  // The components of accessor `index`'s type (3 for VEC3).
+  int components(int index, const std::string& role) const;
+  const std::string& path() const { return path_; }
+
  private:
   [[noreturn]] void fail(int index, const std::string& role, const std::string& problem) const;
+  // A substituted accessor's values, its type checked as the reader asks.
+  std::vector<float> typed(const std::vector<float>& values, int index, int type, const std::string& role) const;
   const tinygltf::Accessor& get(int index, const std::string& role) const;
   void expect_type(const tinygltf::Accessor& accessor, int index, int type, const std::string& role) const;
   const tinygltf::BufferView& buffer_view(int view_index, int accessor_index, const std::string& role) const;
@@ -45,6 +58,8 @@ class AccessorReader {
   const tinygltf::Model& model_;
   std::string path_;
   bool quantization_;  // the file uses KHR_mesh_quantization
+  std::map<int, std::vector<float>> substituted_;
+  std::map<int, std::vector<std::uint32_t>> substituted_indices_;
 };
 
 }  // namespace mbao

@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "scene/gltf_accessor_reader.h"
 #include "scene/gltf_alpha_masks.h"
+#include "scene/gltf_draco.h"
 #include "scene/gltf_container.h"
 #include "scene/gltf_files.h"
 
@@ -209,6 +210,7 @@ class SceneAssembler {
     }
     const GltfAlphaMasks::Material material = masks_.material(primitive.material);
     if (material.coverage == GltfAlphaMasks::Coverage::Transparent) return;  // cut away everywhere: no triangles
+    if (is_draco_compressed(primitive)) decode_draco_primitive(primitive, accessors_, what);
 
     const std::vector<float> positions = accessors_.quantized(position->second, TINYGLTF_TYPE_VEC3, what + " POSITION");
     const std::size_t vertex_count = positions.size() / 3;
@@ -405,10 +407,10 @@ void check_supported(const tinygltf::Model& model, const std::string& name) {
                     (asset.minVersion.empty() ? "" : " (minVersion \"" + asset.minVersion + "\")") +
                     "; only glTF 2.0 is supported");
   for (const std::string& extension : model.extensionsRequired)
-    if (extension != "KHR_mesh_quantization")
+    if (extension != "KHR_mesh_quantization" && extension != "KHR_draco_mesh_compression")
       throw LoadError(name + ": extensionsRequired lists " + extension +
                       ", which mbao does not read; of the extensions a file may require, it reads "
-                      "KHR_mesh_quantization");
+                      "KHR_mesh_quantization and KHR_draco_mesh_compression");
 }
 
 // tinygltf quotes in full a data URI it cannot decode, which may be megabytes
@@ -445,6 +447,11 @@ std::shared_ptr<Scene> load_gltf_from_memory(const unsigned char* bytes, std::si
   if (size > std::numeric_limits<unsigned int>::max())  // tinygltf takes the size as an unsigned int
     throw LoadError(name + ": " + std::to_string(size) + " bytes is more than the 4 GiB a glTF file may have");
   const GltfContainer container = check_gltf_container(bytes, size, name);
+  const std::vector<unsigned char> placed = with_draco_indices_placed(bytes, size, container == GltfContainer::Glb);
+  if (!placed.empty()) {
+    bytes = placed.data();
+    size = placed.size();
+  }
   tinygltf::TinyGLTF loader;
   // Images are not decoded here; GltfAlphaMasks decodes the alpha of the few that masks use.
   loader.SetImageLoader(keep_data_uri_images, nullptr);
