@@ -366,3 +366,25 @@ def test_an_unset_radius_is_the_home_cameras_suggestion(tmp_path):
     assert expected.stats["max_distance"] == 120.0
     np.testing.assert_array_equal(decode(payload), to_8bit(expected.ao))
     assert json.loads(saved)["max_distance"] == 120.0
+
+
+def test_a_fault_in_a_frame_is_shown_and_the_server_serves_on(monkeypatch):
+    import mbao.viewer.session as session
+
+    class Faulty(session.StillView):
+        def next_frame(self, cancelled):
+            if self.settings["bounces"] == 3:
+                raise RuntimeError("a fault")
+            return super().next_frame(cancelled)
+
+    monkeypatch.setattr(session, "StillView", Faulty)
+    with served(**SMALL, samples=2, frames=1) as viewer:
+        async def exchange():
+            async with connected(viewer) as page:
+                await page.send(type="set", settings={"bounces": 3})
+                error = await page.error()
+                await page.send(type="set", settings={"bounces": 2})
+                return error, await page.still_frame(1)
+
+        error, (frame, _) = run(exchange())
+    assert "internal error" in error and "a fault" in error and frame["final"]

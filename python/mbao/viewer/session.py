@@ -5,6 +5,7 @@ and the frame in flight, which checks it between tiles, gives up."""
 import asyncio
 import io
 import json
+import logging
 import struct
 import time
 
@@ -14,8 +15,14 @@ from .. import _core
 from . import messages
 from .frames import StillView, Superseded, moving_frame, moving_size
 
+_log = logging.getLogger("mbao")
+
 
 class ViewSession:
+    """A client's view: `send` is a coroutine function that takes the text
+    (JSON) or bytes of a message to the page. It renders a first still frame
+    of the viewer's camera before the page says anything."""
+
     def __init__(self, viewer, send):
         self.viewer = viewer
         self._send = send  # a coroutine function taking str (JSON) or bytes
@@ -80,6 +87,10 @@ class ViewSession:
             except (ValueError, TypeError, OSError, _core.Error) as error:
                 if generation == self.generation:
                     await self.send_json(type="error", message=str(error))
+                continue
+            except Exception as error:  # a fault of mbao's: the page is told, and the server serves on
+                _log.exception("mbao view: a frame failed")
+                await self.send_json(type="error", message=f"internal error: {error!r} (the server's log has more)")
                 continue
             if generation != self.generation and not frame.moving:
                 continue  # a still frame of a view that has changed: its accumulation is void
