@@ -27,7 +27,8 @@ def transformed(command, source, output, *options):
 
 
 # glTF-Transform's commands, and the extension each file then requires.
-ENCODINGS = {"quantize": "KHR_mesh_quantization", "draco": "KHR_draco_mesh_compression"}
+ENCODINGS = {"quantize": "KHR_mesh_quantization", "draco": "KHR_draco_mesh_compression",
+             "meshopt": "EXT_meshopt_compression"}
 
 
 @pytest.fixture(scope="module", params=[(scene, command) for scene in ("cornell_box", "sponza") for command in ENCODINGS],
@@ -62,7 +63,7 @@ def triangle_areas(scene):
 
 
 def test_an_encoded_file_has_the_originals_surface_within_its_rounding(encoded):
-    """The same triangles (Draco reorders them), each corner within a step of
+    """The same triangles (Draco and meshopt reorder them), each corner within a step of
     the grid: the bounds move by at most a step, the total area by at most a
     step times the perimeters (a corner's move changes its triangle's area by
     at most that times the opposite side)."""
@@ -80,7 +81,7 @@ def test_an_encoded_file_has_the_originals_surface_within_its_rounding(encoded):
 @pytest.mark.parametrize("encoded", [("cornell_box", "quantize"), ("sponza", "quantize")], indirect=True,
                          ids=["cornell_box", "sponza"])
 def test_a_quantized_file_keeps_each_corner_within_a_step(encoded):
-    """Quantization keeps the triangles' order (Draco's does not), so corner by corner."""
+    """Quantization keeps the triangles' order (Draco and meshopt reorder them), so corner by corner."""
     _, _, source, output = encoded
     original, read = mbao.load(source), mbao.load(output)
     error = np.abs(read.vertices[read.indices] - original.vertices[original.indices]).max(axis=(0, 1))
@@ -137,10 +138,10 @@ def test_a_required_extension_mbao_lacks_is_named(tmp_path):
     builder.add_scene([builder.add_node(mesh=builder.add_mesh([builder.primitive(
         np.float32([[0, 0, 0], [1, 0, 0], [0, 1, 0]]))]))], default=True)  # fmt: skip
     builder.doc["extensionsUsed"] = builder.doc["extensionsRequired"] = ["KHR_mesh_quantization",
-                                                                         "EXT_meshopt_compression"]
-    with pytest.raises(mbao.LoadError, match=r"extensionsRequired lists EXT_meshopt_compression, which mbao does "
+                                                                         "EXT_mesh_gpu_instancing"]
+    with pytest.raises(mbao.LoadError, match=r"extensionsRequired lists EXT_mesh_gpu_instancing, which mbao does "
                                              r"not read"):
-        mbao.load(builder.write(tmp_path / "meshopt.glb"))
+        mbao.load(builder.write(tmp_path / "instanced.glb"))
 
 
 def test_a_draco_mesh_that_does_not_decode_is_named(tmp_path):
@@ -159,4 +160,24 @@ def test_a_draco_mesh_that_does_not_decode_is_named(tmp_path):
     broken.write_bytes(bytes(data))
     with pytest.raises(mbao.LoadError, match=r"broken.glb: mesh 0 primitive 0 KHR_draco_mesh_compression: its Draco "
                                              r"mesh does not decode"):
+        mbao.load(broken)
+
+
+def test_a_meshopt_view_that_does_not_decode_is_named(tmp_path):
+    """The file, the bufferView and the extension named; no crash on bytes that are not meshopt's encoding."""
+    from mbao._gltf import GltfDocument
+
+    output = transformed("meshopt", shared_scene("cornell_box") / "scene.glb", tmp_path / "meshopt.glb")
+    document = GltfDocument(output)
+    view = next(i for i, v in enumerate(document.doc["bufferViews"]) if "EXT_meshopt_compression" in
+                v.get("extensions", {}))
+    encoding = document.doc["bufferViews"][view]["extensions"]["EXT_meshopt_compression"]
+    data = bytearray(output.read_bytes())
+    binary_chunk = 20 + int.from_bytes(data[12:16], "little") + 8
+    offset = binary_chunk + encoding.get("byteOffset", 0)
+    data[offset:offset + encoding["byteLength"]] = bytes([0xFF]) * encoding["byteLength"]
+    broken = tmp_path / "broken.glb"
+    broken.write_bytes(bytes(data))
+    with pytest.raises(mbao.LoadError, match=rf"broken.glb: bufferView {view} EXT_meshopt_compression: its "
+                                             rf"{encoding['mode']} data does not decode"):
         mbao.load(broken)

@@ -860,12 +860,11 @@ def test_gltf_other_than_2_0(tmp_path, asset, element):
 
 
 def test_required_extensions_are_refused_by_name(tmp_path):
-    # Meshopt-compressed buffer views hold what their fallback buffer lacks: read
-    # without the extension they would load as zeros, silently.
+    # Instances placed by the extension would be missing, silently.
     b = GltfBuilder()
     b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
-    b.doc["extensionsUsed"] = b.doc["extensionsRequired"] = ["EXT_meshopt_compression"]
-    assert_load_error(b.write(tmp_path / "meshopt.glb"), "EXT_meshopt_compression", "extensionsRequired")
+    b.doc["extensionsUsed"] = b.doc["extensionsRequired"] = ["EXT_mesh_gpu_instancing"]
+    assert_load_error(b.write(tmp_path / "instanced.glb"), "EXT_mesh_gpu_instancing", "extensionsRequired")
 
 
 def test_extensions_used_but_not_required_are_ignored(tmp_path):

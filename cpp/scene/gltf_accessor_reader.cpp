@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "scene/gltf_meshopt.h"
 
 namespace mbao {
 namespace {
@@ -222,7 +223,30 @@ const tinygltf::BufferView& AccessorReader::buffer_view(int view_index, int acce
 const unsigned char* AccessorReader::checked_bytes(int view_index, std::size_t offset, std::size_t stride,
                                                    std::size_t count, std::size_t element, int accessor_index,
                                                    const std::string& role) const {
+  const unsigned char* view = view_data(view_index, accessor_index, role);
+  const std::size_t length = model_.bufferViews[std::size_t(view_index)].byteLength;
+  const std::size_t max = std::numeric_limits<std::size_t>::max();
+  const bool overflows = count > 0 && (count - 1 > (max - element) / std::max<std::size_t>(stride, 1));
+  const std::size_t span = count == 0 ? 0 : (count - 1) * stride + element;
+  if (overflows || offset > length || span > length - offset)
+    fail(accessor_index, role,
+         "declares " + std::to_string(count) + " elements, more than bufferView " + std::to_string(view_index) +
+             " holds");
+  return view + offset;
+}
+
+// The byteLength bytes a buffer view holds: its buffer's, checked, or, for a
+// meshopt-compressed view, their decoding (kept for the view's next reader).
+const unsigned char* AccessorReader::view_data(int view_index, int accessor_index, const std::string& role) const {
   const tinygltf::BufferView& view = buffer_view(view_index, accessor_index, role);
+  if (const auto kept = decoded_views_.find(view_index); kept != decoded_views_.end()) return kept->second.data();
+  if (std::optional<std::vector<unsigned char>> decoded = decoded_meshopt_view(model_, view_index, path_)) {
+    if (decoded->size() < view.byteLength)
+      fail(accessor_index, role,
+           "uses bufferView " + std::to_string(view_index) + ", whose byteLength " + std::to_string(view.byteLength) +
+               " is more than its meshopt encoding decodes to (" + std::to_string(decoded->size()) + " bytes)");
+    return decoded_views_.emplace(view_index, std::move(*decoded)).first->second.data();
+  }
   if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size())
     fail(accessor_index, role,
          "uses bufferView " + std::to_string(view_index) + " of missing buffer " + std::to_string(view.buffer));
@@ -231,14 +255,7 @@ const unsigned char* AccessorReader::checked_bytes(int view_index, std::size_t o
     fail(accessor_index, role,
          "uses bufferView " + std::to_string(view_index) + ", which runs past the end of buffer " +
              std::to_string(view.buffer));
-  const std::size_t max = std::numeric_limits<std::size_t>::max();
-  const bool overflows = count > 0 && (count - 1 > (max - element) / std::max<std::size_t>(stride, 1));
-  const std::size_t span = count == 0 ? 0 : (count - 1) * stride + element;
-  if (overflows || offset > view.byteLength || span > view.byteLength - offset)
-    fail(accessor_index, role,
-         "declares " + std::to_string(count) + " elements, more than bufferView " + std::to_string(view_index) +
-             " holds");
-  return buffer.data() + view.byteOffset + offset;
+  return buffer.data() + view.byteOffset;
 }
 
 // Without a bufferView an accessor is zeros (sparse values may replace some),

@@ -49,6 +49,7 @@ class AccessorReader {
   void check_zeros_count(const tinygltf::Accessor& accessor, int index, const std::string& role) const;
   const unsigned char* checked_bytes(int view_index, std::size_t offset, std::size_t stride, std::size_t count,
                                      std::size_t element, int accessor_index, const std::string& role) const;
+  const unsigned char* view_data(int view_index, int accessor_index, const std::string& role) const;
   template <typename T>
   std::vector<T> read(const tinygltf::Accessor& accessor, int index, const std::string& role) const;
   template <typename T>
@@ -60,6 +61,7 @@ class AccessorReader {
   bool quantization_;  // the file uses KHR_mesh_quantization
   std::map<int, std::vector<float>> substituted_;
   std::map<int, std::vector<std::uint32_t>> substituted_indices_;
+  mutable std::map<int, std::vector<unsigned char>> decoded_views_;  // meshopt-compressed views, decoded
 };
 
 }  // namespace mbao

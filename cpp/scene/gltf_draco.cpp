@@ -2,10 +2,7 @@
 
 #include <draco/compression/decode.h>
 
-#include <algorithm>
-#include <cstring>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "core/error.h"
@@ -41,70 +38,7 @@ std::vector<std::uint32_t> face_indices(const draco::Mesh& mesh) {
   return indices;
 }
 
-// Points each Draco primitive's index accessor that has no bufferView at the primitive's compressed one.
-bool place_draco_indices(nlohmann::json& document) {
-  if (!document.contains("meshes") || !document["meshes"].is_array() || !document.contains("accessors") ||
-      !document["accessors"].is_array())
-    return false;
-  bool changed = false;
-  for (auto& mesh : document["meshes"]) {
-    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
-    for (auto& primitive : mesh["primitives"]) {
-      if (!primitive.is_object() || !primitive.contains("indices") || !primitive["indices"].is_number_unsigned() ||
-          !primitive.contains("extensions") || !primitive["extensions"].is_object() ||
-          !primitive["extensions"].contains(kExtension))
-        continue;
-      const nlohmann::json& extension = primitive["extensions"][kExtension];
-      const auto accessor = primitive["indices"].get<std::size_t>();
-      if (!extension.is_object() || !extension.contains("bufferView") || accessor >= document["accessors"].size() ||
-          !document["accessors"][accessor].is_object() || document["accessors"][accessor].contains("bufferView"))
-        continue;  // left as it is, for the loader to name what is wrong
-      document["accessors"][accessor]["bufferView"] = extension["bufferView"];
-      changed = true;
-    }
-  }
-  return changed;
-}
-
-std::uint32_t read_u32(const unsigned char* p) {
-  std::uint32_t v;
-  std::memcpy(&v, p, 4);
-  return v;
-}
-
-void append_u32(std::vector<unsigned char>& out, std::uint32_t v) {
-  const auto* p = reinterpret_cast<const unsigned char*>(&v);
-  out.insert(out.end(), p, p + 4);
-}
-
-// A GLB with its JSON chunk replaced by `json`, space-padded as GLB requires (check_gltf_container has checked
-// the header and chunk lengths).
-std::vector<unsigned char> glb_with_json(const unsigned char* bytes, std::size_t size, std::string json) {
-  json.append((4 - json.size() % 4) % 4, ' ');
-  const std::size_t old_json = read_u32(bytes + 12), rest = 20 + old_json;
-  std::vector<unsigned char> out(bytes, bytes + 12);
-  append_u32(out, std::uint32_t(json.size()));
-  append_u32(out, read_u32(bytes + 16));
-  out.insert(out.end(), json.begin(), json.end());
-  out.insert(out.end(), bytes + std::min(rest, size), bytes + size);
-  const auto length = std::uint32_t(out.size());
-  std::memcpy(out.data() + 8, &length, 4);
-  return out;
-}
-
 }  // namespace
-
-std::vector<unsigned char> with_draco_indices_placed(const unsigned char* bytes, std::size_t size, bool glb) {
-  const std::size_t json_size = glb ? read_u32(bytes + 12) : size;
-  const unsigned char* json_bytes = glb ? bytes + 20 : bytes;
-  const std::string_view text(reinterpret_cast<const char*>(json_bytes), json_size);
-  if (text.find(kExtension) == std::string_view::npos) return {};
-  nlohmann::json document = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (document.is_discarded() || !document.is_object() || !place_draco_indices(document)) return {};
-  const std::string json = document.dump();
-  if (glb) return glb_with_json(bytes, size, json);
-  return std::vector<unsigned char>(json.begin(), json.end());
-}
 
 bool is_draco_compressed(const tinygltf::Primitive& primitive) {
   return primitive.extensions.count(kExtension) != 0;

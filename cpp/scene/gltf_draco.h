@@ -5,9 +5,7 @@
 
 #include <tiny_gltf.h>
 
-#include <cstddef>
 #include <string>
-#include <vector>
 
 #include "scene/gltf_accessor_reader.h"
 
@@ -24,14 +22,3 @@ void decode_draco_primitive(const tinygltf::Primitive& primitive, AccessorReader
 
 }  // namespace mbao
 
-namespace mbao {
-
-// tinygltf 2.8 refuses a primitive whose index accessor has no bufferView,
-// which a Draco-compressed primitive's has not (its indices are in the
-// compressed mesh). The file's bytes with each such accessor pointed at its
-// primitive's compressed bufferView, which tinygltf accepts; the accessor's
-// values are the decoded mesh's (decode_draco_primitive), never those bytes.
-// Empty where the file uses no Draco compression: then it is read as it is.
-std::vector<unsigned char> with_draco_indices_placed(const unsigned char* bytes, std::size_t size, bool glb);
-
-}  // namespace mbao

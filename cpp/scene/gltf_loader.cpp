@@ -20,6 +20,7 @@
 #include "scene/gltf_accessor_reader.h"
 #include "scene/gltf_alpha_masks.h"
 #include "scene/gltf_draco.h"
+#include "scene/gltf_tinygltf_workarounds.h"
 #include "scene/gltf_container.h"
 #include "scene/gltf_files.h"
 
@@ -407,10 +408,11 @@ void check_supported(const tinygltf::Model& model, const std::string& name) {
                     (asset.minVersion.empty() ? "" : " (minVersion \"" + asset.minVersion + "\")") +
                     "; only glTF 2.0 is supported");
   for (const std::string& extension : model.extensionsRequired)
-    if (extension != "KHR_mesh_quantization" && extension != "KHR_draco_mesh_compression")
+    if (extension != "KHR_mesh_quantization" && extension != "KHR_draco_mesh_compression" &&
+        extension != "EXT_meshopt_compression")
       throw LoadError(name + ": extensionsRequired lists " + extension +
                       ", which mbao does not read; of the extensions a file may require, it reads "
-                      "KHR_mesh_quantization and KHR_draco_mesh_compression");
+                      "KHR_mesh_quantization, KHR_draco_mesh_compression and EXT_meshopt_compression");
 }
 
 // tinygltf quotes in full a data URI it cannot decode, which may be megabytes
@@ -447,10 +449,10 @@ std::shared_ptr<Scene> load_gltf_from_memory(const unsigned char* bytes, std::si
   if (size > std::numeric_limits<unsigned int>::max())  // tinygltf takes the size as an unsigned int
     throw LoadError(name + ": " + std::to_string(size) + " bytes is more than the 4 GiB a glTF file may have");
   const GltfContainer container = check_gltf_container(bytes, size, name);
-  const std::vector<unsigned char> placed = with_draco_indices_placed(bytes, size, container == GltfContainer::Glb);
-  if (!placed.empty()) {
-    bytes = placed.data();
-    size = placed.size();
+  const std::vector<unsigned char> readable = tinygltf_readable(bytes, size, container == GltfContainer::Glb);
+  if (!readable.empty()) {
+    bytes = readable.data();
+    size = readable.size();
   }
   tinygltf::TinyGLTF loader;
   // Images are not decoded here; GltfAlphaMasks decodes the alpha of the few that masks use.

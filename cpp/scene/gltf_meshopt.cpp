@@ -1,0 +1,76 @@
+#include "scene/gltf_meshopt.h"
+
+#include <meshoptimizer.h>
+
+#include "core/error.h"
+
+namespace mbao {
+namespace {
+
+constexpr const char* kExtension = "EXT_meshopt_compression";
+
+// A view's extension fields, checked.
+struct Encoding {
+  const std::vector<unsigned char>* buffer = nullptr;
+  std::size_t offset = 0, length = 0, stride = 0, count = 0;
+  std::string mode, filter;
+};
+
+std::size_t whole(const tinygltf::Value& object, const char* key, std::size_t fallback) {
+  const tinygltf::Value& value = object.Get(key);
+  return value.IsInt() && value.GetNumberAsInt() >= 0 ? std::size_t(value.GetNumberAsInt()) : fallback;
+}
+
+Encoding encoding_of(const tinygltf::Model& model, const tinygltf::Value& extension, const std::string& what) {
+  Encoding e;
+  const std::size_t buffer = whole(extension, "buffer", model.buffers.size());
+  if (buffer >= model.buffers.size()) throw LoadError(what + " names no buffer of the file");
+  e.buffer = &model.buffers[buffer].data;
+  e.offset = whole(extension, "byteOffset", 0);
+  e.length = whole(extension, "byteLength", 0);
+  e.stride = whole(extension, "byteStride", 0);
+  e.count = whole(extension, "count", 0);
+  e.mode = extension.Get("mode").IsString() ? extension.Get("mode").Get<std::string>() : "";
+  e.filter = extension.Get("filter").IsString() ? extension.Get("filter").Get<std::string>() : "NONE";
+  if (e.offset > e.buffer->size() || e.length > e.buffer->size() - e.offset)
+    throw LoadError(what + " runs past the end of buffer " + std::to_string(buffer));
+  if (e.stride == 0 || e.count > (std::size_t(1) << 32) / e.stride)
+    throw LoadError(what + " has byteStride " + std::to_string(e.stride) + " and count " + std::to_string(e.count) +
+                    ", which no buffer view holds");
+  return e;
+}
+
+// meshoptimizer's decoder for the mode, and its filter: 0 on success.
+int decode(const Encoding& e, unsigned char* out) {
+  const unsigned char* source = e.buffer->data() + e.offset;
+  if (e.mode == "TRIANGLES") return meshopt_decodeIndexBuffer(out, e.count, e.stride, source, e.length);
+  if (e.mode == "INDICES") return meshopt_decodeIndexSequence(out, e.count, e.stride, source, e.length);
+  const int status = meshopt_decodeVertexBuffer(out, e.count, e.stride, source, e.length);
+  if (status == 0 && e.filter == "OCTAHEDRAL") meshopt_decodeFilterOct(out, e.count, e.stride);
+  if (status == 0 && e.filter == "QUATERNION") meshopt_decodeFilterQuat(out, e.count, e.stride);
+  if (status == 0 && e.filter == "EXPONENTIAL") meshopt_decodeFilterExp(out, e.count, e.stride);
+  return status;
+}
+
+}  // namespace
+
+std::optional<std::vector<unsigned char>> decoded_meshopt_view(const tinygltf::Model& model, int view_index,
+                                                               const std::string& path) {
+  const tinygltf::BufferView& view = model.bufferViews[std::size_t(view_index)];
+  const auto found = view.extensions.find(kExtension);
+  if (found == view.extensions.end()) return std::nullopt;
+  const std::string what = path + ": bufferView " + std::to_string(view_index) + " " + kExtension;
+  const Encoding e = encoding_of(model, found->second, what);
+  const bool known_mode = e.mode == "ATTRIBUTES" || e.mode == "TRIANGLES" || e.mode == "INDICES";
+  const bool known_filter = e.filter == "NONE" || e.filter == "OCTAHEDRAL" || e.filter == "QUATERNION" ||
+                            e.filter == "EXPONENTIAL";
+  if (!known_mode || !known_filter)
+    throw LoadError(what + " has mode \"" + e.mode + "\" and filter \"" + e.filter +
+                    "\"; the extension defines ATTRIBUTES, TRIANGLES and INDICES, and NONE, OCTAHEDRAL, "
+                    "QUATERNION and EXPONENTIAL");
+  std::vector<unsigned char> bytes(e.count * e.stride);
+  if (decode(e, bytes.data()) != 0) throw LoadError(what + ": its " + e.mode + " data does not decode");
+  return bytes;
+}
+
+}  // namespace mbao
