@@ -60,9 +60,12 @@ def is_gltf_path(path):
 
 def load(path, *, normals=True, texcoords=False):
     """Loads a glTF 2.0 file (.gltf or .glb): every triangle mesh of the default
-    scene in world space, its vertex normals, the alpha masks of its MASK
-    materials and its first perspective camera. Nothing else is read: no other
-    attribute, no image but the alpha of mask textures. normals=False skips the
+    scene in world space (triangles, strips and fans; Draco-, meshopt- and
+    quantization-compressed ones too), its vertex normals, the alpha masks of
+    its MASK materials and its first perspective camera. Nothing else is read:
+    no other attribute, no image but the alpha of mask textures. A mask image
+    that cannot be read or decoded is named in a warning, and its surface is
+    opaque (SPEC 3.2). normals=False skips the
     normals too (renders with normals="geometric" do not use them);
     texcoords=True also reads every UV set, the triangles' materials and their
     occlusion textures (scene.uv_sets), which texture bakes use.
