@@ -181,3 +181,19 @@ def test_a_meshopt_view_that_does_not_decode_is_named(tmp_path):
     with pytest.raises(mbao.LoadError, match=rf"broken.glb: bufferView {view} EXT_meshopt_compression: its "
                                              rf"{encoding['mode']} data does not decode"):
         mbao.load(broken)
+
+
+def test_a_meshopt_count_beyond_what_its_bytes_can_hold_is_refused_unallocated(tmp_path):
+    """meshoptimizer's densest encoding decodes to 64 times its bytes: a view that claims more is refused."""
+    from mbao._gltf import GltfDocument
+
+    document = GltfDocument(transformed("meshopt", shared_scene("cornell_box") / "scene.glb", tmp_path / "m.glb"))
+    view, encoding = next((i, v["extensions"]["EXT_meshopt_compression"])
+                          for i, v in enumerate(document.doc["bufferViews"])
+                          if "EXT_meshopt_compression" in v.get("extensions", {}))
+    encoding["count"] = 2**30 // encoding["byteStride"]  # a GiB (tinygltf reads numbers as 32-bit ints)
+    document.doc["bufferViews"][view]["byteLength"] = encoding["count"] * encoding["byteStride"]
+    document.write(tmp_path / "huge.glb")
+    with pytest.raises(mbao.LoadError, match=rf"huge.glb: bufferView {view} EXT_meshopt_compression has byteStride "
+                                             rf"\d+ and count \d+, more than its \d+ encoded bytes can hold"):
+        mbao.load(tmp_path / "huge.glb")

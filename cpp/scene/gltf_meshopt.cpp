@@ -2,12 +2,17 @@
 
 #include <meshoptimizer.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "core/error.h"
 
 namespace mbao {
 namespace {
 
 constexpr const char* kExtension = "EXT_meshopt_compression";
+constexpr std::size_t kMaxRatio = 64;
 
 // A view's extension fields, checked.
 struct Encoding {
@@ -16,27 +21,35 @@ struct Encoding {
   std::string mode, filter;
 };
 
-std::size_t whole(const tinygltf::Value& object, const char* key, std::size_t fallback) {
+// The extension's field `key`: `fallback` where absent; a number beyond 2^53 (JSON's integers are doubles) as
+// the largest size, which every check below refuses.
+std::size_t whole(const tinygltf::Value& object, const char* key, std::size_t fallback, const std::string& what) {
+  if (!object.Has(key)) return fallback;
   const tinygltf::Value& value = object.Get(key);
-  return value.IsInt() && value.GetNumberAsInt() >= 0 ? std::size_t(value.GetNumberAsInt()) : fallback;
+  const double number = value.IsNumber() ? value.GetNumberAsDouble() : -1.0;
+  if (!(number >= 0.0) || number != std::floor(number))
+    throw LoadError(what + ": " + key + " is not a whole number of 0 or more");
+  return number < 9007199254740992.0 ? std::size_t(number) : std::numeric_limits<std::size_t>::max();
 }
 
 Encoding encoding_of(const tinygltf::Model& model, const tinygltf::Value& extension, const std::string& what) {
   Encoding e;
-  const std::size_t buffer = whole(extension, "buffer", model.buffers.size());
+  const std::size_t buffer = whole(extension, "buffer", model.buffers.size(), what);
   if (buffer >= model.buffers.size()) throw LoadError(what + " names no buffer of the file");
   e.buffer = &model.buffers[buffer].data;
-  e.offset = whole(extension, "byteOffset", 0);
-  e.length = whole(extension, "byteLength", 0);
-  e.stride = whole(extension, "byteStride", 0);
-  e.count = whole(extension, "count", 0);
+  e.offset = whole(extension, "byteOffset", 0, what);
+  e.length = whole(extension, "byteLength", 0, what);
+  e.stride = whole(extension, "byteStride", 0, what);
+  e.count = whole(extension, "count", 0, what);
   e.mode = extension.Get("mode").IsString() ? extension.Get("mode").Get<std::string>() : "";
   e.filter = extension.Get("filter").IsString() ? extension.Get("filter").Get<std::string>() : "NONE";
   if (e.offset > e.buffer->size() || e.length > e.buffer->size() - e.offset)
     throw LoadError(what + " runs past the end of buffer " + std::to_string(buffer));
-  if (e.stride == 0 || e.count > (std::size_t(1) << 32) / e.stride)
+  // meshoptimizer's densest encoding (a 2-bit header per 16 bytes that are all alike) decodes to at most 64
+  // times its bytes: a count beyond that is a lie, refused before its memory is allocated.
+  if (e.stride == 0 || e.count > kMaxRatio * std::min(e.length + 1, e.buffer->size()) / e.stride)
     throw LoadError(what + " has byteStride " + std::to_string(e.stride) + " and count " + std::to_string(e.count) +
-                    ", which no buffer view holds");
+                    ", more than its " + std::to_string(e.length) + " encoded bytes can hold");
   return e;
 }
 
