@@ -144,6 +144,15 @@ def test_a_required_extension_mbao_lacks_is_named(tmp_path):
         mbao.load(builder.write(tmp_path / "instanced.glb"))
 
 
+def overwritten(glb, offset, data, output):
+    """`output`: the GLB file `glb` with `data` at `offset` of its binary chunk (buffer 0)."""
+    content = bytearray(glb.read_bytes())
+    start = 20 + int.from_bytes(content[12:16], "little") + 8 + offset  # past the JSON chunk and the binary's header
+    content[start:start + len(data)] = data
+    output.write_bytes(bytes(content))
+    return output
+
+
 def test_a_draco_mesh_that_does_not_decode_is_named(tmp_path):
     """The file, the primitive and the extension named; no crash on bytes that are not a Draco mesh."""
     from mbao._gltf import GltfDocument
@@ -152,12 +161,7 @@ def test_a_draco_mesh_that_does_not_decode_is_named(tmp_path):
     document = GltfDocument(output)
     extension = document.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]
     view = document.doc["bufferViews"][extension["bufferView"]]
-    data = bytearray(output.read_bytes())
-    binary_chunk = 20 + int.from_bytes(data[12:16], "little") + 8  # after the JSON chunk and the binary's header
-    offset = binary_chunk + view.get("byteOffset", 0)
-    data[offset:offset + view["byteLength"]] = bytes(view["byteLength"])  # zeros: no Draco header
-    broken = tmp_path / "broken.glb"
-    broken.write_bytes(bytes(data))
+    broken = overwritten(output, view.get("byteOffset", 0), bytes(view["byteLength"]), tmp_path / "broken.glb")
     with pytest.raises(mbao.LoadError, match=r"broken.glb: mesh 0 primitive 0 KHR_draco_mesh_compression: its Draco "
                                              r"mesh does not decode"):
         mbao.load(broken)
@@ -172,12 +176,8 @@ def test_a_meshopt_view_that_does_not_decode_is_named(tmp_path):
     view = next(i for i, v in enumerate(document.doc["bufferViews"]) if "EXT_meshopt_compression" in
                 v.get("extensions", {}))
     encoding = document.doc["bufferViews"][view]["extensions"]["EXT_meshopt_compression"]
-    data = bytearray(output.read_bytes())
-    binary_chunk = 20 + int.from_bytes(data[12:16], "little") + 8
-    offset = binary_chunk + encoding.get("byteOffset", 0)
-    data[offset:offset + encoding["byteLength"]] = bytes([0xFF]) * encoding["byteLength"]
-    broken = tmp_path / "broken.glb"
-    broken.write_bytes(bytes(data))
+    broken = overwritten(output, encoding.get("byteOffset", 0), bytes([0xFF]) * encoding["byteLength"],
+                         tmp_path / "broken.glb")
     with pytest.raises(mbao.LoadError, match=rf"broken.glb: bufferView {view} EXT_meshopt_compression: its "
                                              rf"{encoding['mode']} data does not decode"):
         mbao.load(broken)
