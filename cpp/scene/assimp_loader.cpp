@@ -85,7 +85,9 @@ class AssimpMasks {
       if (m.GetTexture(type, 0, &file, nullptr, &uv_channel, nullptr, nullptr, modes) != AI_SUCCESS) continue;
       if (!first_channel && holds_no_alpha(file)) continue;  // a diffuse map cuts only by its alpha
       const std::string image_name = what + "'s image " + file.C_Str();
-      const std::optional<AlphaImage> image = readable_alpha(file, first_channel, image_name);
+      const std::optional<AlphaImage> image =
+          // A structured binding is captured by copy (clang 14 captures none by reference).
+          alpha_unless_unreadable([&, grey = first_channel] { return alpha_of(file, grey, image_name); }, warnings_);
       if (!image) return {};
       if (!image->has_alpha) continue;
       // Bilinear lookups stay between the texels' least and greatest alpha:
@@ -110,17 +112,6 @@ class AssimpMasks {
     if (const aiTexture* embedded = scene_.GetEmbeddedTexture(file.C_Str()))
       return embedded->mHeight == 0 && (embedded->CheckFormat("jpg") || embedded->CheckFormat("jpeg"));
     return cannot_hold_alpha(file.C_Str());
-  }
-
-  // alpha_of's image, or none where it cannot be read or decoded: then a
-  // warning says so, and the material is opaque (SPEC 3.2).
-  std::optional<AlphaImage> readable_alpha(const aiString& file, bool first_channel, const std::string& what) {
-    try {
-      return alpha_of(file, first_channel, what);
-    } catch (const LoadError& e) {
-      warnings_.push_back(std::string(e.what()) + "; the surface is opaque");
-      return std::nullopt;
-    }
   }
 
   // An image embedded in the file ("*n", or named by its file name) or a file beside it.

@@ -91,9 +91,8 @@ bool is_unsigned_integer(int component_type) {
 
 std::vector<float> AccessorReader::floats(int index, int type, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
-  if (const auto found = substituted_.find(index); found != substituted_.end())
-    return typed(found->second, index, type, role);
   expect_type(accessor, index, type, role);
+  if (const auto found = substituted_.find(index); found != substituted_.end()) return found->second;
   if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
     fail(index, role, "has " + component_name(accessor.componentType) + " components; only FLOAT is supported");
   return read<float>(accessor, index, role);
@@ -107,14 +106,12 @@ AccessorReader::AccessorReader(const tinygltf::Model& model, std::string path)
 
 std::vector<float> AccessorReader::quantized(int index, int type, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
-  if (const auto found = substituted_.find(index); found != substituted_.end())
-    return typed(found->second, index, type, role);
   const int component_type = accessor.componentType;
   const bool small_integer = component_type == TINYGLTF_COMPONENT_TYPE_BYTE ||
                              component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
                              component_type == TINYGLTF_COMPONENT_TYPE_SHORT ||
                              component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-  if (!quantization_ || !small_integer) return floats(index, type, role);
+  if (!quantization_ || !small_integer || substituted_.count(index)) return floats(index, type, role);
   expect_type(accessor, index, type, role);
   std::vector<float> values = read<float>(accessor, index, role);
   if (accessor.normalized) normalize(values, component_type);
@@ -139,21 +136,13 @@ void AccessorReader::substitute_indices(int index, std::vector<std::uint32_t> va
   substituted_indices_[index] = std::move(values);
 }
 
-std::vector<float> AccessorReader::typed(const std::vector<float>& values, int index, int type,
-                                         const std::string& role) const {
-  expect_type(get(index, role), index, type, role);
-  return values;
-}
-
 int AccessorReader::components(int index, const std::string& role) const {
   return tinygltf::GetNumComponentsInType(std::uint32_t(get(index, role).type));
 }
 
 std::vector<float> AccessorReader::texcoords(int index, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
-  if (const auto found = substituted_.find(index); found != substituted_.end())
-    return typed(found->second, index, TINYGLTF_TYPE_VEC2, role);
-  if (quantization_) return quantized(index, TINYGLTF_TYPE_VEC2, role);
+  if (quantization_ || substituted_.count(index)) return quantized(index, TINYGLTF_TYPE_VEC2, role);
   expect_type(accessor, index, TINYGLTF_TYPE_VEC2, role);
   const int type = accessor.componentType;
   const bool normalized_integer = accessor.normalized && (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
@@ -172,11 +161,8 @@ std::vector<float> AccessorReader::texcoords(int index, const std::string& role)
 
 std::vector<std::uint32_t> AccessorReader::indices(int index, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
-  if (const auto found = substituted_indices_.find(index); found != substituted_indices_.end()) {
-    expect_type(accessor, index, TINYGLTF_TYPE_SCALAR, role);
-    return found->second;
-  }
   expect_type(accessor, index, TINYGLTF_TYPE_SCALAR, role);
+  if (const auto found = substituted_indices_.find(index); found != substituted_indices_.end()) return found->second;
   if (!is_unsigned_integer(accessor.componentType))
     fail(index, role,
          "has " + component_name(accessor.componentType) +

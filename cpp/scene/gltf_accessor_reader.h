@@ -41,8 +41,6 @@ class AccessorReader {
 
  private:
   [[noreturn]] void fail(int index, const std::string& role, const std::string& problem) const;
-  // A substituted accessor's values, its type checked as the reader asks.
-  std::vector<float> typed(const std::vector<float>& values, int index, int type, const std::string& role) const;
   const tinygltf::Accessor& get(int index, const std::string& role) const;
   void expect_type(const tinygltf::Accessor& accessor, int index, int type, const std::string& role) const;
   const tinygltf::BufferView& buffer_view(int view_index, int accessor_index, const std::string& role) const;

@@ -104,13 +104,12 @@ std::optional<AlphaImage> GltfAlphaMasks::alpha_image(int image_index, const std
   const tinygltf::Image& image = model_.images[std::size_t(image_index)];
   if (image.mimeType == "image/jpeg" || (image.bufferView < 0 && cannot_hold_alpha(image.uri)))
     return AlphaImage{};  // no alpha: the material's constant alpha alone cuts
-  try {
-    const std::vector<unsigned char> encoded = encoded_image(image_index, what);
-    return decode_alpha(encoded.data(), encoded.size(), path_ + ": " + what);
-  } catch (const LoadError& e) {
-    warnings_.push_back(std::string(e.what()) + "; the surface is opaque");
-    return std::nullopt;
-  }
+  return alpha_unless_unreadable(
+      [&] {
+        const std::vector<unsigned char> encoded = encoded_image(image_index, what);
+        return decode_alpha(encoded.data(), encoded.size(), path_ + ": " + what);
+      },
+      warnings_);
 }
 
 std::vector<unsigned char> GltfAlphaMasks::encoded_image(int image_index, const std::string& what) const {

@@ -2,8 +2,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "core/error.h"
 
 namespace mbao {
 
@@ -29,5 +32,18 @@ void check_alpha_texels(std::size_t width, std::size_t height, const std::string
 // grey image). Throws LoadError naming `what` when it cannot.
 AlphaImage decode_alpha(const unsigned char* bytes, std::size_t size, const std::string& what,
                         bool first_channel_without_alpha = false);
+
+// read()'s image, or none where it throws LoadError (a mask image that is
+// missing, unreadable or undecodable): then the error, with what follows from
+// it, joins `warnings`, and the surface is opaque (SPEC 3.2).
+template <typename Read>
+std::optional<AlphaImage> alpha_unless_unreadable(Read read, std::vector<std::string>& warnings) {
+  try {
+    return read();
+  } catch (const LoadError& e) {
+    warnings.push_back(std::string(e.what()) + "; the surface is opaque");
+    return std::nullopt;
+  }
+}
 
 }  // namespace mbao
