@@ -95,14 +95,19 @@ class GltfDocument:
 
     def buffer_data(self, index):
         """The bytes of buffer `index`: the GLB's binary chunk, a data URI's or an external file's."""
-        buffer = self.doc["buffers"][index]
-        uri = buffer.get("uri")
-        if uri is None:
-            return self.bin
+        uri = self.doc["buffers"][index].get("uri")
+        return self.bin if uri is None else self.uri_data(uri)
+
+    def uri_data(self, uri):
+        """The bytes a buffer's or an image's URI names: a data URI's, or a file's relative to this one."""
         if uri.startswith("data:"):
             return base64.b64decode(uri.partition(",")[2])
-        with open(os.path.join(os.path.dirname(os.path.abspath(self.path)), unquote(uri)), "rb") as file:
+        with open(self.uri_path(uri), "rb") as file:
             return file.read()
+
+    def uri_path(self, uri):
+        """The file a relative URI names."""
+        return os.path.join(os.path.dirname(os.path.abspath(self.path)), unquote(uri))
 
     def elements(self, index):
         """Accessor `index`'s elements as raw bytes, one row each ((count, element size) uint8),

@@ -3,13 +3,11 @@ _OCCLUSION vertex attribute or occlusion textures), looked up at the camera's
 hits: the viewer's "baked" method, which sets a bake beside live ray-traced AO
 seen from the same viewpoint."""
 
-import base64
 import contextlib
 import dataclasses
 import os
 import tempfile
 import time
-from urllib.parse import unquote
 
 import numpy as np
 
@@ -251,11 +249,9 @@ def _image_bytes(document, image):
         return data, _SUFFIXES.get(mime, ".png")
     uri = image["uri"]
     if uri.startswith("data:"):
-        header, _, payload = uri.partition(",")
-        return base64.b64decode(payload), _SUFFIXES.get(header[5:].split(";")[0], ".png")
-    path = os.path.join(os.path.dirname(os.path.abspath(document.path)), unquote(uri))
-    with open(path, "rb") as file:
-        return file.read(), os.path.splitext(path)[1] or _SUFFIXES.get(mime, ".png")
+        return document.uri_data(uri), _SUFFIXES.get(uri[5:].partition(",")[0].split(";")[0], ".png")
+    suffix = os.path.splitext(document.uri_path(uri))[1]
+    return document.uri_data(uri), suffix or _SUFFIXES.get(mime, ".png")
 
 
 def baked_occlusion(scene, bake, camera, width, height, device):
