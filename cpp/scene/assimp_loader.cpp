@@ -85,8 +85,8 @@ class AssimpMasks {
       if (m.GetTexture(type, 0, &file, nullptr, &uv_channel, nullptr, nullptr, modes) != AI_SUCCESS) continue;
       if (!first_channel && holds_no_alpha(file)) continue;  // a diffuse map cuts only by its alpha
       const std::string image_name = what + "'s image " + file.C_Str();
+      // The structured binding is captured by copy: clang 14 captures none by reference.
       const std::optional<AlphaImage> image =
-          // A structured binding is captured by copy (clang 14 captures none by reference).
           alpha_unless_unreadable([&, grey = first_channel] { return alpha_of(file, grey, image_name); }, warnings_);
       if (!image) return {};
       if (!image->has_alpha) continue;
