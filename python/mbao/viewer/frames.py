@@ -38,9 +38,9 @@ class Frame:
 
     result: object
     frames: int  # accumulated into it: 1 without temporal accumulation
-    final: bool  # no further frame of this view will refine it
     moving: bool
     standard_error: float = None  # the mean over covered pixels, where a variance is known
+    final: bool = False  # no further frame of this view will refine it (StillView says)
 
 
 def render_settings(settings):
@@ -71,7 +71,7 @@ def moving_frame(scene, camera, settings, size, device, bake):
     if settings["method"] == "baked":
         return _baked_frame(scene, camera, values, device, bake, moving=True)
     result = render(scene, camera=camera, device=device, denoise=settings["denoise"] or None, **values)
-    return _frame(result, settings, frames=1, final=False, moving=True)
+    return _frame(result, settings, frames=1, moving=True)
 
 
 class StillView:
@@ -96,7 +96,7 @@ class StillView:
         if self.settings["method"] == "baked":
             frame = _baked_frame(self.scene, self.camera, render_settings(self.settings), self.device, self.bake,
                                  moving=False)
-        elif self.settings["method"] != "raytraced" or not self.accumulates:
+        elif not self.accumulates:
             frame = self._single()
         else:
             frame = self._accumulated()
@@ -108,7 +108,7 @@ class StillView:
         values = _with_variance(render_settings(self.settings))
         result = render(self.scene, camera=self.camera, device=self.device, progress=self._progress,
                         denoise=self.settings["denoise"] or None, **values, engine=_STILL_ENGINE)
-        return _frame(result, self.settings, frames=1, final=True, moving=False)
+        return _frame(result, self.settings, frames=1, moving=False)
 
     def _accumulated(self):
         if self._sequence is None:
@@ -116,12 +116,8 @@ class StillView:
             self._sequence = render_sequence(self.scene, _forever(self.camera), temporal=True,
                                              denoise=self.settings["denoise"] or None, device=self.device,
                                              progress=self._progress, engine=_STILL_ENGINE, **values)
-        try:
-            result = next(self._sequence)
-        except Superseded:
-            self._sequence = None  # the generator has ended; a view that changes starts another
-            raise
-        return _frame(result, self.settings, frames=self.done + 1, final=False, moving=False)
+        # A frame that raises Superseded ends the generator, and this view with it: its session starts another.
+        return _frame(next(self._sequence), self.settings, frames=self.done + 1, moving=False)
 
     def _progress(self, done, total):
         self._cancelled()
@@ -138,16 +134,16 @@ def _with_variance(values):
     return dict(values, variance=True) if can else values
 
 
-def _frame(result, settings, frames, final, moving):
+def _frame(result, settings, frames, moving):
     if settings["method"] == "hbao+gtao":
         fitted = gtao_multibounce(np.clip(result.ao, 0, 1), settings["rho"])
         result = dataclasses.replace(result, ao=np.where(result.mask, fitted, result.ao).astype(np.float32))
     standard_error = None
     if result.variance is not None and result.mask.any():
         standard_error = float(np.sqrt(np.maximum(result.variance[result.mask], 0)).mean())
-    return Frame(result, frames=frames, final=final, moving=moving, standard_error=standard_error)
+    return Frame(result, frames=frames, moving=moving, standard_error=standard_error)
 
 
 def _baked_frame(scene, camera, values, device, bake, moving):
     result = baked_occlusion(scene, bake, camera, values["width"], values["height"], device)
-    return Frame(result, frames=1, final=not moving, moving=moving)
+    return Frame(result, frames=1, moving=moving)
