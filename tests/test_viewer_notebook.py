@@ -71,18 +71,24 @@ def browser():
 
 
 def run_cell(driver, source):
-    """Appends a code cell, runs it, and returns its text output once the kernel is idle again."""
+    """Appends a code cell, runs it, and returns its text output once all of it has arrived.
+
+    The execute reply (which sets the prompt number) and the outputs come on
+    different channels, so the prompt can change before the last output is
+    in; the cell's finished_execute event comes after both."""
     index = driver.execute_script("""
         const cell = Jupyter.notebook.insert_cell_at_bottom("code");
         cell.set_text(arguments[0]);
+        Jupyter.notebook.events.on("finished_execute.CodeCell", (event, data) => {
+            if (data.cell === cell) cell.mbao_test_finished = true;
+        });
         cell.execute();
         return Jupyter.notebook.find_cell_index(cell);""", source)
     deadline = time.monotonic() + FRAME_TIMEOUT_S
     while time.monotonic() < deadline:
         done = driver.execute_script("""
             const cell = Jupyter.notebook.get_cell(arguments[0]);
-            return cell.input_prompt_number !== "*" && cell.input_prompt_number !== null
-                ? cell.output_area.outputs : null;""", index)
+            return cell.mbao_test_finished ? cell.output_area.outputs : null;""", index)
         if done is not None:
             errors = [o for o in done if o["output_type"] == "error"]
             assert not errors, "\n".join(errors[0]["traceback"])
