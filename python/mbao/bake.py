@@ -9,7 +9,7 @@ import weakref
 import numpy as np
 
 from . import _checks, _core
-from ._progress import progress_bar
+from ._progress import checked_progress, progress_reporter
 from .devices import resolve
 from .scene import Mesh, as_scene, is_gltf_path, load
 from .settings import RENDER, Engine, checked, engine_values
@@ -78,7 +78,7 @@ class Bake:
 
 def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", directions=4, rho=1.0,
          max_distance=math.inf, normals="shading", texcoord=None, resolution=1024, padding=4, wrap=None, seed=0,
-         max_rays=_core.DEFAULT_MAX_RAYS, engine=None, device=None, progress=True, client=None):
+         max_rays=_core.DEFAULT_MAX_RAYS, engine=None, device=None, progress=None, client=None):
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
 
@@ -110,9 +110,9 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
         camera to suggest one).
     engine: an mbao.Engine, as for render.
     device: as for render.
-    progress: True for a tqdm bar over the bake's tiles, False or None for
-        none, or a callable progress(tiles_done, tiles_total); with a client,
-        over its parts.
+    progress: as for render, over the bake's tiles (with a client, its parts):
+        None, a bar on a terminal for a bake longer than a few seconds; False,
+        none; True, a bar; or a callable progress(tiles_done, tiles_total).
     client: a dask.distributed.Client traces the bake in parts on its
         workers' devices (`device` is then unused): a bake's estimates are one
         image, split by its pixels' positions, each pixel's rays keyed by the
@@ -128,6 +128,7 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     stops after the tile in flight. Returns an mbao.Bake.
     """
     target = _checks.choice("target", target, TARGETS)
+    checked_progress(progress)
     from_gltf = isinstance(scene, (str, os.PathLike)) and is_gltf_path(scene)
     scene = load(scene, texcoords=True) if target == "texture" and from_gltf else as_scene(scene)
     lo, hi = _core.BAKE_SAMPLES_RANGE
@@ -142,7 +143,7 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     values.update(engine_values(engine or Engine()))
     settings = dict(given, target=target, samples=samples, directions=directions)
     if target == "vertices":
-        with _tile_progress(progress) as on_tile:
+        with progress_reporter(progress, "bake", "tile") as on_tile:
             if client is None:
                 ao, standard_error, stats = _core.bake_vertices(scene, resolve(device), values, samples, on_tile)
             else:
@@ -177,7 +178,7 @@ def _bake_textures(scene, materials, resolution, padding, values, samples, devic
         layouts[material.index] = (material, layout)
     textures, totals = {}, dict(frame_ms=0.0, rays_secondary=0)
     for index, (material, layout) in layouts.items():
-        with _tile_progress(progress, f"bake {material.name}") as on_tile:
+        with progress_reporter(progress, f"bake {material.name}", "tile") as on_tile:
             if client is None:
                 image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples,
                                                                          padding, on_tile)
@@ -368,28 +369,3 @@ def _refuse_claimed_twice(layout, material):
                       f"{layout.covered_count} covered texels are claimed by more than one surface (overlap: "
                       f"mirrored halves, tiled UVs or overlapping islands), so one value per texel cannot serve "
                       f"them; bake target=\"vertices\", or into a UV set without overlaps")
-
-
-class _tile_progress:
-    """progress= as the core takes it: a tqdm bar over the tiles, the caller's callable, or None."""
-
-    def __init__(self, progress, description="bake"):
-        if not (progress is None or isinstance(progress, bool) or callable(progress)):
-            raise TypeError(f"progress must be a bool, None (as False) or a callable (tiles_done, tiles_total), "
-                            f"got {type(progress).__name__}")
-        self._progress = progress
-        self._bar = progress_bar(progress is True, None, description, "tile")
-
-    def __enter__(self):
-        bar = self._bar.__enter__()
-        if bar is None:
-            return self._progress or None
-
-        def on_tile(done, total):
-            bar.total = total
-            bar.update(done - bar.n)
-
-        return on_tile
-
-    def __exit__(self, *exc):
-        return self._bar.__exit__(*exc)

@@ -3,14 +3,14 @@
 import os
 
 from . import _checks
-from ._progress import progress_bar
+from ._progress import checked_progress, progress_count, progress_reporter
 from .render import render
 from .scene import as_scene
 
 _ERRORS = ("raise", "return")
 
 
-def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=None, progress=False):
+def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=None, progress=None):
     """Renders a batch, yielding each job's mbao.Result.
 
     jobs: an iterable (a generator too) of dicts of mbao.render's arguments;
@@ -29,8 +29,11 @@ def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=No
     in_flight: with a client, the most jobs submitted and not yet yielded
         (default: twice the cluster's threads), so that the batch's results
         never all sit in memory.
-    progress: True for a tqdm bar over the jobs, here on the client (its total
-        where jobs has a length).
+    progress: as for render, over the jobs, here on the client: None, a bar on
+        a terminal for a batch longer than a few seconds; False, none; True, a
+        bar; or a callable progress(jobs_done, jobs_total), the total None
+        where jobs has no length. A job's own render shows no bar unless
+        its "progress" asks for one.
 
     Each job renders what mbao.render(**job) renders, bit for bit.
     """
@@ -38,19 +41,19 @@ def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=No
     ordered = _checks.boolean("ordered", ordered)
     if in_flight is not None:
         in_flight = _checks.integer("in_flight", in_flight, 1, 2**31 - 1, "[1, 2^31 - 1], or None")
-    progress = _checks.boolean("progress", progress)
+    checked_progress(progress)
     rendered = _rendered_here(jobs, errors) if client is None else _rendered_on(client, jobs, ordered, errors, in_flight)
     return _counted(rendered, progress, len(jobs) if hasattr(jobs, "__len__") else None)
 
 
 def _counted(rendered, progress, total):
     """The results as they come, with a bar over them where asked."""
-    with progress_bar(progress, total, "render_many", "job") as bar:
+    with progress_reporter(progress, "render_many", "job", total) as report:
+        count = progress_count(report, total)
         try:
             for outcome in rendered:
                 yield outcome
-                if bar is not None:
-                    bar.update(1)
+                count.advance()
         finally:
             rendered.close()
 
@@ -58,13 +61,13 @@ def _counted(rendered, progress, total):
 def _checked_job(job):
     if not isinstance(job, dict) or "scene" not in job:
         raise TypeError(f"a job is a dict of mbao.render's arguments with a \"scene\", got {job!r:.200}")
-    return job
+    return dict(job, progress=job.get("progress", False))
 
 
 def _rendered_here(jobs, errors):
     loaded = {}  # path: its scene, loaded once for the batch
     for job in jobs:
-        job = dict(_checked_job(job))
+        job = _checked_job(job)
         try:
             if isinstance(job["scene"], (str, os.PathLike)):
                 path = os.fspath(job["scene"])

@@ -16,10 +16,13 @@ import warnings
 from . import _core
 from .devices import devices
 from . import __version__
+from ._progress import progress_count, progress_reporter
 from .images import check_writable, save_image
 from .render import render, render_sequence
 from .scene import load
 from .settings import ENGINE, RENDER, Engine
+
+QUIET_HELP = "no progress bar (by default one is shown on a terminal for work of more than a few seconds)"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -55,6 +58,7 @@ def _parser():
     hbao.add_argument("--hbao-falloff", type=float, default=defaults.falloff,
                       help="attenuation 1 - falloff * (r / radius)^2, in [0, 1] (default: %(default)s)")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
+    r.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     engine = r.add_argument_group("engine options", "how the work is done; none of them changes the image")
     for spec in ENGINE.values():
         _add_setting(engine, spec)
@@ -74,7 +78,7 @@ def _parser():
     c.add_argument("--sample-counts", type=int, nargs="+", default=[1, 2, 4, 8, 16],
                    help="r of each method's renders in the study (HBAO: its directions)")
     c.add_argument("--seed", type=int, default=0, help="seed of the renders")
-    c.add_argument("--quiet", action="store_true", help="no progress bars")
+    c.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     c.add_argument("--scheduler", metavar="ADDRESS",
                    help="a Dask scheduler (tcp://HOST:8786): the reference and the study render on its workers' "
                         "devices (--device then names Figure 2's)")
@@ -108,7 +112,7 @@ def _parser():
     b.add_argument("--vertex-colors", action="store_true",
                    help="with --target vertices, also multiply the AO into COLOR_0, for viewers that show no "
                         "_OCCLUSION (COLOR_0 darkens direct light too, which occlusion should not)")
-    b.add_argument("--quiet", action="store_true", help="no progress bar")
+    b.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     b.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, "
                    "else the first GPU, else the first device")
     b.add_argument("--scheduler", metavar="ADDRESS",
@@ -130,6 +134,7 @@ def _parser():
     for spec in RENDER.values():
         _add_setting(o, spec)
     o.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
+    o.add_argument("--quiet", action="store_true", help=QUIET_HELP)
 
     _add_view(commands)
 
@@ -192,6 +197,11 @@ def _texcoord_argument(text):
         raise argparse.ArgumentTypeError(f"takes a set's number or 'generate', not {text!r}") from None
 
 
+def _progress_argument(args):
+    """progress= of a command: none with --quiet, else mbao's default (a bar on a terminal for long work)."""
+    return False if args.quiet else None
+
+
 def _device_argument(text):
     return int(text) if text is not None and text.isdigit() else text
 
@@ -207,6 +217,7 @@ def _render(args):
         engine=Engine(**{name: getattr(args, name) for name in ENGINE}),
         device=_device_argument(args.device),
         denoise=args.denoise or None,
+        progress=_progress_argument(args),
         **{name: getattr(args, name) for name in RENDER},
     )
     save_image(args.output, result.ao, alpha=None if args.no_alpha else result.coverage)
@@ -294,7 +305,7 @@ def _bake(args):
                            estimator=args.estimator, directions=args.directions, rho=args.rho,
                            max_distance=args.max_distance, seed=args.seed, texcoord=args.texcoord,
                            resolution=tuple(args.resolution) * (3 - len(args.resolution)), padding=args.padding,
-                           device=_device_argument(args.device), progress=not args.quiet, client=client)
+                           device=_device_argument(args.device), progress=_progress_argument(args), client=client)
     s = result.stats
     print(f"scene        {args.input}")
     print(f"device       {s['device']}")
@@ -325,10 +336,15 @@ def _orbit(args):
     check_gif(args.output, args.fps, "-o")  # before the frames, not after them
     scene = load(args.scene) if args.scene else _core.cornell_box()
     first = _core.Camera.load(args.camera) if args.camera else scene.default_camera(args.width, args.height)
-    frames = list(render_sequence(
+    sequence = render_sequence(
         scene, orbit_cameras(first, args.frames, args.degrees), temporal=args.temporal,
-        denoise=args.denoise or None, device=_device_argument(args.device),
-        **{name: getattr(args, name) for name in RENDER}))
+        denoise=args.denoise or None, device=_device_argument(args.device), progress=False,
+        **{name: getattr(args, name) for name in RENDER})
+    with progress_reporter(_progress_argument(args), "orbit", "frame", args.frames) as report:
+        count, frames = progress_count(report, args.frames), []
+        for frame in sequence:
+            frames.append(frame)
+            count.advance()
     save_gif(args.output, [frame.ao for frame in frames], args.fps)
     frame_ms = [frame.stats["frame_ms"] for frame in frames]
     print(f"scene        {scene.name} ({scene.triangle_count} triangles)")

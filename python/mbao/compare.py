@@ -76,14 +76,13 @@ def run(scene, camera, args, device, client=None):
     if not math.isfinite(radius):
         raise ValueError("--max-distance must be finite: it is HBAO's radius")
     print(f"radius       {radius:g} ({source})")
-    size = dict(width=args.width, height=args.height)
+    size, progress = dict(width=args.width, height=args.height), False if args.quiet else None
     figure2(scene, camera, radius, samples=args.samples, rho=args.rho, seed=args.seed, device=device,
             **size).savefig(f"{args.output}_figure2.png", dpi=100)
     converged = reference(scene, camera=camera, bounces=2, rho=args.rho, max_distance=radius,
-                          target_error=args.target_error, device=device, progress=not args.quiet, client=client,
-                          **size)
+                          target_error=args.target_error, device=device, progress=progress, client=client, **size)
     table = convergence(scene, STUDY_METHODS, converged, sample_counts=args.sample_counts, seed=args.seed,
-                        device=device, progress=not args.quiet, plot=False, client=client)
+                        device=device, progress=progress, plot=False, client=client)
     figure = plot_convergence(table, title=f"{short_name(scene)}, {args.width}x{args.height}, 2-bounce reference")
     figure.savefig(f"{args.output}_error_vs_time.png", dpi=100)
     rows = write_table(f"{args.output}_error_vs_time.csv", table)

@@ -7,7 +7,7 @@ import time
 import numpy as np
 
 from . import _checks, _core
-from ._progress import progress_bar
+from ._progress import progress_count, progress_reporter
 from .gtao import gtao_multibounce
 from .reference import Reference, reference_camera
 from .render import render, render_sequence
@@ -49,7 +49,7 @@ def _least_cost(name):
 
 
 def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), time_budgets=None, frame_counts=None,
-                seed=0, device=None, progress=True, plot=True, ax=None, client=None):
+                seed=0, device=None, progress=None, plot=True, ax=None, client=None):
     """Renders each method at increasing cost and measures its error against `reference`.
 
     methods: names from mbao.convergence.METHODS ("hbao", "b1", "b2 branching",
@@ -80,6 +80,9 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     A pandas DataFrame where pandas is installed, else a list of dicts. With plot,
     draws rmse against frame_ms on log-log axes (ax, or a new matplotlib figure).
 
+    progress: as for render, over the renders (a row each): None, a bar on a
+        terminal for a study longer than a few seconds; False, none; True, a
+        bar; or a callable progress(rows_done, rows_total).
     client: a dask.distributed.Client renders each method's rows on a worker
         (the scene sent to each once), the rows in the methods' order. Their
         images are those rendered here; their times are the workers' devices',
@@ -99,24 +102,24 @@ def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), ti
     rows = []
     renders = (len(methods) * len(stops) if stops is not None
                else sum(len(_affordable(name, sample_counts)) for name in methods))
-    with progress_bar(_checks.boolean("progress", progress), renders, "convergence", "render") as bar:
+    with progress_reporter(progress, "convergence", "render", renders) as report:
+        rows_done = progress_count(report, renders)
         if client is None:
             for name in methods:
-                rows += _method_rows(scene, name, reference, sample_counts, stops, seed, device, bar)
+                rows += _method_rows(scene, name, reference, sample_counts, stops, seed, device, rows_done)
         else:
             for method_rows in _rows_on(client, scene, methods, reference, sample_counts, stops, seed):
                 rows += method_rows
-                if bar is not None:
-                    bar.update(len(method_rows))
+                rows_done.advance(len(method_rows))
     if plot:
         plot_convergence(rows, ax=ax)
     return _table(rows)
 
 
-def _method_rows(scene, name, reference, sample_counts, stops, seed, device=None, bar=None):
+def _method_rows(scene, name, reference, sample_counts, stops, seed, device=None, rows_done=None):
     if stops is None:
-        return _costs(scene, name, reference, sample_counts, seed, device, bar)
-    return _frames(scene, name, reference, stops, seed, device, bar)
+        return _costs(scene, name, reference, sample_counts, seed, device, rows_done)
+    return _frames(scene, name, reference, stops, seed, device, rows_done)
 
 
 def _rows_on(client, scene, methods, reference, sample_counts, stops, seed):
@@ -156,7 +159,7 @@ def _render_settings(name, reference, cost):
 def _render_once(scene, name, reference, cost, seed, device):
     """(image, ms) of one render of method `name` at `cost`."""
     settings, gtao = _render_settings(name, reference, cost)
-    result = render(scene, camera=reference_camera(reference), seed=seed, device=device, **settings)
+    result = render(scene, camera=reference_camera(reference), seed=seed, device=device, progress=False, **settings)
     image, ms = result.ao, result.stats["frame_ms"]
     if gtao:
         started = time.perf_counter()
@@ -174,12 +177,12 @@ def _affordable(name, costs):
     return [cost for cost in costs if _checks.integer("sample_counts", cost, 1) >= _least_cost(name)]
 
 
-def _costs(scene, name, reference, costs, seed, device, bar):
+def _costs(scene, name, reference, costs, seed, device, rows_done):
     rows = []
     for cost in _affordable(name, costs):
         image, ms = _render_once(scene, name, reference, _checks.integer("sample_counts", cost, 1), seed, device)
         rows.append(_row(name, cost, ms, image, reference))
-        _advance(bar)
+        _advance(rows_done)
     return rows
 
 
@@ -192,7 +195,7 @@ def _stops(time_budgets, frame_counts):
     return None
 
 
-def _frames(scene, name, reference, stops, seed, device, bar):
+def _frames(scene, name, reference, stops, seed, device, rows_done):
     """A row at each stop of the method's frames, each the image so far and the time spent on it."""
     frames = (_sequence if METHODS[name].get("temporal") else _averaged)(scene, name, reference, seed, device)
     rows, spent, count = [], 0.0, 0
@@ -202,7 +205,7 @@ def _frames(scene, name, reference, stops, seed, device, bar):
             spent, count = spent + ms, count + 1
         row = _row(name, count, spent, image, reference)
         rows.append(dict(row, budget_ms=stop) if kind == "budget_ms" else row)
-        _advance(bar)
+        _advance(rows_done)
     return rows
 
 
@@ -223,7 +226,7 @@ def _sequence(scene, name, reference, seed, device):
     """(frame, ms) of a still camera's sequence with temporal accumulation (seeds seed, seed + 1, ...)."""
     settings, _ = _render_settings(name, reference, _frame_cost(name))
     for result in render_sequence(scene, itertools.repeat(reference_camera(reference)), temporal=True, seed=seed,
-                                  device=device, **settings):
+                                  device=device, progress=False, **settings):
         yield result.ao, result.stats["frame_ms"]
 
 
@@ -294,6 +297,6 @@ def plot_convergence(rows, ax=None, title=None, error="rmse"):
     return ax.figure
 
 
-def _advance(bar):
-    if bar is not None:
-        bar.update(1)
+def _advance(rows_done):
+    if rows_done is not None:  # a worker's rows are counted where they arrive
+        rows_done.advance()

@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 
 from . import _checks, _core
-from ._progress import progress_bar
+from ._progress import checked_progress, progress_reporter
 from .render import render
 from .scene import as_camera, as_scene
 
@@ -77,7 +77,7 @@ _CHANNELS = ("ao", "standard_error", "mask")
 
 
 def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, max_distance=None,
-              target_error=2e-3, samples=64, min_passes=8, max_passes=100_000, device=None, progress=True,
+              target_error=2e-3, samples=64, min_passes=8, max_passes=100_000, device=None, progress=None,
               client=None):
     """Renders until the standard error of every covered pixel is at most target_error.
 
@@ -93,7 +93,10 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
     scene, camera and max_distance: as for mbao.render (paths taken; no radius
         given: the camera's suggestion, else inf). settings["max_distance"] is
         the radius used.
-    progress: a tqdm progress bar over the passes (False: none).
+    progress: as for render, over the passes: None, a bar on a terminal for a
+        reference longer than a few seconds; False, none; True, a bar; or a
+        callable progress(passes_done, passes_expected), the passes expected
+        estimated from the standard error so far.
     client: None renders here. A dask.distributed.Client renders the chunks
         on its workers' devices (`device` is then unused; the scene is sent
         to each worker once), which send back each chunk's mean and sum of
@@ -109,7 +112,7 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
         raise ValueError(f"target_error must be > 0, got {target_error}")
     min_passes = _checks.integer("min_passes", min_passes, 2, 2**31, "[2, 2**31]")
     max_passes = _checks.integer("max_passes", max_passes, min_passes, 2**31, "[min_passes, 2**31]")
-    progress = _checks.boolean("progress", progress)
+    checked_progress(progress)
     width, height = _checks.integer("width", width), _checks.integer("height", height)
     if camera is None:
         camera = scene.default_camera(width, height)
@@ -123,15 +126,14 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
     else:
         rendered = _chunks_on(client, scene, settings, chunks)
     total = _Moments()
-    with progress_bar(progress, min_passes, "reference", "pass") as bar:
+    with progress_reporter(progress, "reference", "pass", min_passes) as report:
         for chunk in rendered:
             total.merge(chunk)
             passes = total.count
             worst = float(total.standard_error()[chunk.mask].max(initial=0.0))
-            if bar is not None:
-                bar.total = max(passes, min_passes, _passes_needed(passes, worst, target_error, max_passes))
-                bar.set_postfix(standard_error=f"{worst:.2g}")
-                bar.update(chunk.count)
+            if report is not None:
+                expected = max(passes, min_passes, _passes_needed(passes, worst, target_error, max_passes))
+                report(passes, expected, f"standard_error={worst:.2g}")
             if passes >= min_passes and worst <= target_error:
                 break
         rendered.close()  # with a client: cancels the chunks not needed
@@ -164,7 +166,7 @@ def _chunk(scene, settings, first, count, device=None):
     """The moments of passes first .. first + count - 1, added in pass order."""
     moments = _Moments()
     for index in range(first, first + count):
-        result = render(scene, seed=_FIRST_SEED + index, device=device, **settings)
+        result = render(scene, seed=_FIRST_SEED + index, device=device, progress=False, **settings)
         moments.add(result.ao)
     moments.mask, moments.max_distance = result.mask, result.stats["max_distance"]
     return moments

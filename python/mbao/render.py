@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 
 from . import _checks, _core
+from ._progress import checked_progress, progress_reporter
 from .devices import resolve
 from .scene import as_camera, as_scene
 from .settings import ENGINE, RENDER, Engine, checked, describe, engine_values
@@ -83,7 +84,7 @@ def render_sequence(scene, cameras, *, temporal=True, denoise=None, engine=None,
     values = _setting_values("render_sequence", _engine(engine, settings), settings)
     history = _core.TemporalHistory(_temporal_settings(temporal)) if temporal is not False else None
     _denoise_settings(denoise)
-    return _frames(scene, cameras, values, resolve(device), denoise, history, _progress(progress))
+    return _frames(scene, cameras, values, resolve(device), denoise, history, checked_progress(progress))
 
 
 def _frames(scene, cameras, values, device, denoise, history, progress):
@@ -106,8 +107,9 @@ def _setting_values(function, engine, settings):
 
 
 def _render(scene, camera, values, device, *, progress=None, hbao=None, denoise=None, history=None):
-    ao, coverage, variance, history_length, stats = _core.render(
-        scene, camera, device, values, _progress(progress), _hbao_settings(hbao), _denoise_settings(denoise), history)
+    with progress_reporter(progress, "render", "tile") as on_tile:
+        ao, coverage, variance, history_length, stats = _core.render(
+            scene, camera, device, values, on_tile, _hbao_settings(hbao), _denoise_settings(denoise), history)
     mask = coverage > 0
     _warn_if_closed(scene, ao, mask, stats)
     return Result(ao, mask, stats, coverage.astype(np.float32) / 255, variance, history_length)
@@ -147,7 +149,9 @@ engine: an mbao.Engine: how the work is done (traversal, kernel organisation,
     tiles, work groups, traversal counts). None: mbao's choice for the device.
     No engine setting changes the image; stats["plan"] says what was chosen.
 device: None, an index or name part from mbao.devices(), an mbao.Device or a pyopencl.Device.
-progress: None, or a callable progress(tiles_done, tiles_total) called after each tile.
+progress: None (the default): a bar over the tiles on a terminal, for a render
+    of several tiles that takes more than a few seconds; False: none; True: a
+    bar; a callable progress(tiles_done, tiles_total), called after each tile.
 
 Bad arguments raise TypeError or ValueError naming the argument and its allowed
 range. The GIL is released while rendering. Ctrl-C (KeyboardInterrupt), or an
@@ -203,12 +207,6 @@ def _hbao_settings(hbao):
     if not isinstance(hbao, _core.HBAO):
         raise TypeError(f"hbao must be None or an mbao.HBAO, got {type(hbao).__name__}")
     return hbao
-
-
-def _progress(progress):
-    if progress is not None and not callable(progress):
-        raise TypeError(f"progress must be None or a callable (tiles_done, tiles_total), got {type(progress).__name__}")
-    return progress
 
 
 def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversal="auto", device=None,

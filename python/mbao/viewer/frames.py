@@ -70,7 +70,7 @@ def moving_frame(scene, camera, settings, size, device, bake):
     values = dict(render_settings(settings), width=size[0], height=size[1])
     if settings["method"] == "baked":
         return _baked_frame(scene, camera, values, device, bake, moving=True)
-    result = render(scene, camera=camera, device=device, denoise=settings["denoise"] or None, **values)
+    result = render(scene, camera=camera, device=device, denoise=settings["denoise"] or None, progress=False, **values)
     return _frame(result, settings, frames=1, moving=True)
 
 
