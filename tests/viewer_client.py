@@ -40,9 +40,11 @@ class Client:
 
     def __init__(self, socket, hello):
         self.socket, self.hello = socket, hello
+        self.sent = 0  # text messages sent, as the server counts them in a frame's messages_read
 
     async def send(self, **message):
         await self.socket.send_str(json.dumps(message))
+        self.sent += 1
 
     async def receive(self):
         """The next message: (header, payload) for a binary one, (message, None) for text."""
@@ -63,8 +65,11 @@ class Client:
         raise TimeoutError("no such message within the time limit")
 
     async def still_frame(self, frames):
-        """The still frame that has accumulated `frames` frames."""
-        return await self.until(lambda m, p: m["type"] == "frame" and not m["moving"] and m["frames"] == frames)
+        """The still frame that has accumulated `frames` frames of the view as
+        this client last set it: the view's first frames, from before the
+        server read the set, may arrive after it was sent."""
+        return await self.until(lambda m, p: m["type"] == "frame" and not m["moving"] and m["frames"] == frames
+                                and m["messages_read"] == self.sent)
 
     async def error(self):
         message, _ = await self.until(lambda m, p: m["type"] == "error")

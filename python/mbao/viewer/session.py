@@ -30,6 +30,7 @@ class ViewSession:
         self.settings = dict(viewer.settings)
         self.interactive = False
         self.generation = 0
+        self.messages_read = 0  # the page's text messages, counted as read: frames say how many their view had seen
         self.last_still = None  # the last still frame's Frame, for saving and snapshots
         self._still = None
         self._ms_per_pixel = None
@@ -53,6 +54,7 @@ class ViewSession:
 
     async def handle(self, text):
         """One message from the page; a bad one is answered with an error and changes nothing."""
+        self.messages_read += 1
         try:
             message = messages.parse(text, self.settings, self.viewer.methods, self.viewer.home_camera.max_distance)
         except (TypeError, ValueError) as error:
@@ -75,7 +77,7 @@ class ViewSession:
         while True:
             await self._wake.wait()
             self._wake.clear()
-            generation, camera = self.generation, self.camera
+            generation, camera, messages_read = self.generation, self.camera, self.messages_read
             if self._still is None and not self.interactive:
                 self._still = StillView(self.viewer.scene, self.camera, self.settings, self.viewer.device,
                                         self.viewer.bake)
@@ -96,7 +98,7 @@ class ViewSession:
                 continue  # a still frame of a view that has changed: its accumulation is void
             if not frame.moving:
                 self.last_still = frame
-            await self._send_frame(frame, payload, camera, generation)
+            await self._send_frame(frame, payload, camera, generation, messages_read)
             if not (frame.final or frame.moving):
                 self._wake.set()
 
@@ -120,7 +122,7 @@ class ViewSession:
             self._ms_per_pixel = (time.perf_counter() - start) * 1e3 / frame.result.ao.size
         return frame, encode(frame.result.ao, "png")
 
-    async def _send_frame(self, frame, payload, camera, generation):
+    async def _send_frame(self, frame, payload, camera, generation, messages_read):
         height, width = frame.result.ao.shape
         stats = frame.result.stats
         rays = stats.get("rays_primary", 0) + stats.get("rays_secondary", 0)
@@ -128,7 +130,7 @@ class ViewSession:
                       frames=frame.frames, final=frame.final, moving=frame.moving, frame_ms=stats["frame_ms"],
                       mrays_per_s=rays / stats["frame_ms"] / 1e3 if stats["frame_ms"] > 0 else None,
                       standard_error=frame.standard_error, camera=messages.camera_json(camera),
-                      generation=generation)
+                      generation=generation, messages_read=messages_read)
         await self._send(pack(header, payload))
 
     async def _save(self, what):

@@ -14,6 +14,7 @@
     frame_camera: null,  // the camera of the frame shown, as its header gives it (state.camera may be ahead)
   };
   let socket = null;
+  let sent = 0;  // messages sent on this socket, as the server counts them (a frame's messages_read)
   let pendingCamera = false;  // a camera change waits for the next animation frame
   let wheelTimer = null;
 
@@ -58,7 +59,10 @@
 
   // Messages.
   function send(message) {
-    if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(message));
+    if (socket && socket.readyState === WebSocket.OPEN) {
+      socket.send(JSON.stringify(message));
+      sent += 1;
+    }
   }
 
   function sendView(changes, interactive) {
@@ -126,7 +130,8 @@
     if (old.startsWith("blob:")) URL.revokeObjectURL(old);
     state.received += 1;
     state.frames = header.frames;
-    state.final = header.final;
+    // A final frame of a view taken before the server read our last message is not this view's.
+    state.final = header.final && header.messages_read === sent;
     state.last_frame_ms = header.frame_ms;
     state.width = header.width;
     state.height = header.height;
@@ -255,6 +260,7 @@
     const url = new URL("ws", window.location.href);
     url.protocol = url.protocol === "https:" ? "wss:" : "ws:";
     socket = new WebSocket(url);
+    sent = 0;
     socket.binaryType = "arraybuffer";
     socket.onmessage = (event) => (typeof event.data === "string" ? onText(JSON.parse(event.data)) : onBinary(event.data));
     socket.onclose = () => {
@@ -283,7 +289,10 @@
       sendView(changes, false);
     },
     // A message as it is: for scripts and tests of the protocol.
-    sendRaw: (textMessage) => socket.send(textMessage),
+    sendRaw: (textMessage) => {
+      socket.send(textMessage);
+      sent += 1;
+    },
   };
 
   connect();
