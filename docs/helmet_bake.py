@@ -4,7 +4,6 @@ own UVs are mirrored, which a per-texel bake refuses). Each panel looks its
 texture up at the camera rays' hits. Run from the repository root:
 .venv/bin/python docs/helmet_bake.py"""
 
-import json
 import math
 import pathlib
 import tempfile
@@ -79,13 +78,13 @@ def main():
     path = folder / "scene.glb"
     scene = mbao.load(path, texcoords=True)
     camera = mbao.Camera.load(folder / "camera.json")
-    radius = json.loads((folder / "camera.json").read_text())["max_distance"]
+    radius = camera.max_distance  # the bakes' radius, as a render from this camera would take it
     triangle, barycentrics = camera_hits(scene, camera)
     shipped, shipped_uvs = shipped_occlusion(path, scene)
     panels = [("the artist's occlusion texture", shaded(triangle, barycentrics, shipped_uvs, shipped))]
     for bounces in (1, 2):
         bake = mbao.bake(scene, target="texture", texcoord="generate", resolution=RESOLUTION, samples=SAMPLES,
-                         bounces=bounces, max_distance=radius, progress=False)
+                         bounces=bounces, camera=camera, progress=False)
         texture = bake.textures[0]
         corner_uvs = np.zeros((scene.triangle_count, 3, 2), np.float32)
         corner_uvs[texture.triangles] = texture.texcoords

@@ -2,13 +2,17 @@
 standard errors and determinism. Statistical checks allow 4 standard errors of
 the estimator, computed from its own variance."""
 
+import inspect
+import json
 import math
+import warnings
 
 import numpy as np
 import pytest
 
 import mbao
 from analytic import assert_within_standard_errors, polygon_occlusion
+from gltf_writer import GltfBuilder
 from interrupts import interrupt_after_the_first_tile
 from meshes import box, box_grid, disk, icosphere, merge, plane
 
@@ -36,6 +40,7 @@ def test_the_inside_of_a_closed_box_bakes_to_zero(bounces, rho):
     np.testing.assert_array_equal(result.standard_error, 0.0)
 
 
+@pytest.mark.filterwarnings("ignore:.*looks closed")
 @pytest.mark.parametrize("bounces", [1, 2])
 def test_the_front_side_is_the_windings(bounces):
     """The same closed surfaces wound the other way face out, where every ray
@@ -189,6 +194,66 @@ def test_a_bake_counts_its_rays_and_refuses_too_many():
 def test_bad_arguments_name_themselves(arguments, message):
     with pytest.raises(ValueError, match=message):
         bake(*plane(1.0), **arguments)
+
+
+def floor_under_a_ceiling():
+    """A floor (its first 9 vertices) facing up, 1 below a far wider ceiling."""
+    return merge(plane(1.0, 0.0, divisions=2), plane(50.0, 1.0))
+
+
+def radius_of(result):
+    return result.stats["max_distance"], result.stats["max_distance_source"]
+
+
+def test_a_bake_takes_its_radius_by_renders_rule(tmp_path):
+    """SPEC 1: the radius given wins, inf included; else the one a camera
+    suggests, the camera given for it or else the scene's own; else inf.
+    Within 0.5 of the floor nothing is hit: 1 exactly; without a radius the
+    ceiling covers nearly all of the floor's sky."""
+    vertices, indices = floor_under_a_ceiling()
+    scene = mbao.Mesh(vertices, indices)
+    camera = mbao.Camera([0, 0.5, 5], [0, 0.5, 0], max_distance=0.5)
+    (tmp_path / "camera.json").write_text(json.dumps(
+        {"eye": [0, 0.5, 5], "target": [0, 0.5, 0], "up": [0, 1, 0], "vfov_deg": 60, "max_distance": 0.5}))
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(vertices, indices)])),
+                 b.add_node(camera=b.add_perspective_camera(0.9, extras={"max_distance": 0.5}), translation=(0, 0.5, 5))])
+    with_camera = b.write(tmp_path / "with_camera.glb")
+
+    limited = [mbao.bake(scene, samples=16, max_distance=0.5, progress=False),
+               mbao.bake(scene, samples=16, camera=camera, progress=False),
+               mbao.bake(scene, samples=16, camera=tmp_path / "camera.json", progress=False),
+               mbao.bake(with_camera, samples=16, progress=False)]
+    assert [radius_of(r) for r in limited] == [(0.5, "settings")] + [(0.5, "camera")] * 3
+    for result in limited:
+        np.testing.assert_array_equal(result.values[:9], 1.0)
+
+    unlimited = [mbao.bake(scene, samples=16, progress=False),
+                 mbao.bake(with_camera, samples=16, max_distance=math.inf, progress=False)]
+    assert [radius_of(r) for r in unlimited] == [(math.inf, "none"), (math.inf, "settings")]
+    for result in unlimited:
+        assert result.values[:9].max() < 0.1
+
+
+def test_a_closed_scene_baked_without_a_radius_warns_as_a_render_does():
+    vertices, indices = box((-1.0, -1.5, -2.0), (1.0, 1.5, 2.0))
+    grid = mbao.Mesh(*merge(*[(v + (4.0 * k, 0.0, 0.0), i) for k, (v, i) in enumerate([(vertices, indices)] * 16)]))
+    with pytest.warns(UserWarning, match="of the vertices are below 0.01 with max_distance=inf: the scene looks closed"):
+        mbao.bake(grid, samples=4, progress=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mbao.bake(grid, samples=4, max_distance=0.5, progress=False)
+
+
+def test_bake_and_render_default_to_the_same_bounces():
+    """SPEC 1: b is 1 unless asked for, on the command line too."""
+    from mbao.cli import _parser
+
+    defaults = {inspect.signature(mbao.bake).parameters["bounces"].default,
+                inspect.signature(mbao.render).parameters["bounces"].default,
+                _parser().parse_args(["bake", "in.glb", "-o", "out.glb"]).bounces,
+                _parser().parse_args(["render"]).bounces}
+    assert defaults == {1}
 
 
 def test_a_bake_takes_a_scene_path(tmp_path):

@@ -41,6 +41,7 @@ def small_parts(monkeypatch):
     monkeypatch.setattr(importlib.import_module("mbao.bake"), "_MIN_POSITIONS_PER_PART", 64)
 
 
+@pytest.mark.filterwarnings("ignore:.*looks closed")
 def test_a_vertex_bake_on_a_cluster_is_the_local_one(dask_client, small_parts):
     scene = mbao.Mesh(*box_grid(3))
     here = mbao.bake(scene, **SETTINGS)

@@ -294,6 +294,13 @@ def test_the_command_line_bakes_a_file(tmp_path):
                               "--vertex-colors", "--samples", "2", "--quiet"], capture_output=True, text=True)
     assert colored.returncode == 0, colored.stderr
     assert "darkens direct light too" in colored.stdout and validation_errors(tmp_path / "c.glb") == []
+    assert "radius       inf (no camera suggests one)" in colored.stdout
+    (tmp_path / "camera.json").write_text('{"eye": [0, 1, 3], "target": [0, 0, 0], "up": [0, 1, 0], "vfov_deg": 60, "max_distance": 0.25}')
+    limited = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "l.glb"),
+                              "--camera", str(tmp_path / "camera.json"), "--samples", "2", "--quiet"],
+                             capture_output=True, text=True)
+    assert limited.returncode == 0, limited.stderr
+    assert "radius       0.25 (camera.json)" in limited.stdout
     obj = subprocess.run([sys.executable, "-m", "mbao", "bake", str(floor_and_wall_obj(tmp_path)), "-o",
                           str(tmp_path / "o.gltf"), "--samples", "2", "--quiet"], capture_output=True, text=True)
     assert obj.returncode == 0, obj.stderr

@@ -11,7 +11,8 @@ import numpy as np
 from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
 from .devices import resolve
-from .scene import Mesh, as_scene, is_gltf_path, load
+from .render import warn_if_closed
+from .scene import Mesh, as_camera, as_scene, is_gltf_path, load
 from .settings import RENDER, Engine, checked, engine_values
 
 TARGETS = ("vertices", "texture")
@@ -76,8 +77,8 @@ class Bake:
         return f"<mbao.Bake {self.target}: {what}, {self.stats['frame_ms'] / 1e3:.1f} s on {self.stats['device']}>"
 
 
-def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", directions=4, rho=1.0,
-         max_distance=math.inf, normals="shading", texcoord=None, resolution=1024, padding=4, wrap=None, seed=0,
+def bake(scene, *, target="vertices", bounces=1, samples=256, estimator="path", directions=4, rho=1.0,
+         max_distance=None, camera=None, normals="shading", texcoord=None, resolution=1024, padding=4, wrap=None, seed=0,
          max_rays=_core.DEFAULT_MAX_RAYS, engine=None, device=None, progress=None, client=None):
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
@@ -106,8 +107,14 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     wrap: texture only: how UVs outside [0, 1] map, "repeat", "mirrored-repeat"
         or "clamp-to-edge", or a pair of them (along u, along v); None: the
         sampler of the material's occlusion texture, else "repeat" (glTF's default).
-    max_distance: the AO radius in world units; inf by default (a bake has no
-        camera to suggest one).
+    max_distance, camera: the AO radius in world units, by render's rule (SPEC
+        1): the one given, else the one `camera` suggests (an mbao.Camera or
+        the path of a camera.json, used for nothing else), else the one the
+        scene's own camera suggests (a glTF camera's extras), else inf.
+        stats["max_distance"] is the radius used and stats["max_distance_source"]
+        where it came from: "settings", "camera" or "none". A bake with no
+        radius that comes out nearly black warns: in a closed scene every ray
+        hits something.
     engine: an mbao.Engine, as for render.
     device: as for render.
     progress: as for render, over the bake's tiles (with a client, its parts):
@@ -133,7 +140,8 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     scene = load(scene, texcoords=True) if target == "texture" and from_gltf else as_scene(scene)
     lo, hi = _core.BAKE_SAMPLES_RANGE
     samples = _checks.integer("samples", samples, lo, hi, f"[{lo}, {hi}]")
-    given = dict(bounces=bounces, estimator=estimator, rho=rho, max_distance=max_distance, normals=normals, seed=seed,
+    radius, radius_source = _radius(scene, max_distance, camera)
+    given = dict(bounces=bounces, estimator=estimator, rho=rho, max_distance=radius, normals=normals, seed=seed,
                  max_rays=max_rays)
     values = {name: checked(RENDER[name], value) for name, value in given.items()}
     r = RENDER["samples"]
@@ -150,6 +158,8 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
                 positions = _core.vertex_bake_positions(scene, samples)
                 mean, second_moment, stats = _traced_on(client, scene, None, positions, values, samples, on_tile)
                 ao, standard_error = _core.finish_vertex_bake(scene, samples, mean, second_moment)
+        stats = dict(stats, max_distance_source=radius_source)
+        warn_if_closed(scene, ao, np.ones(ao.shape, bool), stats, "vertices", stacklevel=3)
         return Bake(target, ao, standard_error, settings, stats)
 
     width, height = _resolution(resolution)
@@ -163,7 +173,20 @@ def bake(scene, *, target="vertices", bounces=2, samples=256, estimator="path", 
     textures, stats = _bake_textures(scene, materials, (width, height), padding, values, samples, device, progress,
                                      client)
     settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
+    stats = dict(stats, max_distance_source=radius_source)
+    for texture in textures.values():
+        warn_if_closed(scene, texture.image, texture.coverage, stats, "covered texels", stacklevel=3)
     return Bake(target, None, None, settings, stats, textures)
+
+
+def _radius(scene, max_distance, camera):
+    """(radius, source) by SPEC 1's rule for a bake: given, else suggested by `camera` or the scene's own, else inf."""
+    if max_distance is not None:
+        return checked(RENDER["max_distance"], max_distance), "settings"
+    suggesting = as_camera(camera) if camera is not None else scene.camera
+    if suggesting is not None and suggesting.max_distance is not None:
+        return suggesting.max_distance, "camera"
+    return math.inf, "none"
 
 
 def _bake_textures(scene, materials, resolution, padding, values, samples, device, progress, client):

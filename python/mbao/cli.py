@@ -99,14 +99,17 @@ def _parser():
     b.add_argument("--resolution", type=int, nargs="+", default=[1024], metavar="N",
                    help="the texture's size: N, or WIDTH HEIGHT")
     b.add_argument("--padding", type=int, default=4, help="texels filled around the covered ones (dilation)")
-    b.add_argument("--bounces", type=int, default=2, help="b, the bounces of SPEC 1")
+    _add_setting(b, RENDER["bounces"])
     b.add_argument("--samples", type=int, default=256, help="estimates per vertex or texel, each at a point of its own")
     b.add_argument("--estimator", choices=["path", "branching"], default="path",
                    help="how an estimate traces from its point: r paths, or r directions at every hit (SPEC 2)")
     b.add_argument("--directions", type=int, default=4, help="r, the directions drawn at the point (and at every "
                    "hit of the branching estimator)")
     b.add_argument("--rho", type=float, default=1.0, help="albedo in [0, 1]")
-    b.add_argument("--max-distance", type=float, default=float("inf"), help="AO radius in world units")
+    b.add_argument("--max-distance", type=float,
+                   help="AO radius in world units, inf for none; None: the one --camera suggests, else the one the "
+                        "scene's own camera suggests, else inf (SPEC 1)")
+    b.add_argument("--camera", help="a camera.json whose max_distance is the bake's radius (nothing else of it is used)")
     b.add_argument("--seed", type=int, default=0, help="the bake is a function of the seed and the settings")
     b.add_argument("--bit-depth", type=int, choices=[8, 16], default=8, help="bits per channel of the textures")
     b.add_argument("--vertex-colors", action="store_true",
@@ -303,15 +306,16 @@ def _bake(args):
         result = bake_file(args.input, args.output, target=args.target, bit_depth=args.bit_depth,
                            vertex_colors=args.vertex_colors, bounces=args.bounces, samples=args.samples,
                            estimator=args.estimator, directions=args.directions, rho=args.rho,
-                           max_distance=args.max_distance, seed=args.seed, texcoord=args.texcoord,
+                           max_distance=args.max_distance, camera=args.camera, seed=args.seed,
+                           texcoord=args.texcoord,
                            resolution=tuple(args.resolution) * (3 - len(args.resolution)), padding=args.padding,
                            device=_device_argument(args.device), progress=_progress_argument(args), client=client)
     s = result.stats
     print(f"scene        {args.input}")
     print(f"device       {s['device']}")
     print(f"settings     {args.target}, bounces={args.bounces}, samples={args.samples}, {args.estimator} with "
-          f"r={args.directions}, rho={args.rho}, "
-          f"max_distance={args.max_distance:g}, seed={args.seed}")
+          f"r={args.directions}, rho={args.rho}, seed={args.seed}")
+    print(f"radius       {_radius(s, args)}")
     for material, texture in result.textures.items():
         t = texture.stats
         height, width = texture.image.shape

@@ -111,22 +111,23 @@ def _render(scene, camera, values, device, *, progress=None, hbao=None, denoise=
         ao, coverage, variance, history_length, stats = _core.render(
             scene, camera, device, values, on_tile, _hbao_settings(hbao), _denoise_settings(denoise), history)
     mask = coverage > 0
-    _warn_if_closed(scene, ao, mask, stats)
+    warn_if_closed(scene, ao, mask, stats, "covered pixels", stacklevel=4)
     return Result(ao, mask, stats, coverage.astype(np.float32) / 255, variance, history_length)
 
 
-def _warn_if_closed(scene, ao, mask, stats):
-    """Warns where an unlimited radius left 99% of the covered pixels below 0.01:
-    in a closed scene every AO ray hits something. Only with 100 covered pixels
-    or more, where 99% leaves room for an open one. Python's default filter
-    shows it once per scene (the message names it)."""
+def warn_if_closed(scene, ao, mask, stats, values, stacklevel):
+    """Warns where an unlimited radius left 99% of the masked `values` (covered
+    pixels, vertices, texels) below 0.01: in a closed scene every AO ray hits
+    something. Only with 100 of them or more, where 99% leaves room for an open
+    one. Python's default filter shows it once per scene (the message names
+    it); stacklevel points it at the caller of mbao's public function."""
     covered = ao[mask]
     if not math.isinf(stats["max_distance"]) or covered.size < 100 or np.mean(covered < 0.01) < 0.99:
         return
-    warnings.warn(f"{scene.name}: {np.mean(covered < 0.01):.0%} of the covered pixels are below 0.01 with "
+    warnings.warn(f"{scene.name}: {np.mean(covered < 0.01):.0%} of the {values} are below 0.01 with "
                   f"max_distance=inf: the scene looks closed, so every AO ray hits something. Give a radius in "
                   f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)",
-                  stacklevel=4)
+                  stacklevel=stacklevel)
 
 
 render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
