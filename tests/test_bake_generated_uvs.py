@@ -1,6 +1,9 @@
 """Generated UV sets (mbao.bake(texcoord="generate"), SPEC 6.3): charts that
 never overlap, one texel density, the stretch they report, and bakes into them."""
 
+import re
+import warnings
+
 import numpy as np
 import pytest
 
@@ -63,9 +66,34 @@ def test_a_closed_box_bakes_to_zero_inside_through_generated_uvs():
     np.testing.assert_array_equal(texture.image[texture.coverage], 0.0)
 
 
-def test_charts_that_cannot_fit_are_refused():
-    with pytest.raises(ValueError, match=r"charts do not fit 8 x 8 texels with padding 4"):
-        generated(*icosphere(1.0, subdivisions=2), resolution=8, padding=4)
+def test_charts_that_fit_only_closer_are_packed_so_with_a_warning_naming_the_resolution_that_keeps_the_padding():
+    sphere = icosphere(1.0, subdivisions=2)
+    with pytest.warns(UserWarning, match=r"generated charts fit 16 x 16 texels only \d texels? apart, not padding=4, "
+                                         r"at .* texels per unit; resolution=(\d+) keeps them 4 apart") as caught:
+        texture = generated(*sphere, resolution=16, padding=4)
+    assert texture.stats["chart_padding"] < 4 and texture.stats["claimed_twice"] == 0
+    keeping = int(re.search(r"resolution=(\d+)", str(caught[0].message)).group(1))
+    assert texture.stats["size_keeping_padding"] == (keeping, keeping)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        kept = generated(*sphere, resolution=keeping, padding=4)
+    assert kept.stats["chart_padding"] == 4
+    with pytest.warns(UserWarning, match="only"):  # the next smaller power of two does not keep it
+        generated(*sphere, resolution=keeping // 2, padding=4)
+
+
+def test_charts_that_cannot_fit_even_touching_are_refused():
+    with pytest.raises(ValueError, match=r"charts do not fit 4 x 4 texels even at 2 x 2 texels each and touching; "
+                                         r"raise the resolution"):
+        generated(*icosphere(1.0, subdivisions=2), resolution=4, padding=4)
+
+
+def test_the_damaged_helmet_bakes_into_generated_uvs_at_128_texels_with_a_warning():
+    """Its 1000-odd charts fit 128 x 128 only closer than 4 texels apart (issue 60)."""
+    path = shared_scene("damaged_helmet") / "scene.glb"
+    with pytest.warns(UserWarning, match=r"resolution=\d+ keeps them 4 apart"):
+        bake = mbao.bake(path, target="texture", texcoord="generate", resolution=128, samples=2, progress=False)
+    assert bake.textures[0].stats["claimed_twice"] == 0
 
 
 def test_the_damaged_helmet_bakes_into_generated_uvs():

@@ -237,6 +237,30 @@ def test_a_closed_scene_is_warned_about_in_one_line(tmp_path):
     assert proc.returncode == 0, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("mbao: warning: ") and "looks closed" in lines[0], proc.stderr
+    assert "(--max-distance ...)" in lines[0]
+
+
+def test_a_bakes_errors_and_warnings_name_flags_not_python_arguments(tmp_path):
+    """Mirrored UVs are refused with the flags that bake such a file; generated
+    charts packed closer than --padding name the --resolution that keeps it."""
+    from meshes import icosphere
+
+    vertices, indices = plane(1.0, divisions=4)
+    b = GltfBuilder()
+    mirrored = b.primitive(vertices, indices, texcoords=np.abs(vertices[:, [0, 2]]))
+    b.add_scene([b.add_node(mesh=b.add_mesh([mirrored]))], default=True)
+    refused = run_mbao("bake", b.write(tmp_path / "mirrored.glb"), "-o", "out.glb", "--target", "texture",
+                       "--resolution", 16, "--samples", 2, cwd=tmp_path)
+    assert refused.returncode == 2 and "(--texcoord generate)" in refused.stderr, refused.stderr
+    assert "(--target vertices)" in refused.stderr and "=" not in refused.stderr.split("them;")[1]
+
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(*icosphere(1.0, subdivisions=2))]))], default=True)
+    packed = run_mbao("bake", b.write(tmp_path / "sphere.glb"), "-o", "out.glb", "--target", "texture", "--texcoord",
+                      "generate", "--resolution", 16, "--samples", 2, cwd=tmp_path)
+    assert packed.returncode == 0, packed.stderr
+    assert re.search(r"^mbao: warning: .* not --padding 4, .*; --resolution \d+ keeps them 4 apart$", packed.stderr,
+                     re.MULTILINE), packed.stderr
 
 
 def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
@@ -343,7 +367,7 @@ def test_devices_lists_the_devices(tmp_path, device):
         (["render", "--estimator", "foo"], r"estimator.*foo"),
         (["render", "--rho", "2"], r"rho"),
         (["render", "--camera", "no_such_camera.json"], r"no_such_camera\.json"),
-        (["render", "--bounces", "3", "--samples", "8", "--max-rays", "1000"], r"max_rays=1000.*estimator=\"path\""),
+        (["render", "--bounces", "3", "--samples", "8", "--max-rays", "1000"], r"--max-rays 1000.*--estimator path"),
         (["orbit", "--frames", "2"], r"-o 'x\.png': an orbit is written as \.gif"),
     ],
     ids=["missing scene", "bounces 0", "unknown estimator", "rho 2", "missing camera", "past max rays", "orbit to png"],

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -151,31 +152,60 @@ std::vector<Chart> grow_charts(const TriangleMesh& mesh, const std::vector<std::
   return charts;
 }
 
-// The largest density at which the charts fit, by bisection from the one at
-// which their boxes' area alone would fill the texture, and where each goes.
-double densest_packing(const std::vector<Chart>& charts, int width, int height, int padding,
-                       std::vector<glm::ivec2>* placed) {
-  std::vector<std::size_t> tallest_first(charts.size());
-  std::iota(tallest_first.begin(), tallest_first.end(), std::size_t(0));
-  std::stable_sort(tallest_first.begin(), tallest_first.end(), [&](std::size_t a, std::size_t b) {
+std::vector<std::size_t> tallest_first(const std::vector<Chart>& charts) {
+  std::vector<std::size_t> order(charts.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return charts[a].hi.y - charts[a].lo.y > charts[b].hi.y - charts[b].lo.y;
   });
+  return order;
+}
+
+// Whether the charts fit at some density above 0, `padding` apart: each in a
+// box of 2 x 2 texels (1 x 1 where it has no extent). At density 0 itself every
+// chart would shrink to a point, which covers no texel.
+// The least density tried: charts of more than 1e-270 world units still get boxes of 2 texels.
+constexpr double kLeastDensity = 1e-30;
+
+bool fit_at_all(const std::vector<Chart>& charts, int width, int height, int padding) {
+  std::vector<glm::ivec2> placed;
+  return pack(charts, tallest_first(charts), kLeastDensity, width, height, padding, &placed);
+}
+
+// The largest padding up to `padding` at which the charts fit at all.
+int fitting_padding(const std::vector<Chart>& charts, int width, int height, int padding) {
+  for (int p = padding; p >= 0; --p)
+    if (fit_at_all(charts, width, height, p)) return p;
+  throw std::invalid_argument("generated UVs: " + std::to_string(charts.size()) + " charts do not fit " +
+                              std::to_string(width) + " x " + std::to_string(height) +
+                              " texels even at 2 x 2 texels each and touching; raise the resolution");
+}
+
+// The texture size, `width` x `height` times the least power of two, at which
+// the charts fit `padding` apart; none up to kMaxTextureSide.
+std::optional<glm::ivec2> size_keeping(const std::vector<Chart>& charts, int width, int height, int padding) {
+  for (long long w = width, h = height; std::max(w, h) <= kMaxTextureSide; w *= 2, h *= 2)
+    if (fit_at_all(charts, int(w), int(h), padding)) return glm::ivec2(int(w), int(h));
+  return std::nullopt;
+}
+
+// The largest density at which the charts fit `padding` apart (they must fit
+// at kLeastDensity), by bisection from the one at which their boxes' area alone would
+// fill the texture, and where each goes.
+double densest_packing(const std::vector<Chart>& charts, int width, int height, int padding,
+                       std::vector<glm::ivec2>* placed) {
+  const std::vector<std::size_t> order = tallest_first(charts);
   double box_area = 0.0;
   for (const Chart& c : charts) box_area += (c.hi.x - c.lo.x) * (c.hi.y - c.lo.y);
-  double lo = 0.0, hi = box_area > 0.0 ? std::sqrt(double(width) * double(height) / box_area) : 1.0;
-  if (!pack(charts, tallest_first, lo, width, height, padding, placed))
-    throw std::invalid_argument("generated UVs: " + std::to_string(charts.size()) + " charts do not fit " +
-                                std::to_string(width) + " x " + std::to_string(height) + " texels with padding " +
-                                std::to_string(padding) + " between them, even a texel each; raise the resolution "
-                                "or lower the padding");
+  double lo = kLeastDensity, hi = box_area > 0.0 ? std::sqrt(double(width) * double(height) / box_area) : 1.0;
   for (int step = 0; step < 40; ++step) {
     const double middle = 0.5 * (lo + hi);
-    if (pack(charts, tallest_first, middle, width, height, padding, placed))
+    if (pack(charts, order, middle, width, height, padding, placed))
       lo = middle;
     else
       hi = middle;
   }
-  pack(charts, tallest_first, lo, width, height, padding, placed);
+  pack(charts, order, lo, width, height, padding, placed);
   return lo;
 }
 
@@ -215,7 +245,9 @@ LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<st
     LightmapUvs result;
     const std::vector<Chart> charts = grow_charts(mesh, triangles, surface, round, &result.worst_stretch);
     std::vector<glm::ivec2> placed;
-    result.texels_per_unit = densest_packing(charts, width, height, padding, &placed);
+    result.padding = fitting_padding(charts, width, height, padding);
+    if (result.padding < padding) result.size_keeping_padding = size_keeping(charts, width, height, padding);
+    result.texels_per_unit = densest_packing(charts, width, height, result.padding, &placed);
     result.charts = charts.size();
     result.corner_uvs = chart_uvs(mesh, triangles, charts, placed, result.texels_per_unit, width, height);
     result.layout.emplace(mesh, triangles, result.corner_uvs, width, height, WrapMode::Repeat, WrapMode::Repeat);

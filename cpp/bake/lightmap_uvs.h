@@ -22,6 +22,12 @@ struct LightmapUvs {
   // 1 / the cosine of its tilt from the plane, at most 1 / kChartCosine.
   double worst_stretch = 1.0;
   double texels_per_unit = 0.0;  // the density: texels along a world unit of a chart's plane
+  // Texels between charts: the padding asked for, or the largest smaller one
+  // at which the charts fit; then size_keeping_padding is the texture size
+  // (the one asked for times a power of two, at most kMaxTextureSide) at which
+  // they would fit the padding asked for, if any.
+  int padding = 0;
+  std::optional<glm::ivec2> size_keeping_padding;
   std::optional<TexelLayout> layout;  // of corner_uvs in the texture (REPEAT), which nothing claims twice
 };
 
@@ -32,9 +38,10 @@ constexpr double kChartCosine = 0.8;
 
 // Charts for `triangles` of `mesh` (neighbours: triangles sharing an edge
 // between equal positions), packed into width x height texels with `padding`
-// texels between them and around the border, at the largest density that
-// fits. Triangles of zero area get UVs of zero area. Throws
-// std::invalid_argument where the charts cannot fit even at the smallest density.
+// texels between them and around the border (fewer where they fit only so),
+// at the largest density that fits. Triangles of zero area get UVs of zero
+// area. Throws std::invalid_argument where the charts cannot fit even a texel
+// each and touching.
 LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, int width,
                                   int height, int padding);
 

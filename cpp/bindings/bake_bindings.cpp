@@ -177,6 +177,10 @@ py::tuple lightmap_uvs(const std::shared_ptr<Scene>& scene, const std::vector<st
   stats["charts"] = uvs.charts;
   stats["worst_stretch"] = uvs.worst_stretch;
   stats["texels_per_unit"] = uvs.texels_per_unit;
+  stats["chart_padding"] = uvs.padding;
+  stats["size_keeping_padding"] =
+      uvs.size_keeping_padding ? py::object(py::make_tuple(uvs.size_keeping_padding->x, uvs.size_keeping_padding->y))
+                               : py::object(py::none());
   return py::make_tuple(corners, stats, SceneTexels{scene, std::move(*uvs.layout)});
 }
 

@@ -4,6 +4,7 @@ import dataclasses
 import math
 import os
 import threading
+import warnings
 import weakref
 
 import numpy as np
@@ -363,6 +364,23 @@ def _texture_materials(scene, texcoord, wrap):
     return materials
 
 
+def _warn_if_packed_closer(name, stats, resolution, padding):
+    """SPEC 6.3: charts that fit only closer than `padding` are packed so, with a warning naming the resolution that keeps it."""
+    if stats["chart_padding"] == padding:
+        return
+    keeping = stats["size_keeping_padding"]
+    keeping = ("no resolution up to 16384 keeps them that far apart" if keeping is None
+               else f"resolution={_resolution_text(keeping)} keeps them {padding} apart")
+    apart = f"{stats['chart_padding']} texel{'s' if stats['chart_padding'] != 1 else ''} apart"
+    warnings.warn(f"{name}: its {stats['charts']} generated charts fit {resolution[0]} x {resolution[1]} texels only "
+                  f"{apart}, not padding={padding}, at {stats['texels_per_unit']:.3g} texels per unit; {keeping}",
+                  stacklevel=4)
+
+
+def _resolution_text(size):
+    return f"{size[0]}" if size[0] == size[1] else f"({size[0]}, {size[1]})"
+
+
 def _generated_materials(scene, width, height, padding):
     """Per material, a new UV set of charts packed into the texture (SPEC 6.3's texcoord="generate")."""
     if isinstance(scene, Mesh) or scene.uv_sets is None:
@@ -377,6 +395,7 @@ def _generated_materials(scene, width, height, padding):
     materials = []
     for index, triangles in groups.items():
         corners, stats, layout = _core.lightmap_uvs(scene, triangles, width, height, padding)
+        _warn_if_packed_closer(names[index], stats, (width, height), padding)
         materials.append(_Material(index, names[index], triangles, corners, "generated", ("repeat", "repeat"), stats,
                                    layout))
     return materials
@@ -391,4 +410,5 @@ def _refuse_claimed_twice(layout, material):
     raise _core.Error(f"{material.name}, {uv_set}: {fraction:.1%} of its "
                       f"{layout.covered_count} covered texels are claimed by more than one surface (overlap: "
                       f"mirrored halves, tiled UVs or overlapping islands), so one value per texel cannot serve "
-                      f"them; bake target=\"vertices\", or into a UV set without overlaps")
+                      f"them; bake into a new UV set of mbao's (texcoord=\"generate\"), into one without overlaps, "
+                      f"or per vertex (target=\"vertices\")")

@@ -10,6 +10,7 @@
 import argparse
 import contextlib
 import pathlib
+import re
 import sys
 import warnings
 
@@ -30,11 +31,41 @@ class _Parser(argparse.ArgumentParser):
         """One line, like every other error of the command: no usage block."""
         self.exit(2, f"mbao: {message} (see {self.prog} --help)\n")
 
+    def in_flags(self, message):
+        """`message`, which names settings as Python does (texcoord="generate",
+        max_distance=..., camera=mbao.Camera(...)), with each one this command
+        has as an option named as its flag (--texcoord generate)."""
+        def as_flag(match):
+            name, value = match.group("name"), match.group("value")
+            flag = "--" + name.replace("_", "-")
+            if flag not in self._option_string_actions:  # argparse's table of the command's flags
+                return match.group(0)
+            if value == "True":
+                return flag
+            return f"{flag} {_flag_value(value)}"
+
+        return _PYTHON_SETTING.sub(as_flag, message)
+
+
+# name=value as Python messages write a setting: a quoted string, a pair, mbao.Camera(...), or a bare word.
+_PYTHON_SETTING = re.compile(r'(?<![\w.-])(?P<name>[a-z][a-z_]*)=(?P<value>"[^"]*"|\(\d+, \d+\)|mbao\.Camera\(\.\.\.\)'
+                             r'|[^\s,;)]+)')
+
+
+def _flag_value(value):
+    """A Python value as its flag takes it: "generate" as generate, (256, 128) as 256 128, a camera as its file."""
+    if value == "mbao.Camera(...)":
+        return "CAMERA.json"
+    if value.startswith("("):
+        return value[1:-1].replace(",", "")
+    return value.strip('"')
+
 
 def _parser():
     parser = _Parser(prog="python -m mbao", description="Multi-bounce ambient occlusion with OpenCL.")
     parser.add_argument("--version", action="version", version=f"mbao {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    parser.commands = commands.choices
 
     r = commands.add_parser("render", help="render a scene (the built-in Cornell box by default) to an image")
     r.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
@@ -396,16 +427,18 @@ def _open_browser(url):
         webbrowser.open(url)
 
 
-def _print_warning(message, category, filename, lineno, file=None, line=None):
-    """A warning as one line, like the command's errors: no source line."""
-    print(f"mbao: warning: {message}", file=sys.stderr)
-
-
 def main(argv=None):
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args = parser.parse_args(argv)
+    command = parser.commands[args.command]
+
+    def print_warning(message, category, filename, lineno, file=None, line=None):
+        """A warning as one line, like the command's errors: no source line."""
+        print(f"mbao: warning: {command.in_flags(str(message))}", file=sys.stderr)
+
     try:
         with warnings.catch_warnings():  # restores the caller's showwarning after
-            warnings.showwarning = _print_warning
+            warnings.showwarning = print_warning
             if args.command == "devices":
                 for d in devices():
                     print(f"{d.index}: {d.platform}: {d.name} ({d.type}, {d.version})")
@@ -420,7 +453,7 @@ def main(argv=None):
                 return _view(args)
             return _render(args)
     except (ValueError, TypeError, OSError, _core.Error) as error:
-        print(f"mbao: {error}", file=sys.stderr)
+        print(f"mbao: {command.in_flags(str(error))}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         if args.command == "view":
