@@ -39,6 +39,14 @@ glm::vec3 cosine_direction(const glm::vec3& n, float u1, float u2) {
   return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
 }
 
+// SPEC 3.3: a direction below the geometric surface is mirrored in it; false
+// for one along the surface, which counts as occluded.
+bool mirrored_above(const glm::vec3& geometric_normal, glm::vec3* dir) {
+  const float along = glm::dot(*dir, geometric_normal);
+  if (along < 0.0f) *dir -= 2.0f * along * geometric_normal;
+  return glm::dot(*dir, geometric_normal) > 0.0f;
+}
+
 struct Surface {
   glm::vec3 position{0.0f};
   float offset = 0.0f;
@@ -250,9 +258,9 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
                                          ? level.node * std::uint32_t(s.samples) + c
                                          : (stack.size() == 1 ? c : level.node);
           const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s.seed);
-          const glm::vec3 dir = cosine_direction(level.surface.shading_normal, philox_unit_float(r.v[0]),
-                                                 philox_unit_float(r.v[1]));
-          if (glm::dot(dir, level.surface.geometric_normal) <= 0.0f) continue;
+          glm::vec3 dir = cosine_direction(level.surface.shading_normal, philox_unit_float(r.v[0]),
+                                           philox_unit_float(r.v[1]));
+          if (!mirrored_above(level.surface.geometric_normal, &dir)) continue;
           ++rays[thread];
           RTCRayHit ray = single_ray({leaving_point(level.surface), dir}, t_max);
           if (!job.bounces_on(bounce)) {
@@ -320,9 +328,9 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
             const std::uint32_t node = branching ? parent.node * std::uint32_t(s.samples) + c
                                                  : (bounce == 1 ? c : parent.node);
             const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s.seed);
-            const glm::vec3 dir =
+            glm::vec3 dir =
                 cosine_direction(surface.shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
-            if (glm::dot(dir, surface.geometric_normal) <= 0.0f) continue;
+            if (!mirrored_above(surface.geometric_normal, &dir)) continue;
             queue.push_back({parent.slot, bounce, node, {leaving_point(surface), dir}});
           }
         }

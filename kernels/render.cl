@@ -173,7 +173,7 @@ static inline uint tile_pixel(const AoSettings* s, uint first_position, uint ind
   return pixel_at_position(first_position + index, s->image_size.x, s->image_size.y);
 }
 
-#define MBAO_RAY_BLOCKED 0  // below the geometric surface: occluded, no bounce
+#define MBAO_RAY_BLOCKED 0  // along the geometric surface: occluded, no bounce
 #define MBAO_RAY_ESCAPED 1  // nothing within max_distance
 #define MBAO_RAY_HIT 2
 
@@ -187,13 +187,23 @@ static inline void origin_of_rays(const SceneView* scene, const Surface* from, u
     set_ray_origin(leaving_point(from), origin);
 }
 
+// A direction drawn around the shading normal that points below the geometric
+// surface, mirrored in it (SPEC 3.3): a convex mesh's smooth normals must not
+// send rays into the mesh. Returns whether it leaves the surface, which only
+// one along the surface (measure zero, or rounding) does not.
+static inline int mirrored_above(float3 geometric_normal, float3* dir) {
+  const float along = dot(*dir, geometric_normal);
+  if (along < 0.0f) *dir -= 2.0f * along * geometric_normal;
+  return dot(*dir, geometric_normal) > 0.0f;
+}
+
 // Draws the direction of the AO ray at `node` of the estimator's tree from
-// `from`: returns 0 where it points below the geometric surface (blocked).
+// `from`: returns 0 where it runs along the geometric surface (blocked).
 static inline int ao_ray_direction(const Surface* from, const AoSettings* s, uint pixel, uint camera_sample,
                                    uint bounce, uint node, float3* dir) {
   const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s->seed);
   *dir = cosine_direction(from->shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
-  return dot(*dir, from->geometric_normal) > 0.0f;
+  return mirrored_above(from->geometric_normal, dir);
 }
 
 // ao_ray_direction for the nodes node .. node + 3, drawn together on vectors:
@@ -209,7 +219,7 @@ static inline void ao_ray_directions_x4(const Surface* from, const AoSettings* s
   dir[1] = (float3)(x.s1, y.s1, z.s1);
   dir[2] = (float3)(x.s2, y.s2, z.s2);
   dir[3] = (float3)(x.s3, y.s3, z.s3);
-  for (uint j = 0; j < 4; ++j) cast[j] = dot(dir[j], from->geometric_normal) > 0.0f;
+  for (uint j = 0; j < 4; ++j) cast[j] = mirrored_above(from->geometric_normal, &dir[j]);
 }
 
 // Draws the direction of one AO ray from `from` and traces it from `origin`,

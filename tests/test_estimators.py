@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mbao
-from meshes import random_soup
+from meshes import merge, plane, random_soup
 
 ESTIMATORS = ("branching", "path")
 
@@ -168,18 +168,22 @@ def test_auto_organisation_is_the_wavefront_on_gpus_and_the_megakernel_elsewhere
 
 def test_camera_samples_average_over_the_pixel():
     """spp > 1 jitters the camera rays uniformly over the pixel and averages
-    (a box filter). Seen from straight above, a half-plane x <= 0 whose shading
-    normals lean by alpha has L_1 = c = (1 + cos alpha) / 2 everywhere, and
-    misses count 1: a pixel covering a fraction f of the half-plane has mean
-    1 - f (1 - c). Pixels along the edge are partly covered."""
-    alpha, r, spp = math.radians(60.0), 16, 64
-    c = (1.0 + math.cos(alpha)) / 2.0
-    vertices = np.array([[-50.0, 0.0, -50.0], [0.0, 0.0, -50.0], [0.0, 0.0, 50.0], [-50.0, 0.0, 50.0]])
-    normals = np.tile([math.sin(alpha), math.cos(alpha), 0.0], (4, 1))
-    scene = mbao.Mesh(vertices, [[0, 1, 2], [0, 2, 3]], normals)
+    (a box filter). Seen from straight above, a half-plane x <= 0 under a far
+    wider ceiling at height H, within a radius d > H, has L_1 = c = (H / d)^2
+    everywhere (the directions within d of the ceiling are those with
+    cos theta >= H / d, of cosine weight 1 - (H / d)^2), and misses count 1: a
+    pixel covering a fraction f of the half-plane has mean 1 - f (1 - c).
+    Pixels along the edge are partly covered. The camera looks down from below
+    the ceiling."""
+    ceiling, radius, r, spp = 3.0, 4.5, 16, 64
+    c = (ceiling / radius) ** 2
+    half_plane = np.array([[-50.0, 0.0, -50.0], [0.0, 0.0, -50.0], [0.0, 0.0, 50.0], [-50.0, 0.0, 50.0]])
+    vertices, indices = merge((half_plane, [[0, 1, 2], [0, 2, 3]]), plane(100.0, ceiling))
+    scene = mbao.Mesh(vertices, indices)
     width, height, depth, vfov = 16, 6, 2.0, 60.0
     camera = mbao.Camera((0.3, depth, 0.1), (0.3, 0.0, 0.1), up=(0.0, 0.0, -1.0), vfov_deg=vfov)
-    result = mbao.render(scene, camera=camera, width=width, height=height, samples=r, spp=spp, seed=11)
+    result = mbao.render(scene, camera=camera, width=width, height=height, samples=r, spp=spp, seed=11,
+                         max_distance=radius)
 
     # SPEC 3.1: right = normalize(cross(forward, up)) = +x here, so image column
     # x covers world x in 0.3 + depth * tan(vfov / 2) * aspect * [u(x), u(x + 1)].
