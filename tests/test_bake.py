@@ -245,6 +245,11 @@ def test_a_closed_scene_baked_without_a_radius_warns_as_a_render_does():
         mbao.bake(grid, samples=4, max_distance=0.5, progress=False)
 
 
+def test_a_bake_refuses_camera_frame_which_suggests_no_radius():
+    with pytest.raises(ValueError, match='camera="frame" suggests no radius'):
+        bake(*plane(1.0), camera="frame")
+
+
 def test_bake_and_render_default_to_the_same_bounces():
     """SPEC 1: b is 1 unless asked for, on the command line too."""
     from mbao.cli import _parser

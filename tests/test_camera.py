@@ -68,3 +68,26 @@ def test_a_mesh_without_a_camera_is_framed_whole():
         assert len(rows) > 0
         # Nothing is cut off: no covered pixel on the image border.
         assert rows.min() > 0 and columns.min() > 0 and rows.max() < height - 1 and columns.max() < width - 1
+
+
+def test_camera_frame_frames_the_whole_scene_whatever_camera_it_has(tmp_path):
+    """SPEC 3.1: camera="frame" is the framing camera even where the file has
+    a close-up camera of its own, which stays the default."""
+    from gltf_writer import GltfBuilder
+    from meshes import box, merge
+
+    vertices, indices = merge(box((-4.0, 0.0, -1.0), (-3.0, 1.0, 0.0)), box((3.0, 0.0, -1.0), (4.0, 2.0, 0.0)))
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(vertices, indices)])),
+                 b.add_node(camera=b.add_perspective_camera(0.3), translation=(3.5, 1.0, 3.0))])
+    scene = mbao.load(b.write(tmp_path / "close_up.glb"))
+    width, height = 48, 32
+    assert scene.default_camera(width, height).eye == scene.camera.eye  # the file's camera is the default
+    framed = mbao.render(scene, camera="frame", width=width, height=height)
+    np.testing.assert_array_equal(
+        framed.ao, mbao.render(scene, camera=scene.framing_camera(width, height), width=width, height=height).ao)
+    rows, columns = np.nonzero(framed.mask)
+    assert rows.min() > 0 and columns.min() > 0 and rows.max() < height - 1 and columns.max() < width - 1
+    assert columns.min() < width / 3 and columns.max() > 2 * width / 3  # both boxes, left and right
+    close_up = mbao.render(scene, width=width, height=height).mask  # the file's camera: one box, cut by the border
+    assert close_up[:, 0].any() or close_up[0, :].any() or close_up[:, -1].any() or close_up[-1, :].any()

@@ -272,6 +272,19 @@ def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
     np.testing.assert_array_equal(read_image(tmp_path / "cli.exr")[1][..., 0], expected.ao)
 
 
+@pytest.mark.parametrize("command", ["render", "orbit"])
+def test_camera_frame_renders_from_the_framing_camera(tmp_path, gltf_scene, command):
+    scene, _, _ = gltf_scene
+    output = "frame.exr" if command == "render" else "frame.gif"
+    proc = run_mbao(command, scene, "--camera", "frame", "--width", 12, "--height", 9, "-o", output,
+                    *(["--frames", 2] if command == "orbit" else []), cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    if command == "render":
+        loaded = mbao.load(scene)
+        expected = mbao.render(loaded, camera=loaded.framing_camera(12, 9), width=12, height=9)
+        np.testing.assert_array_equal(read_image(tmp_path / output)[1][..., 0], expected.ao)
+
+
 def test_hbao_from_the_command_line_equals_the_api(tmp_path, gltf_scene):
     scene, camera, _ = gltf_scene
     proc = run_mbao("render", scene, "--camera", camera, "--width", 12, "--height", 9, "--method", "hbao",

@@ -17,6 +17,14 @@ namespace py = pybind11;
 namespace mbao::bindings {
 namespace {
 
+// width / height of a render, refused unless both are at least 1.
+float aspect_of(std::int64_t width, std::int64_t height) {
+  if (width < 1 || height < 1)
+    throw std::invalid_argument("width and height must be >= 1, got " + std::to_string(width) + "x" +
+                                std::to_string(height));
+  return float(width) / float(height);
+}
+
 using Vec3 = std::array<float, 3>;
 
 py::tuple to_tuple(const glm::vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
@@ -136,13 +144,18 @@ so later renders of the same scene do not rebuild it.)doc")
       .def(
           "default_camera",
           [](const Scene& s, std::int64_t width, std::int64_t height) {
-            if (width < 1 || height < 1)
-              throw std::invalid_argument("width and height must be >= 1, got " + std::to_string(width) + "x" +
-                                          std::to_string(height));
-            return s.default_camera(float(width) / float(height));
+            return s.default_camera(aspect_of(width, height));
           },
           py::arg("width"), py::arg("height"),
           "The camera a render of this size uses when given none: the scene's own, else one framing it.")
+      .def(
+          "framing_camera",
+          [](const Scene& s, std::int64_t width, std::int64_t height) {
+            return Camera::framing(s.bounds(), aspect_of(width, height));
+          },
+          py::arg("width"), py::arg("height"),
+          "The camera that frames the whole scene in a render of this size (SPEC 3.1), whatever camera the "
+          "scene has: what camera=\"frame\" renders from.")
       .def_property_readonly("name", &Scene::name)
       .def_property_readonly("warnings", &Scene::warnings, "What loading skipped, one sentence each.")
       .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh().triangles.size(); })

@@ -13,7 +13,7 @@ from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
 from .devices import resolve
 from .render import warn_if_closed
-from .scene import Mesh, as_camera, as_scene, is_gltf_path, load
+from .scene import FRAME, Mesh, as_camera, as_scene, is_gltf_path, load
 from .settings import RENDER, Engine, checked, engine_values
 
 TARGETS = ("vertices", "texture")
@@ -184,6 +184,8 @@ def _radius(scene, max_distance, camera):
     """(radius, source) by SPEC 1's rule for a bake: given, else suggested by `camera` or the scene's own, else inf."""
     if max_distance is not None:
         return checked(RENDER["max_distance"], max_distance), "settings"
+    if camera == FRAME:
+        raise ValueError('camera="frame" suggests no radius: a bake takes only the radius of the camera it is given')
     suggesting = as_camera(camera) if camera is not None else scene.camera
     if suggesting is not None and suggesting.max_distance is not None:
         return suggesting.max_distance, "camera"

@@ -20,7 +20,7 @@ from . import __version__
 from ._progress import progress_count, progress_reporter
 from .images import check_writable, save_image
 from .render import render, render_sequence
-from .scene import load
+from .scene import FRAME, as_camera, load
 from .settings import ENGINE, RENDER, Engine
 
 QUIET_HELP = "no progress bar (by default one is shown on a terminal for work of more than a few seconds)"
@@ -74,7 +74,8 @@ def _parser():
     r.add_argument("--no-alpha", action="store_true",
                    help="write the AO alone, without the coverage that tells the background apart (SPEC 2): a PNG's "
                         "alpha, an EXR's channel 'coverage'")
-    r.add_argument("--camera", help="camera.json (SPEC 3.1.1) (default: the scene's own camera, else one framing it)")
+    r.add_argument("--camera", help=f"camera.json (SPEC 3.1.1), or {FRAME} for one framing the whole scene "
+                                    "(default: the scene's own camera, else one framing it)")
     for spec in RENDER.values():
         _add_setting(r, spec)
     r.add_argument("--denoise", action="store_true",
@@ -98,7 +99,8 @@ def _parser():
                                             "and error against time for every method")
     c.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
     c.add_argument("-o", "--output", default="compare", help="file name prefix")
-    c.add_argument("--camera", help="camera.json; None: the scene's own camera, else one framing it")
+    c.add_argument("--camera", help=f"camera.json, or {FRAME} for one framing the whole scene; None: the scene's own "
+                                    "camera, else one framing it")
     c.add_argument("--width", type=int, default=256, help="image width in pixels")
     c.add_argument("--height", type=int, default=256, help="image height in pixels")
     c.add_argument("--samples", type=int, default=4, help="r of the Figure 2 renders")
@@ -156,8 +158,9 @@ def _parser():
     o = commands.add_parser("orbit", help="render a camera's turn around the scene as an animated GIF")
     o.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
     o.add_argument("-o", "--output", default="orbit.gif", help="the GIF to write (default: %(default)s)")
-    o.add_argument("--camera", help="camera.json of the first frame (default: the scene's own camera, else one "
-                   "framing it); the eye turns about the vertical line through its target")
+    o.add_argument("--camera", help=f"camera.json of the first frame, or {FRAME} for one framing the whole scene "
+                                    "(default: the scene's own camera, else one framing it); the eye turns about the "
+                                    "vertical line through its target")
     o.add_argument("--frames", type=int, default=60, help="frames in the turn (default: %(default)s)")
     o.add_argument("--degrees", type=float, default=360.0, help="the turn's angle (default: %(default)s)")
     o.add_argument("--fps", type=float, default=25.0, help="frames per second of the GIF (default: %(default)s)")
@@ -181,7 +184,8 @@ def _add_view(commands):
 
     v = commands.add_parser("view", help="a live, progressive view in the browser (docs/viewer.md)")
     v.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
-    v.add_argument("--camera", help="camera.json of the home view (default: the scene's own camera, else one framing it)")
+    v.add_argument("--camera", help=f"camera.json of the home view, or {FRAME} for one framing the whole scene "
+                                    "(default: the scene's own camera, else one framing it)")
     for spec in RENDER.values():
         if spec["name"] != "method":
             _add_setting(v, spec)
@@ -240,13 +244,18 @@ def _device_argument(text):
     return int(text) if text is not None and text.isdigit() else text
 
 
+def _camera_argument(args, scene):
+    """--camera: a camera.json, or "frame"; none: the scene's own camera, else the framing one."""
+    size = (args.width, args.height)
+    return as_camera(args.camera, scene, size) if args.camera else scene.default_camera(*size)
+
+
 def _render(args):
     check_writable(args.output, "-o")  # before the render, not after it
     scene = load(args.scene) if args.scene else _core.cornell_box()
-    camera = _core.Camera.load(args.camera) if args.camera else None
     result = render(
         scene,
-        camera=camera,
+        camera=args.camera,
         hbao=_core.HBAO(args.hbao_directions, args.hbao_steps, args.hbao_angle_bias, args.hbao_falloff),
         engine=Engine(**{name: getattr(args, name) for name in ENGINE}),
         device=_device_argument(args.device),
@@ -305,7 +314,7 @@ def _compare(args):
     from . import compare
 
     scene = load(args.scene) if args.scene else _core.cornell_box()
-    camera = _core.Camera.load(args.camera) if args.camera else scene.default_camera(args.width, args.height)
+    camera = _camera_argument(args, scene)
     with _client_of(args.scheduler) as client:
         compare.run(scene, camera, args, _device_argument(args.device), client)
     return 0
@@ -370,7 +379,7 @@ def _orbit(args):
 
     check_gif(args.output, args.fps, "-o")  # before the frames, not after them
     scene = load(args.scene) if args.scene else _core.cornell_box()
-    first = _core.Camera.load(args.camera) if args.camera else scene.default_camera(args.width, args.height)
+    first = _camera_argument(args, scene)
     sequence = render_sequence(
         scene, orbit_cameras(first, args.frames, args.degrees), temporal=args.temporal,
         denoise=args.denoise or None, device=_device_argument(args.device), progress=False,

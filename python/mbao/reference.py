@@ -106,7 +106,7 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
         midway costs its chunks' time, not the result.
     Returns a Reference.
     """
-    scene, camera = as_scene(scene), as_camera(camera)
+    scene = as_scene(scene)
     target_error = _checks.real("target_error", target_error)
     if not target_error > 0.0:
         raise ValueError(f"target_error must be > 0, got {target_error}")
@@ -114,6 +114,7 @@ def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, 
     max_passes = _checks.integer("max_passes", max_passes, min_passes, 2**31, "[min_passes, 2**31]")
     checked_progress(progress)
     width, height = _checks.integer("width", width), _checks.integer("height", height)
+    camera = as_camera(camera, scene, (width, height))
     if camera is None:
         camera = scene.default_camera(width, height)
     settings = dict(camera=camera, width=width, height=height, bounces=bounces, samples=samples, estimator="path",

@@ -54,8 +54,9 @@ class Result:
 
 def render(scene, *, camera=None, hbao=None, denoise=None, engine=None, device=None, progress=None, **settings):
     # The signature and the docstring are made below from the settings' table.
-    scene, camera = as_scene(scene), as_camera(camera)
+    scene = as_scene(scene)
     values = _setting_values("render", _engine(engine, settings), settings)
+    camera = as_camera(camera, scene, _size(values))
     return _render(scene, camera, values, resolve(device), progress=progress, hbao=hbao, denoise=denoise)
 
 
@@ -64,8 +65,8 @@ def render_sequence(scene, cameras, *, temporal=True, denoise=None, engine=None,
     """Renders a frame per camera, yielding a Result for each as it is done.
 
     scene: as render's; loaded once for the whole sequence.
-    cameras: an iterable of mbao.Camera, camera.json paths or None (the scene's
-        default camera); it may be a generator.
+    cameras: an iterable of mbao.Camera, camera.json paths, "frame" or None
+        (as render's camera); it may be a generator.
     temporal: True, an mbao.Temporal, or False: each frame blends its render
         with the history of the frames before, reprojected into its camera
         through the camera hits, and drops it where the surface differs (a
@@ -91,7 +92,13 @@ def _frames(scene, cameras, values, device, denoise, history, progress):
     first_seed = values.get("seed", RENDER["seed"]["default"])
     for k, camera in enumerate(cameras):
         frame = dict(values, seed=checked(RENDER["seed"], first_seed + k))
-        yield _render(scene, as_camera(camera), frame, device, progress=progress, denoise=denoise, history=history)
+        yield _render(scene, as_camera(camera, scene, _size(values)), frame, device, progress=progress, denoise=denoise,
+                      history=history)
+
+
+def _size(values):
+    """(width, height) of a render with these setting values."""
+    return tuple(values.get(name, RENDER[name]["default"]) for name in ("width", "height"))
 
 
 def _setting_values(function, engine, settings):
@@ -135,9 +142,10 @@ render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a R
 scene: an mbao.Scene (mbao.load, mbao.Mesh, mbao.cornell_box()), or the path of a
     scene file (mbao.load's formats), loaded for this call (load it once with mbao.load
     to render it again).
-camera: an mbao.Camera or the path of a camera.json file; by default the scene's
-    own (the Cornell box's, a glTF file's first perspective camera), else one
-    framing the scene's bounds.
+camera: an mbao.Camera, the path of a camera.json file, or "frame" for the
+    camera that frames the whole scene (SPEC 3.1); by default the scene's own
+    (the Cornell box's, a glTF file's first perspective camera), else the
+    framing one.
 
 {chr(10).join(describe(spec) for spec in RENDER.values())}
 
@@ -285,8 +293,9 @@ def gbuffer(scene, *, camera=None, width=RENDER["width"]["default"], height=REND
     it: a GBuffer. scene, camera, width, height, engine and device are as for
     render; the engine's traversal walks the camera rays ("auto": in packets
     on CPUs)."""
-    scene, camera = as_scene(scene), as_camera(camera)
+    scene = as_scene(scene)
     values = _setting_values("gbuffer", _engine(engine, {}), dict(width=width, height=height))
+    camera = as_camera(camera, scene, _size(values))
     plane, origin, stats = _core.gbuffer(scene, camera, resolve(device), values)
     triangle = plane["triangle"].view(np.uint32).astype(np.int64)
     mask = triangle != 0xFFFFFFFF

@@ -98,11 +98,21 @@ def as_scene(scene):
     raise TypeError(f"scene must be an mbao.Scene, an mbao.Mesh or the path of a scene file, got {type(scene).__name__}")
 
 
-def as_camera(camera):
-    """`camera` if it is an mbao.Camera or None, else the camera.json file it names (SPEC 3.1.1), loaded."""
+# camera="frame": the camera that frames the whole scene, whatever camera it has (SPEC 3.1).
+FRAME = "frame"
+
+
+def as_camera(camera, scene=None, size=None):
+    """`camera` if it is an mbao.Camera or None; for "frame", the camera that
+    frames `scene` at `size` (width, height) (SPEC 3.1); else the camera.json
+    file it names (SPEC 3.1.1), loaded."""
     if camera is None or isinstance(camera, _core.Camera):
         return camera
+    if camera == FRAME:
+        if scene is None:
+            raise TypeError('camera="frame" frames a scene: this call has none to frame')
+        return scene.framing_camera(*size)
     if isinstance(camera, (str, os.PathLike)):
         return _core.Camera.load(os.fspath(camera))
-    raise TypeError(f"camera must be an mbao.Camera, the path of a camera.json file or None, "
+    raise TypeError(f"camera must be an mbao.Camera, the path of a camera.json file, \"frame\" or None, "
                     f"got {type(camera).__name__}")

@@ -6,6 +6,7 @@ import types
 from .. import _core
 from ..devices import resolve
 from ..scene import as_camera, is_gltf_path, load
+from ..settings import RENDER
 from .baked import load_bake
 from .frames import StillView
 from .server import BackgroundServer, Viewer
@@ -24,7 +25,9 @@ def open_viewer(scene=None, *, camera=None, device=None, host="127.0.0.1", port=
         path = scene
         scene = load(path, texcoords=is_gltf_path(path))
         bake = load_bake(path, scene)
-    return Viewer(scene, as_camera(camera), settings, resolve(device), bake=bake, host=host, port=port, token=token)
+    size = tuple(settings.get(name, RENDER[name]["default"]) for name in ("width", "height"))
+    return Viewer(scene, as_camera(camera, scene, size), settings, resolve(device), bake=bake, host=host, port=port,
+                  token=token)
 
 
 class View:
