@@ -86,6 +86,8 @@ def test_points_and_lines_are_skipped_with_a_warning(tmp_path):
     ("noise.dae", bytes(range(256)) * 2, "XML"),
     ("empty.obj", b"", "too small"),
     ("lines_only.obj", b"v 0 0 0\nv 1 0 0\nl 1 2\n", "no triangles"),
+    ("readme.obj", b"This is a text file, not a model.\nIt has a few lines of words.\n", r"readme.obj: no meshes in it"),
+    ("points.obj", b"v 0 0 0\nv 1 0 0\n", "points.obj: a mesh in it has vertices but no faces"),
 ])
 def test_a_bad_file_raises_load_error_naming_it(tmp_path, name, content, message):
     path = tmp_path / name

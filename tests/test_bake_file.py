@@ -305,6 +305,11 @@ def test_the_command_line_bakes_a_file(tmp_path):
                           str(tmp_path / "o.gltf"), "--samples", "2", "--quiet"], capture_output=True, text=True)
     assert obj.returncode == 0, obj.stderr
     assert validation_errors(tmp_path / "o.gltf") == []
+    obj_texture = subprocess.run([sys.executable, "-m", "mbao", "bake", str(floor_and_wall_obj(tmp_path)), "-o",
+                                  str(tmp_path / "ot.glb"), "--target", "texture", "--texcoord", "generate",
+                                  "--resolution", "32", "--samples", "2", "--quiet"], capture_output=True, text=True)
+    assert obj_texture.returncode == 0, obj_texture.stderr
+    assert "no material  32x32 into generated UVs" in obj_texture.stdout and "material -1" not in obj_texture.stdout
     refused = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "x.gltf")],
                              capture_output=True, text=True)
     assert refused.returncode == 2 and refused.stderr.startswith("mbao: output") and "must be a .glb" in refused.stderr

@@ -272,10 +272,20 @@ double time_limit(const LoadOptions& options, std::uintmax_t bytes) {
   return options.import_seconds > 0.0 ? options.import_seconds : 60.0 + 10.0 * double(bytes) / double(1 << 20);
 }
 
+// Why Assimp read nothing from `path`, said in terms of the file where Assimp's
+// own words name its data structures.
+std::string import_failure(const std::string& path, const std::string& assimp_error) {
+  if (assimp_error.find("mNumMeshes is 0") != std::string::npos)
+    return path + ": no meshes in it (Assimp found no geometry it could read)";
+  if (assimp_error.find("contains no faces") != std::string::npos)
+    return path + ": a mesh in it has vertices but no faces";
+  return path + ": " + assimp_error;
+}
+
 // What `importer` read (`scene`: null where it failed), `path` naming it.
 ImportedScene imported(const Assimp::Importer& importer, const aiScene* scene, const std::string& path,
                        const LoadOptions& options) {
-  if (!scene) throw LoadError(path + ": " + importer.GetErrorString());
+  if (!scene) throw LoadError(import_failure(path, importer.GetErrorString()));
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
     throw LoadError(path + ": Assimp read no complete scene from it");
   std::vector<std::string> warnings;

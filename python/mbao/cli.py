@@ -360,7 +360,8 @@ def _bake(args):
         t = texture.stats
         height, width = texture.image.shape
         into = "generated UVs" if texture.texcoord == "generated" else f"TEXCOORD_{texture.texcoord}"
-        print(f"material {material:<3} {width}x{height} into {into}: {t['covered']} texels covered, "
+        label = f"material {material:<3}" if material >= 0 else "no material "  # the triangles without one
+        print(f"{label} {width}x{height} into {into}: {t['covered']} texels covered, "
               f"{t['dilated']} dilated, mean {texture.image[texture.coverage].mean():.3f}")
     if args.vertex_colors:
         print("COLOR_0      multiplied by the AO; glTF's COLOR_0 darkens direct light too, which occlusion should not")
