@@ -11,8 +11,10 @@ SANITIZE_BUILD := build-sanitize
 JOBS := $(shell nproc)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 NODE_PACKAGES := nodejs npm
-# The npm tools the tests run, each installed in its folder (below).
-NPM_TOOLS := tests/gltf_validator/node_modules/.installed tests/gltf_transform/node_modules/.installed
+# The npm tools, each installed in its folder (below): `python -m mbao check`'s
+# glTF-Validator, which the tests run too, and the tests' glTF-Transform.
+GLTF_VALIDATOR := tools/gltf_validator/node_modules/.installed
+NPM_TOOLS := $(GLTF_VALIDATOR) tests/gltf_transform/node_modules/.installed
 
 # The C++ core and benchmark need only the first line; the rest is for the
 # Python module, the tests, image files and running the notebooks headless.
@@ -21,7 +23,7 @@ APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbconvert python3-nbformat python3-ipykernel \
   python3-matplotlib python3-tqdm python3-pil python3-distributed python3-dask python3-aiohttp libgtest-dev
 
-.PHONY: demo test bench notebook notebook-kernel deps build sanitize-build clean
+.PHONY: demo test bench notebook notebook-kernel gltf-validator deps build sanitize-build clean
 
 demo: build
 	mkdir -p out
@@ -41,16 +43,19 @@ test: build sanitize-build $(NPM_TOOLS)
 	$(VENV)/bin/python -m pytest tests
 	cd $(SANITIZE_BUILD) && ctest --output-on-failure
 
-# The npm tools the tests run, each at the version its folder's
-# package-lock.json pins, installed beside it: tests/gltf_validator, the Khronos
-# glTF-Validator, which checks the files `mbao bake` writes, and
-# tests/gltf_transform, glTF-Transform's command line, which writes the
-# quantized and compressed copies of the shared scenes the loading tests read.
-# Node.js and npm come from Debian where the machine has no npm.
-tests/%/node_modules/.installed: tests/%/package.json tests/%/package-lock.json
+# The npm tools, each at the version its folder's package-lock.json pins,
+# installed beside it: tools/gltf_validator, the Khronos glTF-Validator, which
+# `python -m mbao check FILE` runs and the tests run on the files `mbao bake`
+# writes (`make gltf-validator` installs it alone), and tests/gltf_transform,
+# glTF-Transform's command line, which writes the quantized and compressed
+# copies of the shared scenes the loading tests read. Node.js and npm come from
+# Debian where the machine has no npm.
+gltf-validator: $(GLTF_VALIDATOR)
+
+%/node_modules/.installed: %/package.json %/package-lock.json
 	command -v npm >/dev/null || { $(SUDO) apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $(NODE_PACKAGES); }
-	cd tests/$* && npm ci --no-audit --no-fund
+	cd $* && npm ci --no-audit --no-fund
 	touch $@
 
 # The seed paper's Table 1 workload on the Cornell box and every shared scene,

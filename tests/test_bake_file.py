@@ -17,13 +17,13 @@ from meshes import plane
 from mbao._gltf import GltfDocument
 from test_bake_gltf import floor_and_wall
 
-VALIDATOR = REPO / "tests" / "gltf_validator"
+VALIDATOR = REPO / "tools" / "gltf_validator"
 
 
 def validation_errors(path):
     """The glTF-Validator's errors on `path`, as (code, pointer) pairs."""
     if not (VALIDATOR / "node_modules" / "gltf-validator").exists():
-        pytest.fail("the glTF-Validator is not installed: `make test` installs it into tests/gltf_validator")
+        pytest.fail("the glTF-Validator is not installed: `make test` installs it into tools/gltf_validator")
     run = subprocess.run(["node", str(VALIDATOR / "validate.mjs"), str(path)], capture_output=True, text=True,
                          check=True)
     report = json.loads(run.stdout)

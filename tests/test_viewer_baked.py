@@ -10,9 +10,10 @@ import pytest
 import mbao
 from conftest import REPO
 from gltf_writer import CLAMP_TO_EDGE, MIRRORED_REPEAT, REPEAT, GltfBuilder, png_bytes
+from mbao import load_bake
 from mbao._gltf import GltfDocument
 from mbao.viewer import messages
-from mbao.viewer.baked import baked_occlusion, load_bake
+from mbao.viewer.baked import baked_occlusion
 from mbao.viewer.session import to_8bit
 from scene_files import write_obj
 from test_bake_gltf import floor_and_wall

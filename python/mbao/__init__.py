@@ -23,6 +23,7 @@ from .reference import Reference, reference, reference_camera
 from .render import GBuffer, Result, gbuffer, render, render_sequence, trace
 from .scene import Mesh, load
 from .settings import Engine
+from .stored_bake import StoredBake, load_bake
 
 __all__ = [
     "DEFAULT_MAX_RAYS",
@@ -40,6 +41,7 @@ __all__ = [
     "Reference",
     "Result",
     "Scene",
+    "StoredBake",
     "Temporal",
     "bake",
     "bake_file",
@@ -50,6 +52,7 @@ __all__ = [
     "gbuffer",
     "gtao_multibounce",
     "load",
+    "load_bake",
     "plot_convergence",
     "reference",
     "reference_camera",

@@ -4,6 +4,7 @@
     python -m mbao bake scene.glb -o baked.glb [--target texture|vertices] ...
     python -m mbao orbit [scene.glb] -o orbit.gif [--frames 60] [--temporal] [--denoise] ...
     python -m mbao view [scene.glb] [--camera camera.json] [--bounces 2] [--host 127.0.0.1] [--port N] ...
+    python -m mbao check file.glb
     python -m mbao devices
 """
 
@@ -174,6 +175,10 @@ def _parser():
     o.add_argument("--quiet", action="store_true", help=QUIET_HELP)
 
     _add_view(commands)
+
+    k = commands.add_parser("check", help="validate a glTF file (the Khronos glTF-Validator) and say what ambient "
+                                          "occlusion it stores")
+    k.add_argument("file", help="a .gltf or .glb file, a baked one or any other")
 
     commands.add_parser("devices", help="list the OpenCL devices")
     return parser
@@ -453,6 +458,10 @@ def main(argv=None):
                 for d in devices():
                     print(f"{d.index}: {d.platform}: {d.name} ({d.type}, {d.version})")
                 return 0
+            if args.command == "check":
+                from .check import check
+
+                return check(args.file)
             if args.command == "compare":
                 return _compare(args)
             if args.command == "bake":

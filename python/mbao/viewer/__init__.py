@@ -7,7 +7,7 @@ from .. import _core
 from ..devices import resolve
 from ..scene import as_camera, is_gltf_path, load
 from ..settings import RENDER
-from .baked import load_bake
+from ..stored_bake import load_bake
 from .frames import StillView
 from .server import BackgroundServer, Viewer
 
