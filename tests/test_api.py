@@ -300,6 +300,38 @@ def test_the_defaults_are_the_cores(cornell):
     assert a.stats["kernel_options"] == b.stats["kernel_options"]
 
 
+@pytest.mark.parametrize("cls", [mbao.HBAO, mbao.Denoise, mbao.Temporal])
+def test_the_cores_settings_classes_have_real_signatures_whose_defaults_they_take(cls):
+    """inspect.signature (help(), IDEs, notebooks' completion) reads a core class
+    as it is called; each default is what the constructor gives."""
+    parameters = inspect.signature(cls).parameters
+    made = cls()
+    assert parameters and all(getattr(made, name) == p.default for name, p in parameters.items())
+
+
+def test_a_camera_has_a_real_signature_and_a_repr_that_makes_it_again():
+    signature = inspect.signature(mbao.Camera)
+    assert list(signature.parameters) == ["eye", "target", "up", "vfov_deg", "max_distance"]
+    camera = mbao.Camera((0.0, 1.0, 5.0), (0.0, 0.0, 0.0))
+    assert [camera.up, camera.vfov_deg, camera.max_distance] == [
+        tuple(signature.parameters["up"].default), signature.parameters["vfov_deg"].default, None]
+    suggesting = mbao.Camera((0.0, 1.0, 5.0), (0.0, 0.0, 0.0), max_distance=2.5)
+    again = eval("mbao." + repr(suggesting))
+    assert (again.eye, again.target, again.max_distance) == (suggesting.eye, suggesting.target, 2.5)
+    assert "does not use it" not in mbao.Camera.__doc__ and "max_distance_source" in mbao.Camera.__doc__
+
+
+@pytest.mark.parametrize("cls, maker", [(mbao.Scene, "mbao.load"), (mbao.Device, "mbao.devices()")])
+def test_classes_made_elsewhere_say_where_when_called(cls, maker):
+    assert not inspect.signature(cls).parameters
+    with pytest.raises(TypeError, match=re.escape(maker)):
+        cls()
+
+
+def test_a_mesh_keeps_its_own_signature():
+    assert list(inspect.signature(mbao.Mesh).parameters) == ["vertices", "indices", "normals", "texcoords"]
+
+
 def test_engine_keywords_of_render_still_work_for_one_release(cornell):
     settings = dict(width=8, height=8, bounces=2, seed=3)
     with pytest.warns(DeprecationWarning, match=r"engine=mbao.Engine\(traversal=...\)"):

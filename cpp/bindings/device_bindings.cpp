@@ -12,6 +12,9 @@ namespace mbao::bindings {
 
 void bind_devices(py::module_& m) {
   py::class_<DeviceInfo>(m, "Device", "An OpenCL device, as listed by mbao.devices().")
+      .def(py::init([]() -> DeviceInfo {
+        throw py::type_error("mbao.Device() makes nothing: the devices are mbao.devices()");
+      }))
       .def_readonly("index", &DeviceInfo::index, "Position in mbao.devices(); pass it as device=.")
       .def_readonly("name", &DeviceInfo::name)
       .def_readonly("platform", &DeviceInfo::platform)

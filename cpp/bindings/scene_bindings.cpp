@@ -82,9 +82,10 @@ A pinhole camera (SPEC 3.1): right-handed, Y up as in glTF.
 
 Camera(eye, target, up=(0, 1, 0), vfov_deg=60.0, max_distance=None)
 
-``vfov_deg`` is the full vertical field of view. ``max_distance`` is only
-carried along (camera.json's suggested AO radius); ``render`` does not use it
-unless you pass it.)doc")
+``vfov_deg`` is the full vertical field of view, in degrees. ``max_distance``
+is the AO radius the camera suggests (camera.json's, a glTF camera's extras),
+in world units, or None: a render or bake given no ``max_distance`` of its own
+takes it (SPEC 1), and says so in ``stats["max_distance_source"]``.)doc")
       .def(py::init([](const Vec3& eye, const Vec3& target, const Vec3& up, float vfov_deg,
                        std::optional<float> max_distance) {
              Camera camera;
@@ -112,14 +113,20 @@ unless you pass it.)doc")
                  py::repr(py::float_(p.y)).cast<std::string>() + ", " +
                  py::repr(py::float_(p.z)).cast<std::string>() + ")";
         };
+        const std::string radius =
+            c.max_distance ? ", max_distance=" + py::repr(py::float_(*c.max_distance)).cast<std::string>() : "";
         return "Camera(eye=" + v(c.eye) + ", target=" + v(c.target) + ", up=" + v(c.up) +
-               ", vfov_deg=" + py::repr(py::float_(c.vfov_deg)).cast<std::string>() + ")";
+               ", vfov_deg=" + py::repr(py::float_(c.vfov_deg)).cast<std::string>() + radius + ")";
       });
 
   py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene", R"doc(
 Triangles in world space, ready to render: from ``mbao.load``, ``mbao.cornell_box``
 or, as ``mbao.Mesh``, from arrays. The kd-tree is built on first use and kept,
 so later renders of the same scene do not rebuild it.)doc")
+      .def(py::init([]() -> std::shared_ptr<Scene> {
+        throw py::type_error("mbao.Scene() makes nothing: a scene comes from mbao.load(path), mbao.cornell_box() or "
+                             "mbao.Mesh(vertices, indices)");
+      }))
       .def_property_readonly(
           "vertices", [](py::object self) { return rows_of_three<float>(self.cast<const Scene&>().mesh().positions, self); },
           "(N, 3) float32 vertex positions in world space (read-only).")

@@ -24,6 +24,9 @@ from .render import GBuffer, Result, gbuffer, render, render_sequence, trace
 from .scene import Mesh, load
 from .settings import Engine
 from .stored_bake import StoredBake, load_bake
+from ._signatures import give_signatures
+
+give_signatures(Camera, Denoise, Device, HBAO, Scene, Temporal)
 
 __all__ = [
     "DEFAULT_MAX_RAYS",

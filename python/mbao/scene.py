@@ -40,6 +40,9 @@ class Mesh(_core._Mesh):
         for message in self.warnings:
             warnings.warn(message, stacklevel=2)
 
+    # Its own __init__'s signature, not the one mbao gives Scene's constructor.
+    __signature__ = None
+
     def __repr__(self):
         return f"<mbao.Mesh: {self.triangle_count} triangles, {len(self.vertices)} vertices>"
 
