@@ -37,7 +37,9 @@ demo: build
 SANITIZE_PACKAGES := clang libclang-rt-14-dev llvm
 # The viewer's tests drive a real browser, headless, and Jupyter's notebook server.
 BROWSER_TEST_PACKAGES := chromium chromium-driver python3-selenium python3-notebook
-test: APT_PACKAGES += $(SANITIZE_PACKAGES) $(BROWSER_TEST_PACKAGES)
+# mypy checks a typed script against the package's annotations, and its stubtest the core's stub.
+TYPE_CHECK_PACKAGES := mypy
+test: APT_PACKAGES += $(SANITIZE_PACKAGES) $(BROWSER_TEST_PACKAGES) $(TYPE_CHECK_PACKAGES)
 test: build sanitize-build $(NPM_TOOLS)
 	cd $(BUILD) && ctest --output-on-failure
 	$(VENV)/bin/python -m pytest tests

@@ -4,7 +4,7 @@ from skbuild import setup
 
 setup(
     packages=["mbao", "mbao.viewer"],
-    package_data={"mbao.viewer": ["static/*"]},
+    package_data={"mbao": ["py.typed", "_core.pyi"], "mbao.viewer": ["static/*"]},
     package_dir={"": "python"},
     cmake_install_dir="python",
     cmake_args=["-DMBAO_BUILD_TESTS=OFF", "-DMBAO_BUILD_BENCH=OFF", "-DMBAO_PYTHON_INPLACE=OFF"],

@@ -24,6 +24,7 @@ def test_pip_install_gives_a_working_package(tmp_path):
     from mbao.viewer.server import STATIC_FILES
 
     assert all((target / "mbao" / "viewer" / "static" / name).is_file() for name in STATIC_FILES)
+    assert (target / "mbao" / "py.typed").is_file() and (target / "mbao" / "_core.pyi").is_file()  # PEP 561
 
     check = textwrap.dedent(
         """

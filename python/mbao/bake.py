@@ -6,11 +6,13 @@ import os
 import threading
 import warnings
 import weakref
+from typing import Any, Optional, Tuple, Union
 
 import numpy as np
 
 from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
+from ._types import CameraLike, DeviceLike, Progress, SceneLike
 from .devices import resolve
 from .render import warn_if_closed
 from .scene import FRAME, Mesh, as_camera, as_scene, is_gltf_path, load
@@ -78,9 +80,13 @@ class Bake:
         return f"<mbao.Bake {self.target}: {what}, {self.stats['frame_ms'] / 1e3:.1f} s on {self.stats['device']}>"
 
 
-def bake(scene, *, target="vertices", bounces=1, samples=256, estimator="path", directions=4, rho=1.0,
-         max_distance=None, camera=None, normals="shading", texcoord=None, resolution=1024, padding=4, wrap=None, seed=0,
-         max_rays=_core.DEFAULT_MAX_RAYS, engine=None, device=None, progress=None, client=None):
+def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, samples: int = 256, estimator: str = "path",
+         directions: int = 4, rho: float = 1.0, max_distance: Optional[float] = None, camera: CameraLike = None,
+         normals: str = "shading", texcoord: Union[None, int, str] = None,
+         resolution: Union[int, Tuple[int, int]] = 1024, padding: int = 4,
+         wrap: Union[None, str, Tuple[str, str]] = None, seed: int = 0, max_rays: int = _core.DEFAULT_MAX_RAYS,
+         engine: Optional[Engine] = None, device: DeviceLike = None, progress: Progress = None,
+         client: Any = None) -> "Bake":
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
 

@@ -4,19 +4,22 @@ occlusion textures per material, or an _OCCLUSION attribute per primitive."""
 import copy
 import os
 import tempfile
+from typing import Any
 
 import numpy as np
 
 from . import _checks
 from ._gltf import GltfDocument
-from .bake import bake
+from ._types import PathLike
+from .bake import Bake, bake
 from .scene import is_gltf_path, load
 
 FLOAT, SCALAR, TRIANGLES = 5126, "SCALAR", 4
 _NUMPY_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
 
 
-def bake_file(input, output, *, target="vertices", bit_depth=8, vertex_colors=False, **settings):
+def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bit_depth: int = 8,
+              vertex_colors: bool = False, **settings: Any) -> Bake:
     """Bakes the glTF file `input` as mbao.bake does and writes `output`: the
     same document, every node, mesh, material, texture, animation, skin,
     extension and extra kept as it was, plus the bake:

@@ -1,16 +1,19 @@
 """Batches of renders, here or on a Dask cluster."""
 
 import os
+from typing import Any, Iterable, Iterator, Optional, Union
 
 from . import _checks
 from ._progress import checked_progress, progress_count, progress_reporter
-from .render import render
+from ._types import Job, Progress
+from .render import Result, render
 from .scene import as_scene
 
 _ERRORS = ("raise", "return")
 
 
-def render_many(jobs, *, client=None, ordered=True, errors="raise", in_flight=None, progress=None):
+def render_many(jobs: Iterable[Job], *, client: Any = None, ordered: bool = True, errors: str = "raise",
+                in_flight: Optional[int] = None, progress: Progress = None) -> Iterator[Union[Result, Exception]]:
     """Renders a batch, yielding each job's mbao.Result.
 
     jobs: an iterable (a generator too) of dicts of mbao.render's arguments;

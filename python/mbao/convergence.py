@@ -3,11 +3,13 @@
 import itertools
 import math
 import time
+from typing import Any, Iterable, Optional, Sequence
 
 import numpy as np
 
 from . import _checks, _core
 from ._progress import progress_count, progress_reporter
+from ._types import DeviceLike, Progress, SceneLike
 from .gtao import gtao_multibounce
 from .reference import Reference, reference_camera
 from .render import render, render_sequence
@@ -48,8 +50,10 @@ def _least_cost(name):
     return 2 if METHODS[name].get("denoise") or METHODS[name].get("temporal") else 1
 
 
-def convergence(scene, methods, reference, *, sample_counts=(1, 2, 4, 8, 16), time_budgets=None, frame_counts=None,
-                seed=0, device=None, progress=None, plot=True, ax=None, client=None):
+def convergence(scene: SceneLike, methods: Iterable[str], reference: Reference, *,
+                sample_counts: Sequence[int] = (1, 2, 4, 8, 16), time_budgets: Optional[Sequence[float]] = None,
+                frame_counts: Optional[Sequence[int]] = None, seed: int = 0, device: DeviceLike = None,
+                progress: Progress = None, plot: bool = True, ax: Any = None, client: Any = None) -> Any:
     """Renders each method at increasing cost and measures its error against `reference`.
 
     methods: names from mbao.convergence.METHODS ("hbao", "b1", "b2 branching",
@@ -250,7 +254,7 @@ def _block_rmse(error, covered):
     return math.sqrt(np.mean(means**2))
 
 
-def format_convergence(rows):
+def format_convergence(rows: Any) -> str:
     """The rows as a fixed-width text table."""
     rows = rows.to_dict("records") if hasattr(rows, "to_dict") else list(rows)
     budgets = "budget_ms" in rows[0]
@@ -277,7 +281,7 @@ _ERROR_LABELS = {"rmse": "RMSE against the reference", "block_rmse": "RMSE of 8 
                  "bias": "|mean bias|"}
 
 
-def plot_convergence(rows, ax=None, title=None, error="rmse"):
+def plot_convergence(rows: Any, ax: Any = None, title: Optional[str] = None, error: str = "rmse") -> Any:
     """An error ("rmse", "block_rmse", or "bias", drawn as its magnitude)
     against frame_ms, log-log, one line per method, the reference's noise floor dashed."""
     import matplotlib.pyplot as plt

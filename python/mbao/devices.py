@@ -1,11 +1,12 @@
 """Which OpenCL device runs the work."""
 
 import numbers
+from typing import List
 
 from . import _core
 
 
-def devices():
+def devices() -> List[_core.Device]:
     """Every OpenCL device of every platform, as mbao.Device objects; device= takes
     their index, a part of their "platform: name", the Device itself or a pyopencl.Device."""
     return _core.devices()

@@ -1,9 +1,12 @@
 """The multi-bounce fit of GTAO (Jimenez et al. 2016): cheap interreflection from one bounce."""
 
+from typing import Union
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-def gtao_multibounce(visibility, rho):
+def gtao_multibounce(visibility: ArrayLike, rho: Union[float, ArrayLike]) -> np.ndarray:
     """Approximates b-bounce access from single-bounce access.
 
     visibility: 1-bounce access x in [0, 1] (HBAO's or ray-traced b = 1), any shape.

@@ -1,8 +1,12 @@
 """Writing images with OpenImageIO."""
 
 import os
+from typing import Optional
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+from ._types import PathLike
 
 _FLOAT_FORMATS = (".exr", ".hdr", ".tif", ".tiff", ".pfm")
 
@@ -17,7 +21,7 @@ def check_writable(path, argument="path"):
                          f"({extension}); use .png (8-bit) or .exr (float)")
 
 
-def save_image(path, array, alpha=None):
+def save_image(path: PathLike, array: ArrayLike, alpha: Optional[ArrayLike] = None) -> None:
     """Writes a (H, W) or (H, W, C) image; the format follows the file name.
 
     EXR (and TIFF, HDR, PFM) get 32-bit floats unchanged. PNG and the other

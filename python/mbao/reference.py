@@ -6,11 +6,13 @@ import math
 import os
 import time
 import warnings
+from typing import Any, Optional
 
 import numpy as np
 
 from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
+from ._types import CameraLike, DeviceLike, Progress, SceneLike
 from .render import render
 from .scene import as_camera, as_scene
 
@@ -76,9 +78,10 @@ class Reference:
 _CHANNELS = ("ao", "standard_error", "mask")
 
 
-def reference(scene, *, camera=None, width=256, height=256, bounces=1, rho=1.0, max_distance=None,
-              target_error=2e-3, samples=64, min_passes=8, max_passes=100_000, device=None, progress=None,
-              client=None):
+def reference(scene: SceneLike, *, camera: CameraLike = None, width: int = 256, height: int = 256, bounces: int = 1,
+              rho: float = 1.0, max_distance: Optional[float] = None, target_error: float = 2e-3, samples: int = 64,
+              min_passes: int = 8, max_passes: int = 100_000, device: DeviceLike = None, progress: Progress = None,
+              client: Any = None) -> "Reference":
     """Renders until the standard error of every covered pixel is at most target_error.
 
     Each pass is one path-estimator render with `samples` paths per pixel at
@@ -177,7 +180,7 @@ def _camera_dict(camera):
     return dict(eye=list(camera.eye), target=list(camera.target), up=list(camera.up), vfov_deg=camera.vfov_deg)
 
 
-def reference_camera(reference):
+def reference_camera(reference: "Reference") -> _core.Camera:
     """The mbao.Camera a Reference was rendered with."""
     c = reference.settings["camera"]
     return _core.Camera(c["eye"], c["target"], c["up"], c["vfov_deg"])

@@ -4,11 +4,14 @@ import dataclasses
 import inspect
 import math
 import warnings
+from typing import Any, Iterable, Iterator, Optional, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
+from ._types import CameraLike, DeviceLike, Progress, SceneLike
 from .devices import resolve
 from .scene import as_camera, as_scene
 from .settings import ENGINE, RENDER, Engine, checked, describe, engine_values
@@ -52,7 +55,9 @@ class Result:
         return f"<mbao.Result {w}x{h}, frame {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
 
 
-def render(scene, *, camera=None, hbao=None, denoise=None, engine=None, device=None, progress=None, **settings):
+def render(scene: SceneLike, *, camera: CameraLike = None, hbao: Optional[_core.HBAO] = None,
+           denoise: Union[None, bool, _core.Denoise] = None, engine: Optional[Engine] = None, device: DeviceLike = None,
+           progress: Progress = None, **settings: Any) -> "Result":
     # The signature and the docstring are made below from the settings' table.
     scene = as_scene(scene)
     values = _setting_values("render", _engine(engine, settings), settings)
@@ -60,8 +65,9 @@ def render(scene, *, camera=None, hbao=None, denoise=None, engine=None, device=N
     return _render(scene, camera, values, resolve(device), progress=progress, hbao=hbao, denoise=denoise)
 
 
-def render_sequence(scene, cameras, *, temporal=True, denoise=None, engine=None, device=None, progress=None,
-                    **settings):
+def render_sequence(scene: SceneLike, cameras: Iterable[CameraLike], *, temporal: Union[bool, _core.Temporal] = True,
+                    denoise: Union[None, bool, _core.Denoise] = None, engine: Optional[Engine] = None,
+                    device: DeviceLike = None, progress: Progress = None, **settings: Any) -> Iterator["Result"]:
     """Renders a frame per camera, yielding a Result for each as it is done.
 
     scene: as render's; loaded once for the whole sequence.
@@ -218,8 +224,9 @@ def _hbao_settings(hbao):
     return hbao
 
 
-def trace(scene, origins, directions, *, t_max=math.inf, any_hit=False, traversal="auto", device=None,
-          traversal_stats=False):
+def trace(scene: SceneLike, origins: ArrayLike, directions: ArrayLike, *, t_max: Union[float, ArrayLike] = math.inf,
+          any_hit: bool = False, traversal: str = "auto", device: DeviceLike = None,
+          traversal_stats: bool = False) -> Tuple[np.ndarray, ...]:
     """Traces rays through the scene's kd-tree.
 
     origins, directions: (N, 3) arrays (directions need not be unit length; t is
@@ -287,8 +294,9 @@ class GBuffer:
         return f"<mbao.GBuffer {w}x{h}, {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
 
 
-def gbuffer(scene, *, camera=None, width=RENDER["width"]["default"], height=RENDER["height"]["default"], engine=None,
-            device=None):
+def gbuffer(scene: SceneLike, *, camera: CameraLike = None, width: int = RENDER["width"]["default"],
+            height: int = RENDER["height"]["default"], engine: Optional[Engine] = None,
+            device: DeviceLike = None) -> "GBuffer":
     """The G-buffer (SPEC 7.2) of scene seen from camera, as HBAO's frames make
     it: a GBuffer. scene, camera, width, height, engine and device are as for
     render; the engine's traversal walks the camera rays ("auto": in packets

@@ -2,10 +2,13 @@
 
 import os
 import warnings
+from typing import Optional
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _checks, _core
+from ._types import PathLike
 
 
 class Mesh(_core._Mesh):
@@ -17,7 +20,8 @@ class Mesh(_core._Mesh):
     UVs, one set, which mbao.bake(target="texture") bakes into. Arrays are copied.
     """
 
-    def __init__(self, vertices, indices, normals=None, texcoords=None):
+    def __init__(self, vertices: ArrayLike, indices: ArrayLike, normals: Optional[ArrayLike] = None,
+                 texcoords: Optional[ArrayLike] = None) -> None:
         vertices = _checks.rows("vertices", vertices, 3, "fiu", np.float32)
         indices = _checks.rows("indices", indices, 3, "iu", np.int64)
         if indices.size and (indices.min() < 0 or indices.max() >= len(vertices)):
@@ -61,7 +65,7 @@ def is_gltf_path(path):
     return os.fspath(path).lower().endswith((".gltf", ".glb"))
 
 
-def load(path, *, normals=True, texcoords=False):
+def load(path: PathLike, *, normals: bool = True, texcoords: bool = False) -> _core.Scene:
     """Loads a glTF 2.0 file (.gltf or .glb): every triangle mesh of the default
     scene in world space (triangles, strips and fans; Draco-, meshopt- and
     quantization-compressed ones too), its vertex normals, the alpha masks of

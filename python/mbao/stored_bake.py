@@ -6,11 +6,13 @@ import contextlib
 import dataclasses
 import os
 import tempfile
+from typing import Optional
 
 import numpy as np
 
 from . import _core
 from ._gltf import GltfDocument
+from ._types import PathLike
 from .scene import is_gltf_path, load
 
 OCCLUSION = "_OCCLUSION"
@@ -104,7 +106,7 @@ class StoredBake:
                 f"{int((self.triangle_source == OPEN).sum())} of {len(self.triangle_source)} triangles open>")
 
 
-def load_bake(path, scene=None):
+def load_bake(path: PathLike, scene: Optional[_core.Scene] = None) -> Optional["StoredBake"]:
     """The occlusion the glTF file at `path` stores (an _OCCLUSION attribute
     per vertex, occlusion textures per material), as a StoredBake, or None
     where it holds none (not glTF, or neither on the scene's triangles).

@@ -2,8 +2,10 @@
 
 import html
 import types
+from typing import Any, Optional
 
 from .. import _core
+from .._types import CameraLike, DeviceLike, SceneLike
 from ..devices import resolve
 from ..scene import as_camera, is_gltf_path, load
 from ..settings import RENDER
@@ -99,7 +101,8 @@ class View:
         return f"<mbao.View of {self._viewer.scene.name} at {self.url}>"
 
 
-def view(scene=None, *, camera=None, device=None, host="127.0.0.1", port=None, cell_height=620, **settings):
+def view(scene: Optional[SceneLike] = None, *, camera: CameraLike = None, device: DeviceLike = None,
+         host: str = "127.0.0.1", port: Optional[int] = None, cell_height: int = 620, **settings: Any) -> "View":
     """Shows a live, progressive view of `scene` in a notebook cell and returns
     its handle, an mbao.View.
 
