@@ -220,15 +220,57 @@ def test_a_map_whose_alpha_is_on_one_side_of_the_cutoff_everywhere_is_no_mask(tm
             masked_obj(tmp_path, ["map_Kd colour.png"], {"colour.png": rgba})
 
 
-def test_uv_sets_are_refused_for_formats_whose_uvs_mbao_does_not_read(tmp_path):
-    """texcoords=True asks for what only the glTF loader reads: an error naming
-    the way that works, not a scene without them."""
-    path = tmp_path / "quad.obj"
-    write_obj(path, np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float), np.array([[0, 1, 2], [0, 2, 3]]))
-    with pytest.raises(ValueError, match=r'quad\.obj: mbao reads UV sets \(texcoords=True\) from glTF files only; '
-                                         r'bake this format with texcoord="generate"'):
-        mbao.load(path, texcoords=True)
-    with pytest.raises(ValueError, match='reads from glTF files.*any scene bakes with texcoord="generate"'):
+def two_material_obj(tmp_path):
+    """A floor (material "floor", vt UVs) and a wall standing on it (material
+    "wall", no vt): an OBJ whose UVs and materials texcoords=True reads."""
+    (tmp_path / "two.mtl").write_text("newmtl floor\nKd 1 1 1\nnewmtl wall\nKd 1 1 1\n")
+    (tmp_path / "two.obj").write_text(
+        "mtllib two.mtl\n"
+        "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -1 0 0\nv 1 0 0\nv 1 1 0\nv -1 1 0\n"
+        "vt 0 0\nvt 0.5 0\nvt 0.5 0.25\nvt 0 0.25\n"
+        "usemtl floor\nf 1/1 3/3 2/2\nf 1/1 4/4 3/3\n"
+        "usemtl wall\nf 5 6 7\nf 5 7 8\n")
+    return tmp_path / "two.obj"
+
+
+def test_uv_sets_and_materials_of_an_assimp_format_are_read(tmp_path):
+    """texcoords=True reads each mesh's UV channels as TEXCOORD_n, v down the
+    image as glTF's (an OBJ's vt (u, v) is (u, 1 - v)), NaN for a mesh without
+    the channel, and the meshes' materials by name (SPEC 3.2)."""
+    scene = mbao.load(two_material_obj(tmp_path), texcoords=True)
+    uv_sets = scene.uv_sets
+    names = [material["name"] for material in uv_sets["materials"]]
+    assert {"floor", "wall"} <= set(names)
+    floor = names.index("floor")
+    floor_triangles = uv_sets["triangle_materials"] == floor
+    assert floor_triangles.sum() == 2 and (uv_sets["triangle_materials"] == names.index("wall")).sum() == 2
+    corners = scene.indices[floor_triangles].ravel()
+    positions, uvs = scene.vertices[corners], uv_sets["sets"][0][corners]
+    np.testing.assert_allclose(uvs[:, 0], (positions[:, 0] + 1) / 4)  # u = (x + 1) / 4
+    np.testing.assert_allclose(uvs[:, 1], 1 - (positions[:, 2] + 1) / 8)  # v = (z + 1) / 8, flipped
+    assert np.isnan(uv_sets["sets"][0][scene.indices[~floor_triangles].ravel()]).all()
+    assert sum(p["triangles"][1] - p["triangles"][0] for p in uv_sets["primitives"]) == scene.triangle_count
+
+
+def test_an_assimp_format_bakes_into_its_own_uvs_and_keeps_them_beside_generated_ones(tmp_path):
+    """A texture bake of the floor into its vt set; bake_file writes the file's
+    materials and UV sets into the glTF it makes, and a generated set after
+    them (issue 60: the vt set was dropped)."""
+    from mbao._gltf import GltfDocument
+    from test_bake_file import validation_errors
+
+    path = two_material_obj(tmp_path)
+    with pytest.raises(ValueError, match=r"material \d+ \('wall'\) has no UV set"):
         mbao.bake(path, target="texture", resolution=8, samples=2, progress=False)
-    generated = mbao.bake(path, target="texture", texcoord="generate", resolution=32, samples=2, progress=False)
-    assert generated.textures[-1].coverage.any()
+    output = tmp_path / "generated.gltf"
+    result = mbao.bake_file(path, output, target="texture", texcoord="generate", resolution=32, samples=2,
+                            progress=False)
+    document = GltfDocument(output)
+    names = [material["name"] for material in document.doc["materials"]]
+    assert {"floor", "wall"} <= set(names)
+    primitives = document.doc["meshes"][0]["primitives"]
+    floor = next(p for p in primitives if names[p["material"]] == "floor")
+    assert {"TEXCOORD_0", "TEXCOORD_1"} <= set(floor["attributes"])  # the vt set, then the generated one
+    assert document.doc["materials"][floor["material"]]["occlusionTexture"]["texCoord"] == 1
+    assert all(texture.coverage.any() for texture in result.textures.values())
+    assert validation_errors(output) == []

@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <utility>
 #include <stdexcept>
@@ -151,12 +152,24 @@ glm::vec3 to_glm(const aiVector3D& v) { return {v.x, v.y, v.z}; }
 // their alpha masks.
 class Gatherer {
  public:
-  Gatherer(const aiScene& scene, const std::string& path, bool normals, std::vector<std::string>& warnings)
-      : scene_(scene), path_(path), normals_(normals), masks_(scene, path, warnings) {}
+  Gatherer(const aiScene& scene, const std::string& path, const LoadOptions& options,
+           std::vector<std::string>& warnings)
+      : scene_(scene), path_(path), normals_(options.normals), masks_(scene, path, warnings) {
+    if (options.texcoords) read_materials();
+  }
 
+  // The nodes numbered in the order they are visited, as LoadedPrimitive::node counts them.
   void node(const aiNode& n, const glm::mat4& parent) {
     const glm::mat4 world = parent * to_glm(n.mTransformation);
-    for (unsigned i = 0; i < n.mNumMeshes; ++i) mesh(*scene_.mMeshes[n.mMeshes[i]], world);
+    const int number = nodes_++;
+    for (unsigned i = 0; i < n.mNumMeshes; ++i) {
+      const std::size_t vertices = mesh_.positions.size(), triangles = mesh_.triangles.size();
+      const aiMesh& m = *scene_.mMeshes[n.mMeshes[i]];
+      mesh(m, world);
+      if (uv_sets_.loaded && mesh_.triangles.size() > triangles)
+        add_uv_sets(m, LoadedPrimitive{number, int(n.mMeshes[i]), 0, vertices, mesh_.positions.size() - vertices,
+                                       triangles, mesh_.triangles.size() - triangles});
+    }
     for (unsigned i = 0; i < n.mNumChildren; ++i) node(*n.mChildren[i], world);
   }
 
@@ -165,8 +178,55 @@ class Gatherer {
     return std::move(mesh_);
   }
   AlphaMasks take_masks() { return masks_.take(); }
+  UvSets take_uv_sets() { return std::move(uv_sets_); }
 
  private:
+  // Each material's name, and the UV channel and wrap modes of its ambient occlusion texture where it has one.
+  void read_materials() {
+    uv_sets_.loaded = true;
+    for (unsigned i = 0; i < scene_.mNumMaterials; ++i) {
+      const aiMaterial& material = *scene_.mMaterials[i];
+      MaterialUvs uvs;
+      aiString name;
+      if (material.Get(AI_MATKEY_NAME, name) == aiReturn_SUCCESS) uvs.name = name.C_Str();
+      aiString file;
+      unsigned channel = 0;
+      aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+      if (material.GetTexture(aiTextureType_AMBIENT_OCCLUSION, 0, &file, nullptr, &channel, nullptr, nullptr,
+                              modes) == aiReturn_SUCCESS &&
+          channel < unsigned(kMaxUvSets)) {
+        uvs.occlusion_texcoord = int(channel);
+        uvs.wrap_s = wrap_mode_of_assimp(modes[0]);
+        uvs.wrap_t = wrap_mode_of_assimp(modes[1]);
+      }
+      uv_sets_.materials.push_back(std::move(uvs));
+    }
+  }
+
+  static WrapMode wrap_mode_of_assimp(aiTextureMapMode mode) {
+    if (mode == aiTextureMapMode_Mirror) return WrapMode::MirroredRepeat;
+    if (mode == aiTextureMapMode_Clamp || mode == aiTextureMapMode_Decal) return WrapMode::ClampToEdge;
+    return WrapMode::Repeat;
+  }
+
+  // The mesh's UV channels as sets (v down the image, as glTF's: aiProcess_FlipUVs), NaN for the channels
+  // it lacks (and each set NaN for the vertices of meshes without it), and its triangles' material.
+  void add_uv_sets(const aiMesh& m, const LoadedPrimitive& placed) {
+    constexpr float kNone = std::numeric_limits<float>::quiet_NaN();
+    for (unsigned channel = 0; channel < unsigned(kMaxUvSets); ++channel) {
+      if (!m.HasTextureCoords(channel)) continue;
+      if (channel >= uv_sets_.sets.size()) uv_sets_.sets.resize(channel + 1);
+      std::vector<glm::vec2>& values = uv_sets_.sets[channel];
+      values.resize(placed.first_vertex, glm::vec2(kNone));
+      for (unsigned v = 0; v < m.mNumVertices; ++v)
+        values.emplace_back(m.mTextureCoords[channel][v].x, m.mTextureCoords[channel][v].y);
+    }
+    for (std::vector<glm::vec2>& values : uv_sets_.sets) values.resize(mesh_.positions.size(), glm::vec2(kNone));
+    uv_sets_.triangle_materials.insert(uv_sets_.triangle_materials.end(), placed.triangle_count,
+                                       std::int32_t(m.mMaterialIndex));
+    uv_sets_.primitives.push_back(placed);
+  }
+
   void mesh(const aiMesh& m, const glm::mat4& world) {
     if (!(m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;  // points and lines, sorted apart
     const AssimpMasks::Material material = masks_.material(m.mMaterialIndex);
@@ -215,8 +275,10 @@ class Gatherer {
   const aiScene& scene_;
   const std::string& path_;
   bool normals_, any_normals_ = false;
+  int nodes_ = 0;
   TriangleMesh mesh_;
   AssimpMasks masks_;
+  UvSets uv_sets_;
 };
 
 // The world transform of the node named `name`, where there is one.
@@ -289,26 +351,20 @@ ImportedScene imported(const Assimp::Importer& importer, const aiScene* scene, c
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
     throw LoadError(path + ": Assimp read no complete scene from it");
   std::vector<std::string> warnings;
-  Gatherer gatherer(*scene, path, options.normals, warnings);
+  Gatherer gatherer(*scene, path, options, warnings);
   gatherer.node(*scene->mRootNode, glm::mat4(1.0f));
   if (const std::size_t dropped = dropped_primitives(*scene))
     warnings.push_back(path + ": " + std::to_string(dropped) + " points and lines skipped; only triangles render");
   std::optional<Camera> camera = first_camera(*scene, path, warnings);
   TriangleMesh mesh = gatherer.take_mesh();
   if (mesh.triangles.empty()) throw LoadError(path + ": no triangles in it");
-  return {std::move(mesh), gatherer.take_masks(), camera, std::move(warnings)};
-}
-
-// Throws where the options ask for what this loader does not read.
-void check_options(const LoadOptions& options, const std::string& path) {
-  if (options.texcoords)
-    throw std::invalid_argument(path + ": mbao reads UV sets (texcoords=True) from glTF files only; bake this " +
-                                "format with texcoord=\"generate\", or give its glTF");
+  return {std::move(mesh), gatherer.take_masks(), camera, std::move(warnings), gatherer.take_uv_sets()};
 }
 
 std::shared_ptr<Scene> scene_of(ImportedScene s, const std::string& path) {
   try {
-    return std::make_shared<Scene>(std::move(s.mesh), path, s.camera, std::move(s.warnings), std::move(s.masks));
+    return std::make_shared<Scene>(std::move(s.mesh), path, s.camera, std::move(s.warnings), std::move(s.masks),
+                                   std::move(s.uv_sets));
   } catch (const std::invalid_argument& e) {  // a mesh that cannot render, named by the path
     throw LoadError(e.what());
   }
@@ -325,7 +381,6 @@ bool assimp_reads(const std::string& path) {
 // Assimp runs in a process of its own (import_isolated): Debian's build aborts
 // on some malformed files.
 std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options) {
-  check_options(options, path);
   const auto import = [&] {
     Assimp::Importer importer;
     return imported(importer, importer.ReadFile(path, kImportSteps), path, options);
@@ -338,7 +393,6 @@ std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptio
 std::shared_ptr<Scene> load_with_assimp_from_memory(const unsigned char* bytes, std::size_t size,
                                                     const std::string& name, const std::string& extension,
                                                     const LoadOptions& options) {
-  check_options(options, name);
   const auto import = [&] {
     Assimp::Importer importer;
     return imported(importer, importer.ReadFileFromMemory(bytes, size, kImportSteps, extension.c_str()), name,

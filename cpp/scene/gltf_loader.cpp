@@ -30,7 +30,6 @@ namespace {
 constexpr std::size_t kMaxVertices = std::size_t(std::numeric_limits<std::uint32_t>::max()) + 1;
 // TEXCOORD_0 .. TEXCOORD_7: more than any exporter writes, few enough that a
 // file cannot make the loader keep hundreds of empty sets.
-constexpr int kMaxUvSets = 8;
 
 glm::dmat4 local_transform(const tinygltf::Node& node) {
   if (node.matrix.size() == 16) return glm::make_mat4(node.matrix.data());

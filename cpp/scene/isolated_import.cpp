@@ -99,6 +99,18 @@ std::string serialized(const ImportedScene& s) {
   }
   w.value(std::uint64_t(s.warnings.size()));
   for (const std::string& warning : s.warnings) w.text(warning);
+  w.value(s.uv_sets.loaded);
+  w.value(std::uint64_t(s.uv_sets.sets.size()));
+  for (const std::vector<glm::vec2>& set : s.uv_sets.sets) w.items(set);
+  w.items(s.uv_sets.triangle_materials);
+  w.value(std::uint64_t(s.uv_sets.materials.size()));
+  for (const MaterialUvs& m : s.uv_sets.materials) {
+    w.text(m.name);
+    w.value(m.occlusion_texcoord);
+    w.value(m.wrap_s);
+    w.value(m.wrap_t);
+  }
+  w.items(s.uv_sets.primitives);
   return w.bytes();
 }
 
@@ -120,6 +132,18 @@ ImportedScene deserialized(Reader& r) {
     s.camera = c;
   }
   for (auto n = r.value<std::uint64_t>(); n > 0; --n) s.warnings.push_back(r.text());
+  s.uv_sets.loaded = r.value<bool>();
+  for (auto n = r.value<std::uint64_t>(); n > 0; --n) s.uv_sets.sets.push_back(r.items<glm::vec2>());
+  s.uv_sets.triangle_materials = r.items<std::int32_t>();
+  for (auto n = r.value<std::uint64_t>(); n > 0; --n) {
+    MaterialUvs m;
+    m.name = r.text();
+    m.occlusion_texcoord = r.value<int>();
+    m.wrap_s = r.value<WrapMode>();
+    m.wrap_t = r.value<WrapMode>();
+    s.uv_sets.materials.push_back(std::move(m));
+  }
+  s.uv_sets.primitives = r.items<LoadedPrimitive>();
   return s;
 }
 

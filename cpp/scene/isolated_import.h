@@ -11,6 +11,7 @@
 #include "scene/alpha_masks.h"
 #include "scene/camera.h"
 #include "scene/triangle_mesh.h"
+#include "scene/uv_sets.h"
 
 namespace mbao {
 
@@ -20,6 +21,7 @@ struct ImportedScene {
   AlphaMasks masks;
   std::optional<Camera> camera;
   std::vector<std::string> warnings;
+  UvSets uv_sets;  // loaded where asked for
 };
 
 // import() run in a child process (fork), its result sent back through a pipe.

@@ -27,6 +27,9 @@ struct LoadedPrimitive {
   std::size_t first_vertex, vertex_count, first_triangle, triangle_count;
 };
 
+// The UV sets read: TEXCOORD_0 to TEXCOORD_7 (an Assimp format's channels 0 to 7).
+constexpr int kMaxUvSets = 8;
+
 struct UvSets {
   bool loaded = false;
   std::vector<std::vector<glm::vec2>> sets;      // sets[n][v]: vertex v's TEXCOORD_n; NaN where its primitive has none

@@ -36,37 +36,33 @@ class GltfDocument:
         self._added_views = []
 
     @classmethod
-    def of_mesh(cls, path, vertices, indices, normals, glb):
-        """A document of one mesh placed by one node, without materials, its
-        data in buffer 0 (the GLB's binary chunk, or a data URI): what
-        bake_file writes a file of another format as (`path` names it in
-        messages). normals: (N, 3) unit vectors or None."""
+    def of_mesh(cls, path, vertices, indices, normals, glb, uv_sets=None):
+        """A document of one mesh placed by one node, its data in buffer 0
+        (the GLB's binary chunk, or a data URI): what bake_file writes a file
+        of another format as (`path` names it in messages). normals: (N, 3)
+        unit vectors or None. uv_sets: the scene's (scene.uv_sets) or None:
+        with them, a primitive per loaded primitive, in their order, with its
+        material (the file's materials, by name) and its UV sets as
+        TEXCOORD_0, 1, ... up to the first it lacks; without them, one
+        primitive and no material."""
         self = cls.__new__(cls)
         self.path, self.glb = os.fspath(path), glb
         vertices = np.ascontiguousarray(vertices, "<f4")
-        arrays = [("POSITION", vertices, dict(type="VEC3", min=vertices.min(axis=0).tolist(),
-                                               max=vertices.max(axis=0).tolist()))]
-        if normals is not None:
-            arrays.append(("NORMAL", np.ascontiguousarray(normals, "<f4"), dict(type="VEC3")))
-        arrays.append(("indices", np.ascontiguousarray(indices, "<u4").ravel(), dict(type="SCALAR")))
-        binary, views, accessors, primitive = bytearray(), [], [], {"attributes": {}, "mode": 4}
-        for name, array, accessor in arrays:
-            views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": array.nbytes})
-            binary.extend(array.tobytes())
-            binary.extend(b"\0" * (-len(binary) % 4))
-            component = 5126 if array.dtype.kind == "f" else 5125
-            accessors.append(dict(bufferView=len(views) - 1, componentType=component, count=len(array), **accessor))
-            if name == "indices":
-                primitive["indices"] = len(accessors) - 1
-            else:
-                primitive["attributes"][name] = len(accessors) - 1
+        indices = np.asarray(indices, np.int64)
+        placed = (uv_sets or {}).get("primitives") or [
+            dict(vertices=(0, len(vertices)), triangles=(0, len(indices)))]
+        binary, views, accessors = bytearray(), [], []
+        primitives = [_primitive_of(part, vertices, indices, normals, uv_sets, binary, views, accessors)
+                      for part in placed]
         buffer = {"byteLength": len(binary)}
         if not glb:
             buffer["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(binary)).decode("ascii")
         self.bin = bytes(binary) if glb else b""
         self.doc = {"asset": {"version": "2.0", "generator": "mbao"}, "scene": 0, "scenes": [{"nodes": [0]}],
-                    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [primitive]}], "buffers": [buffer],
+                    "nodes": [{"mesh": 0}], "meshes": [{"primitives": primitives}], "buffers": [buffer],
                     "bufferViews": views, "accessors": accessors}
+        if uv_sets is not None and uv_sets["materials"]:
+            self.doc["materials"] = [{"name": material["name"]} for material in uv_sets["materials"]]
         self.original = copy.deepcopy(self.doc)
         self.added, self._added_views = bytearray(), []
         return self
@@ -235,3 +231,36 @@ class GltfDocument:
             if uri and not uri.startswith("data:") and "://" not in uri:
                 moved = os.path.relpath(os.path.join(source, unquote(uri)), folder)
                 item["uri"] = quote(moved.replace(os.sep, "/"))
+
+
+def _primitive_of(part, vertices, indices, normals, uv_sets, binary, views, accessors):
+    """A primitive of the vertices and triangles `part` places (GltfDocument.of_mesh), its arrays appended to
+    binary, views and accessors."""
+    first, end = part["vertices"]
+    triangles = indices[slice(*part["triangles"])] - first
+    positions = vertices[first:end]
+    arrays = [("POSITION", positions, dict(type="VEC3", min=positions.min(axis=0).tolist(),
+                                            max=positions.max(axis=0).tolist()))]
+    if normals is not None:
+        arrays.append(("NORMAL", normals[first:end], dict(type="VEC3")))
+    for n, uv in enumerate(uv_sets["sets"] if uv_sets is not None else []):
+        if not np.isfinite(uv[first:end]).all():
+            break  # glTF numbers a primitive's sets without gaps
+        arrays.append((f"TEXCOORD_{n}", uv[first:end], dict(type="VEC2")))
+    arrays.append(("indices", triangles.astype("<u4").ravel(), dict(type="SCALAR")))
+    primitive = {"attributes": {}, "mode": 4}
+    for name, array, accessor in arrays:
+        array = np.ascontiguousarray(array, "<u4" if name == "indices" else "<f4")
+        views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": array.nbytes})
+        binary.extend(array.tobytes())
+        binary.extend(b"\0" * (-len(binary) % 4))
+        component = 5125 if name == "indices" else 5126
+        accessors.append(dict(bufferView=len(views) - 1, componentType=component, count=len(array), **accessor))
+        if name == "indices":
+            primitive["indices"] = len(accessors) - 1
+        else:
+            primitive["attributes"][name] = len(accessors) - 1
+    if uv_sets is not None and len(triangles) and uv_sets["triangle_materials"][part["triangles"][0]] >= 0:
+        primitive["material"] = int(uv_sets["triangle_materials"][part["triangles"][0]])
+    return primitive
+

@@ -15,7 +15,7 @@ from ._progress import checked_progress, progress_reporter
 from ._types import CameraLike, DeviceLike, Progress, SceneLike
 from .devices import resolve
 from .render import warn_if_closed
-from .scene import FRAME, Mesh, as_camera, as_scene, is_gltf_path, load
+from .scene import FRAME, Mesh, as_camera, as_scene, load
 from .settings import RENDER, Engine, checked, engine_values
 
 TARGETS = ("vertices", "texture")
@@ -143,8 +143,8 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     """
     target = _checks.choice("target", target, TARGETS)
     checked_progress(progress)
-    from_gltf = isinstance(scene, (str, os.PathLike)) and is_gltf_path(scene)
-    scene = load(scene, texcoords=True) if target == "texture" and from_gltf else as_scene(scene)
+    from_file = isinstance(scene, (str, os.PathLike))
+    scene = load(scene, texcoords=True) if target == "texture" and from_file else as_scene(scene)
     lo, hi = _core.BAKE_SAMPLES_RANGE
     samples = _checks.integer("samples", samples, lo, hi, f"[{lo}, {hi}]")
     radius, radius_source = _radius(scene, max_distance, camera)
@@ -344,9 +344,9 @@ def _texture_materials(scene, texcoord, wrap):
         return [_Material(0, "the mesh", triangles, scene.texcoords[scene.indices], 0, wrap or ("repeat", "repeat"))]
     uv_sets = scene.uv_sets
     if uv_sets is None:
-        raise ValueError(f"{scene.name}: a texture bake needs the file's UV sets, which mbao reads from glTF "
-                         f"files: load one with mbao.load(path, texcoords=True), or pass its path; any scene bakes "
-                         f"with texcoord=\"generate\"")
+        raise ValueError(f"{scene.name}: a texture bake needs the file's UV sets: load it with "
+                         f"mbao.load(path, texcoords=True), or pass its path; any scene bakes with "
+                         f"texcoord=\"generate\"")
     materials = []
     for index in np.unique(uv_sets["triangle_materials"]).tolist():
         triangles = np.flatnonzero(uv_sets["triangle_materials"] == index).astype(np.uint32)

@@ -60,10 +60,9 @@ def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bi
         document.check_output(output)  # before the bake, not after it
         result = bake(scene, target=target, **settings)
     else:
-        baked = load(input)
-        if target == "texture" and settings.get("texcoord") != "generate":
-            raise ValueError(f"{os.fspath(input)}: mbao reads no UV sets from this format; bake it with "
-                             f"texcoord=\"generate\", or give its glTF")
+        baked = load(input, texcoords=True)
+        if target == "texture" and settings.get("texcoord") != "generate" and not baked.uv_sets["sets"]:
+            raise ValueError(f"{os.fspath(input)}: it has no UV sets; bake it with texcoord=\"generate\"")
         document, scene = _converted(baked, input, output)
         result = bake(baked, target=target, **settings)
     meshes = _MeshesPerNode(document)
@@ -82,14 +81,15 @@ def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bi
 
 def _converted(scene, input, output):
     """A glTF document of `scene` (a file of another format: its triangles in
-    world space, one mesh, its normals where every vertex has one) in the
+    world space, one mesh of a primitive per mesh the file placed, with its
+    material, its normals where every vertex has one and its UV sets) in the
     output's container, and that document loaded as a scene: what the bake is
     written into, vertex for vertex and triangle for triangle."""
     normals = scene.normals
     if normals is not None and not np.allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-3):
         normals = None  # a vertex without a normal: glTF's NORMAL has one for every vertex
     glb = os.fspath(output).lower().endswith(".glb")
-    document = GltfDocument.of_mesh(input, scene.vertices, scene.indices, normals, glb)
+    document = GltfDocument.of_mesh(input, scene.vertices, scene.indices, normals, glb, scene.uv_sets)
     document.check_output(output)
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "converted.glb" if glb else "converted.gltf")

@@ -61,7 +61,7 @@ class Mesh(_core._Mesh):
 
 
 def is_gltf_path(path):
-    """Whether `path` names a glTF file (.gltf or .glb), the format mbao reads UV sets from."""
+    """Whether `path` names a glTF file (.gltf or .glb), the format mbao reads stored bakes from."""
     return os.fspath(path).lower().endswith((".gltf", ".glb"))
 
 
@@ -81,8 +81,8 @@ def load(path: PathLike, *, normals: bool = True, texcoords: bool = False) -> _c
     gives the triangles of its node tree in world space, their normals where
     the file has them, its first perspective camera, and alpha masks from its
     materials' opacity maps (OBJ map_d) or the alpha of their diffuse maps, cut
-    at 0.5; not the UV sets texture bakes read (SPEC 3.2): texcoords=True
-    raises ValueError for these.
+    at 0.5; with texcoords=True its meshes' UV channels as UV sets (v down the
+    image, as glTF's) and their materials (SPEC 3.2).
 
     What is skipped (other primitive modes, ...) is reported as a warning and
     listed in scene.warnings. Raises mbao.LoadError naming the file and element.

@@ -27,6 +27,12 @@ ImportedScene everything() {
   s.masks.triangle_mask = {0};
   s.camera = Camera{{1, 2, 3}, {0, 0, 0}, {0, 1, 0}, 35.0f, {}};
   s.warnings = {"one", ""};
+  s.uv_sets.loaded = true;
+  s.uv_sets.sets = {{{0, 1}, {1, 1}, {0, 0}}, {{0.5f, 0.5f}, {1, 0}, {0, 1}}};
+  s.uv_sets.triangle_materials = {1};
+  s.uv_sets.materials = {MaterialUvs{"default", -1}, MaterialUvs{"floor", 1, WrapMode::ClampToEdge,
+                                                                  WrapMode::MirroredRepeat}};
+  s.uv_sets.primitives = {LoadedPrimitive{2, 0, 0, 0, 3, 0, 1}};
   return s;
 }
 
@@ -45,6 +51,16 @@ TEST(IsolatedImport, BringsTheResultBackWhole) {
   EXPECT_EQ(s.camera->eye, expected.camera->eye);
   EXPECT_EQ(s.camera->vfov_deg, 35.0f);
   EXPECT_EQ(s.warnings, expected.warnings);
+  EXPECT_TRUE(s.uv_sets.loaded);
+  EXPECT_EQ(s.uv_sets.sets, expected.uv_sets.sets);
+  EXPECT_EQ(s.uv_sets.triangle_materials, expected.uv_sets.triangle_materials);
+  ASSERT_EQ(s.uv_sets.materials.size(), 2u);
+  EXPECT_EQ(s.uv_sets.materials[1].name, "floor");
+  EXPECT_EQ(s.uv_sets.materials[1].occlusion_texcoord, 1);
+  EXPECT_EQ(s.uv_sets.materials[1].wrap_t, WrapMode::MirroredRepeat);
+  ASSERT_EQ(s.uv_sets.primitives.size(), 1u);
+  EXPECT_EQ(s.uv_sets.primitives[0].node, 2);
+  EXPECT_EQ(s.uv_sets.primitives[0].vertex_count, 3u);
 }
 
 TEST(IsolatedImport, PassesTheImportsLoadErrorOn) {

@@ -25,7 +25,7 @@ def open_viewer(scene=None, *, camera=None, device=None, host="127.0.0.1", port=
         scene = _core.cornell_box()
     elif not isinstance(scene, _core.Scene):
         path = scene
-        scene = load(path, texcoords=is_gltf_path(path))
+        scene = load(path, texcoords=is_gltf_path(path))  # only a glTF file stores a bake mbao reads
         bake = load_bake(path, scene)
     size = tuple(settings.get(name, RENDER[name]["default"]) for name in ("width", "height"))
     return Viewer(scene, as_camera(camera, scene, size), settings, resolve(device), bake=bake, host=host, port=port,
