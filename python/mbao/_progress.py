@@ -52,6 +52,18 @@ class progress_reporter:
             self._bar.close()
 
 
+class progress_count:
+    """Units of work done, reported as they grow (report: a progress_reporter's, or None)."""
+
+    def __init__(self, report, total=None):
+        self._report, self.total, self.done = report, total, 0
+
+    def advance(self, count=1):
+        self.done += count
+        if self._report is not None:
+            self._report(self.done, self.total)
+
+
 def _watched():
     """Whether a bar would be seen: stderr is a terminal, or a Jupyter kernel's output."""
     stderr = sys.stderr
@@ -92,15 +104,3 @@ def _ipywidgets_major():
         return int(version("ipywidgets").split(".")[0])
     except (PackageNotFoundError, ValueError):
         return 0
-
-
-class progress_count:
-    """Units of work done, reported as they grow (report: a progress_reporter's, or None)."""
-
-    def __init__(self, report, total=None):
-        self._report, self.total, self.done = report, total, 0
-
-    def advance(self, count=1):
-        self.done += count
-        if self._report is not None:
-            self._report(self.done, self.total)
