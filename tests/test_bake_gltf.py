@@ -79,7 +79,7 @@ def test_a_set_a_material_lacks_is_refused(tmp_path):
 
 def test_a_scene_loaded_without_uv_sets_says_how_to_get_them(tmp_path):
     scene = mbao.load(floor_and_wall(tmp_path))
-    with pytest.raises(ValueError, match=r"load one with mbao.load\(path, texcoords=True\), or pass its path"):
+    with pytest.raises(ValueError, match=r"load it with mbao.load\(path, texcoords=True\), or pass its path"):
         mbao.bake(scene, target="texture", progress=False)
 
 

@@ -207,6 +207,7 @@ def _bake_textures(scene, materials, resolution, padding, values, samples, devic
         layout = material.layout or _core.TexelLayout(scene, material.texcoords, material.triangles, width, height,
                                                       *material.wrap)
         _refuse_claimed_twice(layout, material)
+        _refuse_or_warn_of_unmapped(scene, material)
         layouts[material.index] = (material, layout)
     textures, totals = {}, dict(frame_ms=0.0, rays_secondary=0)
     for index, (material, layout) in layouts.items():
@@ -409,13 +410,38 @@ def _generated_materials(scene, width, height, padding):
     return materials
 
 
+def _uv_set_name(material):
+    return "the generated UV set" if material.set == "generated" else f"UV set TEXCOORD_{material.set}"
+
+
+def _refuse_or_warn_of_unmapped(scene, material):
+    """SPEC 6.3: a material whose triangles' UVs have no area has nothing to
+    bake into (refused); one where some have none is baked, with a warning of
+    how many are left out. Triangles without surface count for neither."""
+    surface = _areas(scene.vertices[scene.indices[material.triangles]]) > 0
+    unmapped = int((surface & ~(_areas(material.texcoords) > 0)).sum())
+    if unmapped and unmapped == surface.sum():
+        raise ValueError(f"{material.name}, {_uv_set_name(material)}: the UVs of all its {unmapped} triangles have "
+                         f"no area (each on a line or a point), so nothing can be baked into them; bake into a new "
+                         f"UV set of mbao's (texcoord=\"generate\"), or per vertex (target=\"vertices\")")
+    if unmapped:
+        warnings.warn(f"{material.name}, {_uv_set_name(material)}: {unmapped} of its {int(surface.sum())} triangles "
+                      f"have UVs without area and are left out of the bake", stacklevel=4)
+
+
+def _areas(corners):
+    """Twice the area of each triangle of (K, 3, 2) or (K, 3, 3) corners, in float64."""
+    corners = corners.astype(np.float64)
+    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    return np.abs(cross) if cross.ndim == 1 else np.linalg.norm(cross, axis=1)
+
+
 def _refuse_claimed_twice(layout, material):
     """SPEC 6.3: a UV set in which any covered texel is claimed twice cannot hold one value per texel."""
     if layout.claimed_twice == 0:
         return
     fraction = layout.claimed_twice / layout.covered_count
-    uv_set = "the generated UV set" if material.set == "generated" else f"UV set TEXCOORD_{material.set}"
-    raise _core.Error(f"{material.name}, {uv_set}: {fraction:.1%} of its "
+    raise _core.Error(f"{material.name}, {_uv_set_name(material)}: {fraction:.1%} of its "
                       f"{layout.covered_count} covered texels are claimed by more than one surface (overlap: "
                       f"mirrored halves, tiled UVs or overlapping islands), so one value per texel cannot serve "
                       f"them; bake into a new UV set of mbao's (texcoord=\"generate\"), into one without overlaps, "
