@@ -4,6 +4,7 @@ Every file here is written by tests/gltf_writer.py, so each test states its
 whole input. Expected positions and normals are computed with numpy.
 """
 
+import base64
 import json
 import math
 import os
@@ -848,15 +849,59 @@ def test_glb_lengths_past_the_end_of_the_file(tmp_path, offset, part, length):
 
 @pytest.mark.parametrize(
     "asset, element",
-    [({"version": "1.0"}, "asset.version"), ({"version": "2.0", "minVersion": "2.1"}, "minVersion"),
-     ({"version": "3.0"}, "asset.version")],
-    ids=["gltf_1", "min_version_2_1", "gltf_3"],
+    [({"version": "2.0", "minVersion": "2.1"}, "minVersion"), ({"version": "3.0"}, "asset.version")],
+    ids=["min_version_2_1", "gltf_3"],
 )
-def test_gltf_other_than_2_0(tmp_path, asset, element):
+def test_gltf_other_than_1_and_2_0(tmp_path, asset, element):
     b = GltfBuilder()
     b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
     b.doc["asset"] = asset
     assert_load_error(b.write(tmp_path / "version.gltf"), element)
+
+
+def gltf_1(positions, indices):
+    """A glTF 1.0 document (objects keyed by id, not arrays) of one mesh, its buffer a data URI."""
+    data = np.asarray(positions, "<f4").tobytes() + np.asarray(indices, "<u2").tobytes()
+    position_bytes = 12 * len(positions)
+    return {
+        "asset": {"version": "1.0"}, "scene": "scene", "scenes": {"scene": {"nodes": ["node"]}},
+        "nodes": {"node": {"meshes": ["mesh"], "children": []}},
+        "meshes": {"mesh": {"primitives": [{"attributes": {"POSITION": "positions"}, "indices": "indices",
+                                            "mode": 4, "material": "material"}]}},
+        "materials": {"material": {"values": {}}},
+        "accessors": {
+            "positions": {"bufferView": "vertices", "byteOffset": 0, "byteStride": 12, "componentType": 5126,
+                          "count": len(positions), "type": "VEC3"},
+            "indices": {"bufferView": "triangles", "byteOffset": 0, "componentType": 5123, "count": len(indices),
+                        "type": "SCALAR"}},
+        "bufferViews": {"vertices": {"buffer": "data", "byteOffset": 0, "byteLength": position_bytes, "target": 34962},
+                        "triangles": {"buffer": "data", "byteOffset": position_bytes,
+                                      "byteLength": len(data) - position_bytes, "target": 34963}},
+        "buffers": {"data": {"uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode(),
+                             "byteLength": len(data), "type": "arraybuffer"}},
+    }
+
+
+def test_gltf_1_loads_through_assimp(tmp_path):
+    """SPEC 3.2: Assimp's importer reads glTF 1.0; the same triangles as its 2.0 form."""
+    path = tmp_path / "one.gltf"
+    path.write_text(json.dumps(gltf_1(QUAD, QUAD_INDICES.ravel())))
+    scene = load_clean(path)
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(QUAD, QUAD_INDICES)]))])
+    two = load_clean(b.write(tmp_path / "two.gltf"))
+    np.testing.assert_array_equal(scene.vertices[scene.indices], two.vertices[two.indices])
+    camera = mbao.Camera((0.3, 0.4, 3.0), (0.0, 0.0, 0.0))
+    np.testing.assert_array_equal(mbao.render(scene, camera=camera, width=8, height=8).mask,
+                                  mbao.render(two, camera=camera, width=8, height=8).mask)
+
+
+def test_a_2_0_document_that_says_1_0_is_a_load_error_naming_it(tmp_path):
+    b = GltfBuilder()
+    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(TRIANGLE)]))])
+    b.doc["asset"] = {"version": "1.0"}
+    with pytest.raises(mbao.LoadError, match="says_1.gltf"):
+        mbao.load(b.write(tmp_path / "says_1.gltf"))
 
 
 def test_required_extensions_are_refused_by_name(tmp_path):

@@ -23,6 +23,7 @@
 
 #include "core/error.h"
 #include "scene/alpha_mask_builder.h"
+#include "scene/gltf_container.h"
 #include "scene/gltf_files.h"
 #include "scene/image_alpha.h"
 #include "scene/isolated_import.h"
@@ -401,11 +402,28 @@ std::shared_ptr<Scene> load_with_assimp_from_memory(const unsigned char* bytes, 
   return scene_of(import_isolated(import, name, time_limit(options, size)), name);
 }
 
+namespace {
+
+// glTF 1.0 (SPEC 3.2), which Assimp's importer reads; its failures say what the file was taken for.
+std::shared_ptr<Scene> load_gltf_1(const std::string& path, const LoadOptions& options) {
+  try {
+    return load_with_assimp(path, options);
+  } catch (const LoadError& e) {
+    throw LoadError(std::string(e.what()) + " (read as glTF 1.0, a GLB of version 1 or asset.version 1.x, " +
+                    "through Assimp)");
+  }
+}
+
+}  // namespace
+
 std::shared_ptr<Scene> load_scene(const std::string& path, const LoadOptions& options) {
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (extension != ".gltf" && extension != ".glb" && assimp_reads(path)) return load_with_assimp(path, options);
-  return load_gltf(path, options);
+  const std::vector<unsigned char> bytes = read_regular_file(path, "");
+  if (is_gltf_1(bytes.data(), bytes.size())) return load_gltf_1(path, options);
+  return load_gltf_from_memory(bytes.data(), bytes.size(), path, std::filesystem::path(path).parent_path().string(),
+                               options);
 }
 
 }  // namespace mbao

@@ -4,6 +4,8 @@
 #include <cstring>
 #include <string_view>
 
+#include <nlohmann/json.hpp>
+
 #include "core/error.h"
 
 namespace mbao {
@@ -98,6 +100,26 @@ GltfContainer check_gltf_container(const unsigned char* bytes, std::size_t size,
                                         "does not start with '{')"));
   check_json_depth(bytes, size, name);
   return GltfContainer::Json;
+}
+
+bool is_gltf_1(const unsigned char* bytes, std::size_t size) {
+  if (size >= 8 && std::memcmp(bytes, "glTF", 4) == 0) {
+    std::uint32_t version;
+    std::memcpy(&version, bytes + 4, sizeof version);
+    return version == 1;
+  }
+  if (!starts_like_json_object(bytes, size)) return false;
+  try {
+    check_json_depth(bytes, size, "");  // nlohmann parses by recursion too
+  } catch (const LoadError&) {
+    return false;
+  }
+  const nlohmann::json doc = nlohmann::json::parse(bytes, bytes + size, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return false;
+  const auto asset = doc.find("asset");
+  if (asset == doc.end() || !asset->is_object()) return false;
+  const auto version = asset->find("version");
+  return version != asset->end() && version->is_string() && version->get<std::string>().rfind("1.", 0) == 0;
 }
 
 }  // namespace mbao

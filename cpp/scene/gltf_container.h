@@ -18,4 +18,9 @@ constexpr std::size_t kMaxJsonDepth = 128;
 // JSON's nesting depth. Throws LoadError naming `name` and the part.
 GltfContainer check_gltf_container(const unsigned char* bytes, std::size_t size, const std::string& name);
 
+// Whether the bytes are a glTF 1.0 file: a GLB of version 1 (KHR_binary_glTF),
+// or JSON whose asset.version is 1.x. mbao's glTF loader reads glTF 2.0;
+// Assimp's importer reads 1.0. False for anything else, malformed too.
+bool is_gltf_1(const unsigned char* bytes, std::size_t size);
+
 }  // namespace mbao
