@@ -39,12 +39,17 @@ def image_with_alpha(alpha, channels):
 
 def masked_scene(tmp_path, alpha_image, vertices=SQUARE, uv=SQUARE_UV, triangles=SQUARE_TRIANGLES, cutoff=None,
                  factor=1.0, wrap=(None, None), where="bufferView", container="glb", extra=None,
-                 texcoord_type=np.float32):
-    """A glTF file with one MASK-material mesh (and, if given, an opaque one) loaded as a scene."""
+                 texcoord_type=np.float32, texture_transform=None):
+    """A glTF file with one MASK-material mesh (and, if given, an opaque one) loaded as a scene;
+    texture_transform: the KHR_texture_transform of its texture, or None."""
     builder = GltfBuilder()
     image = builder.add_image(png_bytes(alpha_image, tmp_path), where=where, file_name="mask.png")
     texture = builder.add_texture(image, *wrap)
     material = builder.add_material("MASK", cutoff, (1.0, 1.0, 1.0, factor), texture)
+    if texture_transform is not None:
+        info = builder.doc["materials"][material]["pbrMetallicRoughness"]["baseColorTexture"]
+        info["extensions"] = {"KHR_texture_transform": texture_transform}
+        builder.doc["extensionsUsed"] = builder.doc["extensionsRequired"] = ["KHR_texture_transform"]
     component = {np.float32: 5126, np.uint8: UNSIGNED_BYTE, np.uint16: UNSIGNED_SHORT}[texcoord_type]
     primitives = [builder.primitive(vertices, triangles, texcoords=uv, texcoord_type=component, material=material)]
     if extra is not None:
@@ -97,6 +102,39 @@ def test_camera_rays_pass_through_the_transparent_half(tmp_path, where, containe
     opaque, clear = expected_checker_mask(48, 48)
     assert opaque[clear].sum() > 300 and (~opaque[clear]).sum() > 300
     np.testing.assert_array_equal(result.mask[clear], opaque[clear])
+
+
+@pytest.mark.parametrize("transform, period, shifted", [
+    ({"offset": [0.5, 0.0]}, 1.0, True),
+    ({"scale": [2.0, 2.0]}, 2.0, False),
+], ids=["offset", "scale"])
+def test_a_texture_transform_moves_the_mask(tmp_path, transform, period, shifted):
+    """KHR_texture_transform on the mask texture (SPEC 3.2): the UVs pass
+    through its offset, rotation and scale before the lookup; an offset of
+    half the checkerboard swaps its blocks, a scale of 2 repeats it."""
+    scene = masked_scene(tmp_path, image_with_alpha(checkerboard(), 4), texture_transform=transform)
+    result = render_square(scene)
+    opaque, clear = expected_checker_mask(48, 48, period=period)
+    if shifted:
+        opaque = ~opaque & (np.abs(square_coverage(48, 48)[0]) < 1.0) & (np.abs(square_coverage(48, 48)[1]) < 1.0)
+    assert opaque[clear].sum() > 300 and (~opaque[clear]).sum() > 300
+    np.testing.assert_array_equal(result.mask[clear], opaque[clear])
+
+
+def test_a_texture_transform_rotates_counter_clockwise_in_uv_space(tmp_path):
+    """rotation pi/2 and offset (0, 1) map (u, v) to (v, 1 - u), as the
+    extension's matrix says: the image's opaque top-left quadrant (u, v < 0.5)
+    then covers the square where u > 0.5 and v < 0.5, its top right."""
+    alpha = np.zeros((64, 64), np.uint8)
+    alpha[:32, :32] = 255
+    scene = masked_scene(tmp_path, image_with_alpha(alpha, 4),
+                         texture_transform={"rotation": math.pi / 2, "offset": [0.0, 1.0]})
+    result = render_square(scene)
+    x, y = square_coverage(48, 48)
+    clear = (np.abs(x) > 0.05) & (np.abs(y) > 0.05) & (np.abs(np.abs(x) - 1.0) > 0.02) & (np.abs(np.abs(y) - 1.0) > 0.02)
+    top_right = (x > 0) & (x < 1) & (y > 0) & (y < 1)
+    assert top_right[clear].sum() > 100
+    np.testing.assert_array_equal(result.mask[clear], top_right[clear])
 
 
 def test_normalized_integer_texture_coordinates(tmp_path):

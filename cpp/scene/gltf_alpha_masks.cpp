@@ -1,6 +1,7 @@
 #include "scene/gltf_alpha_masks.h"
 
 #include <cctype>
+#include <cmath>
 
 #include "core/error.h"
 #include "scene/gltf_files.h"
@@ -72,7 +73,52 @@ GltfAlphaMasks::Material GltfAlphaMasks::resolve(int index) {
   material.coverage = Coverage::Masked;
   material.texcoord_set = base.baseColorTexture.texCoord;
   material.texture = *texture;
+  read_texture_transform(base.baseColorTexture, what + " baseColorTexture", material);
   return material;
+}
+
+// KHR_texture_transform on the mask's texture (SPEC 3.2): its matrix
+// translation(offset) * rotation(rotation) * scale(scale), with the rotation
+// counter-clockwise in UV space as the extension defines it, and its texCoord
+// in place of the texture's.
+void GltfAlphaMasks::read_texture_transform(const tinygltf::TextureInfo& info, const std::string& what,
+                                            Material& material) const {
+  const auto found = info.extensions.find("KHR_texture_transform");
+  if (found == info.extensions.end()) return;
+  const tinygltf::Value& transform = found->second;
+  const auto number = [&](const tinygltf::Value& value, const std::string& name) {
+    if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
+      throw LoadError(path_ + ": " + what + " KHR_texture_transform " + name + " is not a finite number");
+    return value.GetNumberAsDouble();
+  };
+  const auto pair = [&](const char* name, double fallback) {
+    if (!transform.Has(name)) return std::array<double, 2>{fallback, fallback};
+    const tinygltf::Value& value = transform.Get(name);
+    if (!value.IsArray() || value.ArrayLen() != 2)
+      throw LoadError(path_ + ": " + what + " KHR_texture_transform " + name + " is not an array of 2 numbers");
+    return std::array<double, 2>{number(value.Get(0), name), number(value.Get(1), name)};
+  };
+  const std::array<double, 2> offset = pair("offset", 0.0), scale = pair("scale", 1.0);
+  const double rotation = transform.Has("rotation") ? number(transform.Get("rotation"), "rotation") : 0.0;
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  material.uv_transform = {float(c * scale[0]), float(s * scale[1]), float(offset[0]),
+                           float(-s * scale[0]), float(c * scale[1]), float(offset[1])};
+  if (transform.Has("texCoord")) {
+    const tinygltf::Value& set = transform.Get("texCoord");
+    if (!set.IsInt() || set.GetNumberAsInt() < 0)
+      throw LoadError(path_ + ": " + what + " KHR_texture_transform texCoord is not a set number");
+    material.texcoord_set = set.GetNumberAsInt();
+  }
+}
+
+std::vector<float> GltfAlphaMasks::Material::transformed(std::vector<float> uv) const {
+  const std::array<float, 6>& m = uv_transform;
+  for (std::size_t i = 0; i + 1 < uv.size(); i += 2) {
+    const float u = uv[i], v = uv[i + 1];
+    uv[i] = m[0] * u + m[1] * v + m[2];
+    uv[i + 1] = m[3] * u + m[4] * v + m[5];
+  }
+  return uv;
 }
 
 std::optional<std::uint32_t> GltfAlphaMasks::mask_texture(int texture_index, float alpha_factor, float cutoff,

@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -26,6 +27,12 @@ class GltfAlphaMasks {
     Coverage coverage = Coverage::Opaque;
     std::uint32_t texture = 0;  // with Masked: the MaskTexture
     int texcoord_set = 0;       // with Masked: n of the TEXCOORD_n attribute
+    // With Masked: KHR_texture_transform's affine map of the UVs, rows (a, b, c) and (d, e, f):
+    // (u, v) -> (a u + b v + c, d u + e v + f); the identity without the extension.
+    std::array<float, 6> uv_transform = {1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+
+    // `uv` (2 floats per vertex) through uv_transform.
+    std::vector<float> transformed(std::vector<float> uv) const;
   };
 
   // `path` names the file in messages; relative image URIs are found in
@@ -44,6 +51,7 @@ class GltfAlphaMasks {
 
  private:
   Material resolve(int index);
+  void read_texture_transform(const tinygltf::TextureInfo& info, const std::string& what, Material& material) const;
   std::optional<std::uint32_t> mask_texture(int texture_index, float alpha_factor, float cutoff,
                                            const std::string& what);
   std::optional<AlphaImage> alpha_image(int image_index, const std::string& what);

@@ -233,7 +233,9 @@ class SceneAssembler {
     if (options_.normals) add_normals(primitive, world, what, vertex_count);
     if (options_.texcoords) add_uv_sets(primitive, what, vertex_count, indices.size() / 3);
     if (material.coverage == GltfAlphaMasks::Coverage::Masked)
-      masks_.triangles().add_masked(indices, texcoords(primitive, material.texcoord_set, vertex_count, what), material.texture);
+      masks_.triangles().add_masked(
+          indices, material.transformed(texcoords(primitive, material.texcoord_set, vertex_count, what)),
+          material.texture);
     else
       masks_.triangles().add_opaque(indices.size() / 3);
   }
@@ -408,10 +410,11 @@ void check_supported(const tinygltf::Model& model, const std::string& name) {
                     "; only glTF 2.0 is supported");
   for (const std::string& extension : model.extensionsRequired)
     if (extension != "KHR_mesh_quantization" && extension != "KHR_draco_mesh_compression" &&
-        extension != "EXT_meshopt_compression")
+        extension != "EXT_meshopt_compression" && extension != "KHR_texture_transform")
       throw LoadError(name + ": extensionsRequired lists " + extension +
                       ", which mbao does not read; of the extensions a file may require, it reads "
-                      "KHR_mesh_quantization, KHR_draco_mesh_compression and EXT_meshopt_compression");
+                      "KHR_mesh_quantization, KHR_draco_mesh_compression, EXT_meshopt_compression and "
+                      "KHR_texture_transform (on mask textures)");
 }
 
 // tinygltf quotes in full a data URI it cannot decode, which may be megabytes
