@@ -161,12 +161,12 @@ std::vector<std::size_t> tallest_first(const std::vector<Chart>& charts) {
   return order;
 }
 
-// Whether the charts fit at some density above 0, `padding` apart: each in a
-// box of 2 x 2 texels (1 x 1 where it has no extent). At density 0 itself every
-// chart would shrink to a point, which covers no texel.
 // The least density tried: charts of more than 1e-270 world units still get boxes of 2 texels.
 constexpr double kLeastDensity = 1e-30;
 
+// Whether the charts fit at some density above 0, `padding` apart: each in a
+// box of 2 x 2 texels (1 x 1 where it has no extent). At density 0 itself every
+// chart would shrink to a point, which covers no texel.
 bool fit_at_all(const std::vector<Chart>& charts, int width, int height, int padding) {
   std::vector<glm::ivec2> placed;
   return pack(charts, tallest_first(charts), kLeastDensity, width, height, padding, &placed);
