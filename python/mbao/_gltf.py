@@ -263,4 +263,3 @@ def _primitive_of(part, vertices, indices, normals, uv_sets, binary, views, acce
     if uv_sets is not None and len(triangles) and uv_sets["triangle_materials"][part["triangles"][0]] >= 0:
         primitive["material"] = int(uv_sets["triangle_materials"][part["triangles"][0]])
     return primitive
-

@@ -41,9 +41,10 @@ def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bi
     output is .glb where input is, else .gltf (relative URIs rewritten for its
     folder; new data in data URIs). An input of another format mbao.load reads
     (OBJ, PLY, FBX, ...) is written as glTF, .glb or .gltf as output says: its
-    triangles in world space as one mesh, with its normals where every vertex
-    has one and no materials, plus the bake (its alpha masks cut the bake's
-    rays all the same); its texture bakes need texcoord="generate". settings:
+    triangles in world space as one mesh, a primitive per mesh the file placed
+    with its material (by name) and UV sets, its normals where every vertex
+    has one, plus the bake (its alpha masks cut the bake's rays all the same);
+    one without UV sets bakes textures with texcoord="generate". settings:
     those of mbao.bake. Returns the mbao.Bake, with
     stats["replaced_occlusion"]: the materials whose occlusion texture was
     replaced.
