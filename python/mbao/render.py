@@ -61,7 +61,7 @@ def render(scene: SceneLike, *, camera: CameraLike = None, hbao: Optional[_core.
     # The signature and the docstring are made below from the settings' table.
     scene = as_scene(scene)
     values = _setting_values("render", _engine(engine, settings), settings)
-    camera = as_camera(camera, scene, _size(values))
+    camera = as_camera(camera, scene, render_size(values))
     return _render(scene, camera, values, resolve(device), progress=progress, hbao=hbao, denoise=denoise)
 
 
@@ -98,11 +98,11 @@ def _frames(scene, cameras, values, device, denoise, history, progress):
     first_seed = values.get("seed", RENDER["seed"]["default"])
     for k, camera in enumerate(cameras):
         frame = dict(values, seed=checked(RENDER["seed"], first_seed + k))
-        yield _render(scene, as_camera(camera, scene, _size(values)), frame, device, progress=progress, denoise=denoise,
-                      history=history)
+        yield _render(scene, as_camera(camera, scene, render_size(values)), frame, device, progress=progress,
+                      denoise=denoise, history=history)
 
 
-def _size(values):
+def render_size(values):
     """(width, height) of a render with these setting values."""
     return tuple(values.get(name, RENDER[name]["default"]) for name in ("width", "height"))
 
@@ -303,7 +303,7 @@ def gbuffer(scene: SceneLike, *, camera: CameraLike = None, width: int = RENDER[
     on CPUs)."""
     scene = as_scene(scene)
     values = _setting_values("gbuffer", _engine(engine, {}), dict(width=width, height=height))
-    camera = as_camera(camera, scene, _size(values))
+    camera = as_camera(camera, scene, render_size(values))
     plane, origin, stats = _core.gbuffer(scene, camera, resolve(device), values)
     triangle = plane["triangle"].view(np.uint32).astype(np.int64)
     mask = triangle != 0xFFFFFFFF

@@ -8,7 +8,7 @@ from .. import _core
 from .._types import CameraLike, DeviceLike, SceneLike
 from ..devices import resolve
 from ..scene import as_camera, is_gltf_path, load
-from ..settings import RENDER
+from ..render import render_size
 from ..stored_bake import load_bake
 from .frames import StillView
 from .server import BackgroundServer, Viewer
@@ -27,9 +27,8 @@ def open_viewer(scene=None, *, camera=None, device=None, host="127.0.0.1", port=
         path = scene
         scene = load(path, texcoords=is_gltf_path(path))  # only a glTF file stores a bake mbao reads
         bake = load_bake(path, scene)
-    size = tuple(settings.get(name, RENDER[name]["default"]) for name in ("width", "height"))
-    return Viewer(scene, as_camera(camera, scene, size), settings, resolve(device), bake=bake, host=host, port=port,
-                  token=token)
+    return Viewer(scene, as_camera(camera, scene, render_size(settings)), settings, resolve(device), bake=bake,
+                  host=host, port=port, token=token)
 
 
 class View:
