@@ -421,9 +421,14 @@ std::shared_ptr<Scene> load_scene(const std::string& path, const LoadOptions& op
   for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (extension != ".gltf" && extension != ".glb" && assimp_reads(path)) return load_with_assimp(path, options);
   const std::vector<unsigned char> bytes = read_regular_file(path, "");
-  if (is_gltf_1(bytes.data(), bytes.size())) return load_gltf_1(path, options);
-  return load_gltf_from_memory(bytes.data(), bytes.size(), path, std::filesystem::path(path).parent_path().string(),
-                               options);
+  try {
+    return load_gltf_from_memory(bytes.data(), bytes.size(), path,
+                                 std::filesystem::path(path).parent_path().string(), options);
+  } catch (const LoadError&) {
+    // Asked only of a file the glTF 2.0 loader refused: a 2.0 file's JSON is not parsed twice.
+    if (!is_gltf_1(bytes.data(), bytes.size())) throw;
+  }
+  return load_gltf_1(path, options);
 }
 
 }  // namespace mbao
