@@ -76,6 +76,18 @@ def test_points_and_lines_are_skipped_with_a_warning(tmp_path):
     assert scene.triangle_count == 1
 
 
+CAMERA_ONLY_COLLADA = b"""<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <library_cameras><camera id="c"><optics><technique_common><perspective><yfov>40</yfov>
+    <aspect_ratio>1.5</aspect_ratio><znear>0.1</znear><zfar>100</zfar></perspective></technique_common></optics>
+  </camera></library_cameras>
+  <library_visual_scenes><visual_scene id="s"><node id="eye"><instance_camera url="#c"/></node>
+    <node id="parent"><node id="child"/></node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+"""
+
+
 @pytest.mark.parametrize("name, content, message", [
     ("truncated.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                       b"property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\0\0",
@@ -88,6 +100,8 @@ def test_points_and_lines_are_skipped_with_a_warning(tmp_path):
     ("lines_only.obj", b"v 0 0 0\nv 1 0 0\nl 1 2\n", "no triangles"),
     ("readme.obj", b"This is a text file, not a model.\nIt has a few lines of words.\n", r"readme.obj: no meshes in it"),
     ("points.obj", b"v 0 0 0\nv 1 0 0\n", "points.obj: a mesh in it has vertices but no faces"),
+    # Without meshes Assimp would build stand-in pyramids from the nodes and flag the scene incomplete.
+    ("camera_only.dae", CAMERA_ONLY_COLLADA, "camera_only.dae: no meshes in it"),
 ])
 def test_a_bad_file_raises_load_error_naming_it(tmp_path, name, content, message):
     path = tmp_path / name

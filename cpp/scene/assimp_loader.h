@@ -12,13 +12,9 @@ namespace mbao {
 // .fbx, .dae, .3ds, ...), case aside.
 bool assimp_reads(const std::string& path);
 
-// Loads a file through Assimp (SPEC 3.2): every mesh of the file's node tree,
-// triangulated, in world space (the nodes' transforms applied), vertex normals
-// where the file has them and options.normals asks, and the file's first
-// perspective camera. Points and lines are dropped, with a warning. Throws
-// LoadError naming the file and what Assimp found wrong, and
-// std::invalid_argument where options.texcoords asks for UV sets: only the
-// glTF loader reads them.
+// Loads a file through Assimp (SPEC 3.2), in a process of its own, read as
+// scene_from_assimp says (scene/assimp_scene.h). Throws LoadError naming the
+// file and what Assimp found wrong.
 std::shared_ptr<Scene> load_with_assimp(const std::string& path, const LoadOptions& options = {});
 
 // The same from a file's bytes in memory, read as `extension` ("obj", "ply",
