@@ -6,7 +6,7 @@
 #
 # The seed corpora are only read; the inputs the run adds go to a temporary
 # directory and are dropped. fuzz/<name>.dict is used where there is one
-# (<name>: the fuzzer's name less "_loader_fuzzer"). Any finding (crash,
+# (<name>: the fuzzer's name less "_fuzzer"). Any finding (crash,
 # sanitizer report, uncaught exception, an input running past -timeout
 # seconds or -rss_limit_mb) stops the run with an error and is saved under
 # ./<name>-findings/ to replay: `<fuzzer> <name>-findings/crash-...`. The
@@ -18,7 +18,7 @@ fuzzer=$1
 seconds=${2:-60}
 shift $(( $# < 2 ? $# : 2 ))
 here=$(cd "$(dirname "$0")" && pwd)
-name=$(basename "$fuzzer" _loader_fuzzer)
+name=$(basename "$fuzzer" _fuzzer)
 dict=""
 [ -f "$here/$name.dict" ] && dict="-dict=$here/$name.dict"
 new_inputs=$(mktemp -d)
