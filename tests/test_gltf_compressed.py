@@ -197,3 +197,30 @@ def test_a_meshopt_count_beyond_what_its_bytes_can_hold_is_refused_unallocated(t
     with pytest.raises(mbao.LoadError, match=rf"huge.glb: bufferView {view} EXT_meshopt_compression has byteStride "
                                              rf"\d+ and count \d+, more than its \d+ encoded bytes can hold"):
         mbao.load(tmp_path / "huge.glb")
+
+
+@pytest.mark.parametrize("mode, change, message", [
+    ("ATTRIBUTES", {"byteStride": 6}, "has mode ATTRIBUTES and byteStride 6; it must be a multiple of 4 up to 256"),
+    ("ATTRIBUTES", {"byteStride": 260}, "has mode ATTRIBUTES and byteStride 260; it must be a multiple of 4 up to 256"),
+    ("TRIANGLES", {"byteStride": 3}, "has mode TRIANGLES and byteStride 3; it must be 2 or 4"),
+    ("TRIANGLES", {"count": 4}, "has mode TRIANGLES and count 4, not a multiple of 3"),
+    ("TRIANGLES", {"filter": "OCTAHEDRAL"}, "has mode TRIANGLES and filter OCTAHEDRAL; index modes take no filter"),
+    ("ATTRIBUTES", {"filter": "QUATERNION", "byteStride": 4}, "has filter QUATERNION and byteStride 4"),
+    ("ATTRIBUTES", {"filter": "OCTAHEDRAL", "byteStride": 12}, "has filter OCTAHEDRAL and byteStride 12"),
+])
+def test_a_meshopt_view_against_the_extensions_layout_rules_is_named(tmp_path, mode, change, message):
+    """EXT_meshopt_compression's rules on strides, counts and filters, which meshoptimizer asserts (an
+    abort) rather than checks, are checked before decoding."""
+    from mbao._gltf import GltfDocument
+
+    square = GltfBuilder()
+    square.add_scene([square.add_node(mesh=square.add_mesh([square.primitive(
+        np.float32([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]), [0, 1, 2, 0, 2, 3])]))], default=True)
+    document = GltfDocument(transformed("meshopt", square.write(tmp_path / "square.glb"), tmp_path / "meshopt.glb"))
+    view, encoding = next((i, v["extensions"]["EXT_meshopt_compression"])
+                          for i, v in enumerate(document.doc["bufferViews"])
+                          if v.get("extensions", {}).get("EXT_meshopt_compression", {}).get("mode") == mode)
+    encoding.update(change)
+    document.write(tmp_path / "bad.glb")
+    with pytest.raises(mbao.LoadError, match=rf"bad.glb: bufferView {view} EXT_meshopt_compression {message}"):
+        mbao.load(tmp_path / "bad.glb")

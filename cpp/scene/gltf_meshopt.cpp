@@ -53,6 +53,28 @@ Encoding encoding_of(const tinygltf::Model& model, const tinygltf::Value& extens
   return e;
 }
 
+// The extension's rules on a mode's and a filter's strides and counts, which
+// meshoptimizer's decoders assert rather than check.
+void check_layout(const Encoding& e, const std::string& what) {
+  const std::string stride = "byteStride " + std::to_string(e.stride);
+  const bool index_mode = e.mode == "TRIANGLES" || e.mode == "INDICES";
+  if (e.mode == "ATTRIBUTES" && (e.stride % 4 != 0 || e.stride > 256))
+    throw LoadError(what + " has mode ATTRIBUTES and " + stride + "; it must be a multiple of 4 up to 256");
+  if (index_mode && e.stride != 2 && e.stride != 4)
+    throw LoadError(what + " has mode " + e.mode + " and " + stride + "; it must be 2 or 4");
+  if (index_mode && e.filter != "NONE")
+    throw LoadError(what + " has mode " + e.mode + " and filter " + e.filter + "; index modes take no filter");
+  if (e.mode == "TRIANGLES" && e.count % 3 != 0)
+    throw LoadError(what + " has mode TRIANGLES and count " + std::to_string(e.count) + ", not a multiple of 3");
+  const bool filter_fits = e.filter == "OCTAHEDRAL"    ? e.stride == 4 || e.stride == 8
+                           : e.filter == "QUATERNION"  ? e.stride == 8
+                           : e.filter == "EXPONENTIAL" ? e.stride % 4 == 0
+                                                       : true;
+  if (!filter_fits)
+    throw LoadError(what + " has filter " + e.filter + " and " + stride +
+                    "; OCTAHEDRAL takes 4 or 8, QUATERNION 8, EXPONENTIAL a multiple of 4");
+}
+
 // meshoptimizer's decoder for the mode, and its filter: 0 on success.
 int decode(const Encoding& e, unsigned char* out) {
   const unsigned char* source = e.buffer->data() + e.offset;
@@ -81,6 +103,7 @@ std::optional<std::vector<unsigned char>> decoded_meshopt_view(const tinygltf::M
     throw LoadError(what + " has mode \"" + e.mode + "\" and filter \"" + e.filter +
                     "\"; the extension defines ATTRIBUTES, TRIANGLES and INDICES, and NONE, OCTAHEDRAL, "
                     "QUATERNION and EXPONENTIAL");
+  check_layout(e, what);
   std::vector<unsigned char> bytes(e.count * e.stride);
   if (decode(e, bytes.data()) != 0) throw LoadError(what + ": its " + e.mode + " data does not decode");
   return bytes;
