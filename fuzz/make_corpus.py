@@ -1,19 +1,24 @@
 """Writes the fuzzer's seed corpus, fuzz/corpus/: small glTF files that between
 them reach every part of the loader (containers, node transforms, cameras,
-index types, interleaved and sparse accessors, alpha masks from a bufferView,
-a data URI and an external file). The files are committed; rerun this only to
-change them:
+index types, interleaved and sparse accessors, triangle strips and fans, alpha
+masks from a bufferView, a data URI and an external file, KHR_texture_transform),
+and copies of one of them that glTF-Transform quantized (KHR_mesh_quantization)
+and compressed (KHR_draco_mesh_compression, EXT_meshopt_compression), as a user's
+files come. The files are committed; rerun this only to change them, after
+`make test` has installed glTF-Transform:
 
     .venv/bin/python fuzz/make_corpus.py
 """
 
 import pathlib
+import subprocess
 import sys
 import tempfile
 
 import numpy as np
 
 HERE = pathlib.Path(__file__).resolve().parent
+GLTF_TRANSFORM = HERE.parent / "tests" / "gltf_transform" / "node_modules" / ".bin" / "gltf-transform"
 sys.path.insert(0, str(HERE.parent / "tests"))
 
 from gltf_writer import (  # noqa: E402
@@ -21,6 +26,8 @@ from gltf_writer import (  # noqa: E402
     FLOAT,
     LINES,
     MIRRORED_REPEAT,
+    TRIANGLE_FAN,
+    TRIANGLE_STRIP,
     UNSIGNED_BYTE,
     UNSIGNED_SHORT,
     GltfBuilder,
@@ -62,6 +69,34 @@ def layouts(b):
     b.add_scene([b.add_node(mesh=mesh)])
 
 
+def strips_and_fans(b):
+    """A strip and a fan, each indexed and not."""
+    pentagon = np.float32([[0, 0, 0], [1, 0, 0], [1.3, 1, 0], [0.5, 1.6, 0], [-0.3, 1, 0]])
+    b.add_scene([b.add_node(mesh=b.add_mesh([
+        b.primitive(pentagon, [0, 1, 4, 2, 3], mode=TRIANGLE_STRIP, index_type=UNSIGNED_BYTE),
+        b.primitive(pentagon, mode=TRIANGLE_STRIP),
+        b.primitive(pentagon, [0, 1, 2, 3, 4], mode=TRIANGLE_FAN, index_type=UNSIGNED_SHORT),
+        b.primitive(pentagon, mode=TRIANGLE_FAN),
+    ]))])
+
+
+def transformed_mask(b, tmp):
+    """A mask whose texture is offset, rotated and scaled by KHR_texture_transform."""
+    masked(b, "bufferView", tmp)
+    info = b.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]
+    info["extensions"] = {"KHR_texture_transform": {"offset": [0.25, 0.5], "rotation": 0.3, "scale": [2, 0.5]}}
+    b.doc["extensionsUsed"] = b.doc["extensionsRequired"] = ["KHR_texture_transform"]
+
+
+def encoded_copies(source, out):
+    """glTF-Transform's quantized, Draco and meshopt copies of `source`."""
+    if not GLTF_TRANSFORM.exists():
+        sys.exit(f"{GLTF_TRANSFORM} is missing: `make test` installs it")
+    for command in ("quantize", "draco", "meshopt"):
+        subprocess.run([str(GLTF_TRANSFORM), command, str(source), str(out / f"{command}.glb")], check=True,
+                       capture_output=True)
+
+
 def masked(b, where, tmp):
     """A MASK material whose alpha comes from a 2 x 2 grey-alpha PNG stored `where`."""
     pixels = np.uint8([[[255, 255], [255, 0]], [[255, 0], [255, 255]]])
@@ -86,6 +121,8 @@ def main():
             "layouts.glb": layouts,
             "mask_in_buffer.glb": lambda b: masked(b, "bufferView", tmp),
             "mask_data_uri.gltf": lambda b: masked(b, "data-uri", tmp),
+            "strips_and_fans.glb": strips_and_fans,
+            "texture_transform.glb": lambda b: transformed_mask(b, tmp),
         }
         for name, fill in seeds.items():
             b = GltfBuilder()
@@ -96,6 +133,7 @@ def main():
         b.write_gltf_external(out / "external.gltf", bin_name="external.bin")
         for name in b.files:
             (out / name).write_bytes(b.files[name])
+        encoded_copies(out / "mask_in_buffer.glb", out)
 
 
 if __name__ == "__main__":
