@@ -85,7 +85,15 @@ aiMaterial* material(FuzzedDataProvider& in) {
     const float opacity = any_float(in);
     m->AddProperty(&opacity, 1, AI_MATKEY_OPACITY);
   }
-  for (const aiTextureType type : {aiTextureType_OPACITY, aiTextureType_DIFFUSE, aiTextureType_AMBIENT_OCCLUSION}) {
+  if (in.ConsumeBool()) {
+    const aiColor4D color(any_float(in), any_float(in), any_float(in), any_float(in));
+    if (in.ConsumeBool())
+      m->AddProperty(&color, 1, AI_MATKEY_BASE_COLOR);
+    else
+      m->AddProperty(&color, 1, AI_MATKEY_COLOR_DIFFUSE);
+  }
+  for (const aiTextureType type : {aiTextureType_OPACITY, aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR,
+                                   aiTextureType_AMBIENT_OCCLUSION}) {
     if (!in.ConsumeBool()) continue;
     const aiString file = texture_name(in);
     m->AddProperty(&file, AI_MATKEY_TEXTURE(type, 0));
@@ -212,6 +220,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   mbao::LoadOptions options;
   options.normals = in.ConsumeBool();
   options.texcoords = in.ConsumeBool();
+  options.base_colors = in.ConsumeBool();
   const std::unique_ptr<aiScene> built = scene(in);
   const std::string path = std::string(MBAO_FUZZ_BASE_DIR) + "/fuzz-input.dae";
   try {

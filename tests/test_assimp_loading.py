@@ -2,6 +2,8 @@
 STL, Collada, FBX, ... with the nodes' transforms applied, triangles only,
 normals where the file has them. The tests write the files they read."""
 
+import pickle
+
 import numpy as np
 import pytest
 
@@ -288,3 +290,57 @@ def test_an_assimp_format_bakes_into_its_own_uvs_and_keeps_them_beside_generated
     assert document.doc["materials"][floor["material"]]["occlusionTexture"]["texCoord"] == 1
     assert all(texture.coverage.any() for texture in result.textures.values())
     assert validation_errors(output) == []
+
+
+def tga_bytes(rgb):
+    """An uncompressed 24-bit TGA of an (H, W, 3) uint8 image, rows from the top."""
+    height, width, _ = rgb.shape
+    header = bytes([0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, width & 255, width >> 8, height & 255, height >> 8, 24, 0x20])
+    return header + np.ascontiguousarray(rgb[:, :, ::-1]).tobytes()
+
+
+def test_bake_file_keeps_an_assimp_formats_base_colours(tmp_path):
+    """A material's diffuse colour becomes its baseColorFactor and its diffuse map its baseColorTexture, in the
+    UV set the map names; a TGA is written as a PNG of the same texels. A map that cannot be read, or whose UV set
+    a primitive lacks, is named in a warning and left out, and the file stays valid."""
+    import OpenImageIO as oiio
+    from mbao._gltf import GltfDocument
+    from mbao.scene import load_with_base_colors
+    from test_bake_file import validation_errors
+
+    texels = np.random.default_rng(3).integers(0, 256, (4, 6, 3), dtype=np.uint8)
+    (tmp_path / "floor.tga").write_bytes(tga_bytes(texels))
+    (tmp_path / "wall.png").write_bytes(png_bytes(np.full((2, 2), 200, np.uint8), tmp_path))
+    (tmp_path / "scene.mtl").write_text("newmtl floor\nKd 0.8 0.4 0.2\nmap_Kd floor.tga\n"
+                                        "newmtl wall\nKd 0.1 0.2 0.3\nd 0.9\nmap_Kd wall.png\n"
+                                        "newmtl roof\nKd 0.5 0.5 0.5\nmap_Kd missing.png\n")
+    (tmp_path / "scene.obj").write_text(
+        "mtllib scene.mtl\n"
+        "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -1 0 0\nv 1 0 0\nv 1 1 0\nv -1 1 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "usemtl floor\nf 1/1 3/3 2/2\nf 1/1 4/4 3/3\n"
+        "usemtl wall\nf 5 6 7\nf 5 7 8\n"
+        "usemtl roof\nf 8/1 7/2 6/3\n")
+    with pytest.warns(UserWarning) as warned:
+        mbao.bake_file(tmp_path / "scene.obj", tmp_path / "out.glb", samples=2, progress=False)
+    messages = [str(w.message) for w in warned]
+    assert any("material 'roof''s base colour image missing.png" in m and "without it" in m for m in messages)
+    assert any("material 'wall''s base colour image is looked up in TEXCOORD_0, which 1 of its primitives lack"
+               in m for m in messages)
+    document = GltfDocument(tmp_path / "out.glb")
+    materials = {m["name"]: m["pbrMetallicRoughness"] for m in document.doc["materials"] if "name" in m}
+    np.testing.assert_allclose(materials["floor"]["baseColorFactor"], [0.8, 0.4, 0.2, 1.0], rtol=1e-6)
+    np.testing.assert_allclose(materials["wall"]["baseColorFactor"], [0.1, 0.2, 0.3, 0.9], rtol=1e-6)
+    assert "baseColorTexture" not in materials["wall"] and "baseColorTexture" not in materials["roof"]
+    texture = document.doc["textures"][materials["floor"]["baseColorTexture"]["index"]]
+    image = document.doc["images"][texture["source"]]
+    assert image["mimeType"] == "image/png" and materials["floor"]["baseColorTexture"]["texCoord"] == 0
+    view = document.doc["bufferViews"][image["bufferView"]]
+    start = view.get("byteOffset", 0)
+    (tmp_path / "written.png").write_bytes(document.buffer_data(view["buffer"])[start:start + view["byteLength"]])
+    written = oiio.ImageBuf(str(tmp_path / "written.png")).get_pixels(oiio.UINT8)
+    np.testing.assert_array_equal(written, texels)
+    assert validation_errors(tmp_path / "out.glb") == []
+    with pytest.warns(UserWarning):
+        scene = load_with_base_colors(tmp_path / "scene.obj")
+    assert pickle.loads(pickle.dumps(scene)).uv_sets["materials"] == scene.uv_sets["materials"]  # Dask's transfer

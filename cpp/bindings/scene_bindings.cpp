@@ -28,6 +28,16 @@ float aspect_of(std::int64_t width, std::int64_t height) {
 using Vec3 = std::array<float, 3>;
 
 py::tuple to_tuple(const glm::vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+
+py::dict base_color_dict(const BaseColor& c) {
+  py::dict d;
+  d["factor"] = py::make_tuple(c.factor[0], c.factor[1], c.factor[2], c.factor[3]);
+  d["image"] = c.image.empty() ? py::object(py::none())
+                               : py::bytes(reinterpret_cast<const char*>(c.image.data()), c.image.size());
+  d["texcoord"] = c.texcoord;
+  d["wrap"] = py::make_tuple(to_string(c.wrap_s), to_string(c.wrap_t));
+  return d;
+}
 glm::vec3 to_vec3(const Vec3& a) { return {a[0], a[1], a[2]}; }
 
 // A read-only (rows, 3) view of vec3 data owned by `owner`.
@@ -232,6 +242,7 @@ rounding scales with the scene's size wherever it lies.)doc")
               d["name"] = m.name;
               d["occlusion_texcoord"] = m.occlusion_texcoord < 0 ? py::object(py::none()) : py::int_(m.occlusion_texcoord);
               d["wrap"] = py::make_tuple(to_string(m.wrap_s), to_string(m.wrap_t));
+              d["base_color"] = m.base_color ? base_color_dict(*m.base_color) : py::object(py::none());
               materials.append(d);
             }
             py::dict d;
@@ -254,7 +265,9 @@ rounding scales with the scene's size wherever it lies.)doc")
           },
           "None unless loaded with texcoords=True; else \"sets\": per TEXCOORD_n an (N, 2) array (NaN for "
           "vertices whose primitive lacks it), \"triangle_materials\" (-1: none) and \"materials\": per "
-          "material its name, occlusion_texcoord (None without an occlusion texture) and wrap (s, t); \"primitives\": "
+          "material its name, occlusion_texcoord (None without an occlusion texture), wrap (s, t) and base_color "
+          "(None unless read for bake_file: factor, image (PNG or JPEG bytes, or None), texcoord and wrap); "
+          "\"primitives\": "
           "per primitive that brought triangles, its node, mesh, primitive and [first, end) of its vertices and "
           "triangles in the scene.")
       .def(py::pickle(&scene_state, &scene_from_state))
@@ -273,13 +286,14 @@ rounding scales with the scene's size wherever it lies.)doc")
 
   m.def(
       "load",
-      [](const std::filesystem::path& path, bool normals, bool texcoords) -> std::shared_ptr<Scene> {
+      [](const std::filesystem::path& path, bool normals, bool texcoords, bool base_colors) -> std::shared_ptr<Scene> {
         LoadOptions options;
         options.normals = normals;
         options.texcoords = texcoords;
+        options.base_colors = base_colors;
         return load_scene(path.string(), options);
       },
-      py::arg("path"), py::arg("normals") = true, py::arg("texcoords") = false,
+      py::arg("path"), py::arg("normals") = true, py::arg("texcoords") = false, py::arg("base_colors") = false,
       py::call_guard<py::gil_scoped_release>());
   m.def("cornell_box", []() -> std::shared_ptr<Scene> { return cornell_box(); },
         "The measured Cornell box (SPEC 3.4), in millimetres, with its own camera.");

@@ -16,7 +16,7 @@ namespace mbao::bindings {
 namespace {
 
 // Bumped whenever a state's layout changes: a pickle from another layout is refused by name.
-constexpr int kSceneStateVersion = 1;
+constexpr int kSceneStateVersion = 2;
 
 template <typename T>
 py::bytes as_bytes(const std::vector<T>& v) {
@@ -45,11 +45,23 @@ AlphaMasks masks_from_state(const py::tuple& t) {
           from_bytes<std::uint32_t>(t[3], "the triangles' masks")};
 }
 
+py::object base_color_state(const BaseColor& c) {
+  return py::make_tuple(py::make_tuple(c.factor[0], c.factor[1], c.factor[2], c.factor[3]), as_bytes(c.image),
+                        c.texcoord, std::uint32_t(c.wrap_s), std::uint32_t(c.wrap_t));
+}
+
+BaseColor base_color_from_state(const py::handle& state) {
+  const auto [factor, image, texcoord, s, t] =
+      state.cast<std::tuple<std::array<float, 4>, py::object, int, std::uint32_t, std::uint32_t>>();
+  return {factor, from_bytes<unsigned char>(image, "a base colour image"), texcoord, WrapMode(s), WrapMode(t)};
+}
+
 py::tuple uv_state(const UvSets& uv) {
   py::list sets, materials, primitives;
   for (const auto& set : uv.sets) sets.append(as_bytes(set));
   for (const MaterialUvs& m : uv.materials)
-    materials.append(py::make_tuple(m.name, m.occlusion_texcoord, std::uint32_t(m.wrap_s), std::uint32_t(m.wrap_t)));
+    materials.append(py::make_tuple(m.name, m.occlusion_texcoord, std::uint32_t(m.wrap_s), std::uint32_t(m.wrap_t),
+                                    m.base_color ? base_color_state(*m.base_color) : py::object(py::none())));
   for (const LoadedPrimitive& p : uv.primitives)
     primitives.append(py::make_tuple(p.node, p.mesh, p.primitive, p.first_vertex, p.vertex_count, p.first_triangle,
                                      p.triangle_count));
@@ -62,8 +74,10 @@ UvSets uvs_from_state(const py::tuple& t) {
   for (const py::handle set : t[1].cast<py::list>()) uv.sets.push_back(from_bytes<glm::vec2>(set, "a UV set"));
   uv.triangle_materials = from_bytes<std::int32_t>(t[2], "the triangles' materials");
   for (const py::handle m : t[3].cast<py::list>()) {
-    const auto [name, texcoord, s, t_] = m.cast<std::tuple<std::string, int, std::uint32_t, std::uint32_t>>();
-    uv.materials.push_back({name, texcoord, WrapMode(s), WrapMode(t_)});
+    const auto [name, texcoord, s, t_, base_color] =
+        m.cast<std::tuple<std::string, int, std::uint32_t, std::uint32_t, py::object>>();
+    uv.materials.push_back({name, texcoord, WrapMode(s), WrapMode(t_), std::nullopt});
+    if (!base_color.is_none()) uv.materials.back().base_color = base_color_from_state(base_color);
   }
   for (const py::handle p : t[4].cast<py::list>()) {
     const auto v = p.cast<std::tuple<int, int, int, std::size_t, std::size_t, std::size_t, std::size_t>>();

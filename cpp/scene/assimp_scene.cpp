@@ -21,6 +21,7 @@
 #include "core/error.h"
 #include "scene/alpha_mask_builder.h"
 #include "scene/gltf_files.h"
+#include "scene/gltf_image.h"
 #include "scene/image_alpha.h"
 #include "scene/texture_files.h"
 
@@ -151,7 +152,7 @@ class Gatherer {
   Gatherer(const aiScene& scene, const std::string& path, const LoadOptions& options,
            std::vector<std::string>& warnings)
       : scene_(scene), path_(path), normals_(options.normals), masks_(scene, path, warnings) {
-    if (options.texcoords) read_materials();
+    if (options.texcoords) read_materials(options.base_colors, warnings);
   }
 
   // The nodes numbered in the order they are visited, as LoadedPrimitive::node counts them.
@@ -177,8 +178,9 @@ class Gatherer {
   UvSets take_uv_sets() { return std::move(uv_sets_); }
 
  private:
-  // Each material's name, and the UV channel and wrap modes of its ambient occlusion texture where it has one.
-  void read_materials() {
+  // Each material's name, the UV channel and wrap modes of its ambient occlusion texture where it has one, and
+  // where asked, its base colour.
+  void read_materials(bool base_colors, std::vector<std::string>& warnings) {
     uv_sets_.loaded = true;
     for (unsigned i = 0; i < scene_.mNumMaterials; ++i) {
       const aiMaterial& material = *scene_.mMaterials[i];
@@ -195,6 +197,7 @@ class Gatherer {
         uvs.wrap_s = wrap_mode_of_assimp(modes[0]);
         uvs.wrap_t = wrap_mode_of_assimp(modes[1]);
       }
+      if (base_colors) uvs.base_color = base_color_of(material, warnings);
       uv_sets_.materials.push_back(std::move(uvs));
     }
   }
@@ -203,6 +206,61 @@ class Gatherer {
     if (mode == aiTextureMapMode_Mirror) return WrapMode::MirroredRepeat;
     if (mode == aiTextureMapMode_Clamp || mode == aiTextureMapMode_Decal) return WrapMode::ClampToEdge;
     return WrapMode::Repeat;
+  }
+
+  // The material's base colour factor (or diffuse colour and opacity), in glTF's range, and its base colour
+  // (or diffuse) image; an image that cannot be read adds to `warnings` and is left out.
+  BaseColor base_color_of(const aiMaterial& material, std::vector<std::string>& warnings) const {
+    BaseColor color;
+    aiColor4D base;
+    aiColor3D diffuse;
+    float opacity = 1.0f;
+    if (material.Get(AI_MATKEY_BASE_COLOR, base) == aiReturn_SUCCESS) {
+      color.factor = {base.r, base.g, base.b, base.a};
+    } else {
+      if (material.Get(AI_MATKEY_COLOR_DIFFUSE, diffuse) == aiReturn_SUCCESS)
+        color.factor = {diffuse.r, diffuse.g, diffuse.b, 1.0f};
+      if (material.Get(AI_MATKEY_OPACITY, opacity) == aiReturn_SUCCESS) color.factor[3] = opacity;
+    }
+    for (float& f : color.factor) f = std::isfinite(f) ? std::clamp(f, 0.0f, 1.0f) : 1.0f;
+    const std::string what = path_ + ": material '" + material.GetName().C_Str() + "''s base colour image ";
+    for (const aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
+      aiString file;
+      unsigned channel = 0;
+      aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+      if (material.GetTexture(type, 0, &file, nullptr, &channel, nullptr, nullptr, modes) != aiReturn_SUCCESS)
+        continue;
+      try {
+        color.image = gltf_image_of(file, what + file.C_Str());
+        color.texcoord = int(std::min(channel, unsigned(kMaxUvSets)));  // kMaxUvSets: a set no mesh has
+        color.wrap_s = wrap_mode_of_assimp(modes[0]);
+        color.wrap_t = wrap_mode_of_assimp(modes[1]);
+      } catch (const LoadError& e) {
+        warnings.push_back(std::string(e.what()) + "; bake_file writes the material without it");
+      }
+      break;
+    }
+    return color;
+  }
+
+  // Image `file` as a glTF file holds it (PNG or JPEG): one embedded in the file, or a file found beside it.
+  std::vector<unsigned char> gltf_image_of(const aiString& file, const std::string& what) const {
+    const aiTexture* embedded = scene_.GetEmbeddedTexture(file.C_Str());
+    if (embedded && embedded->mHeight == 0)  // compressed: mWidth bytes of an encoded image
+      return png_or_jpeg(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth, what);
+    if (embedded) {
+      check_image_texels(embedded->mWidth, embedded->mHeight, what);
+      std::vector<std::uint8_t> rgba;
+      rgba.reserve(4 * std::size_t(embedded->mWidth) * embedded->mHeight);
+      for (std::size_t i = 0; i < std::size_t(embedded->mWidth) * embedded->mHeight; ++i) {
+        const aiTexel& t = embedded->pcData[i];
+        rgba.insert(rgba.end(), {t.r, t.g, t.b, t.a});
+      }
+      return png_of_rgba(rgba.data(), int(embedded->mWidth), int(embedded->mHeight));
+    }
+    const std::vector<unsigned char> bytes =
+        read_regular_file(find_texture_file(std::filesystem::path(path_).parent_path(), file.C_Str()), what);
+    return png_or_jpeg(bytes.data(), bytes.size(), what);
   }
 
   // The mesh's UV channels as sets (v down the image, as glTF's: aiProcess_FlipUVs), NaN for the channels

@@ -11,6 +11,9 @@ namespace mbao {
 struct LoadOptions {
   bool normals = true;     // read vertex normals (what normals="shading" uses)
   bool texcoords = false;  // read every UV set, the triangles' materials and their occlusion textures (Scene::uv_sets)
+  // With texcoords, an Assimp format's materials' base colours too (MaterialUvs::base_color): what bake_file
+  // writes them as. A glTF file's materials stay in the file.
+  bool base_colors = false;
   // Assimp's formats: how long the importer may take, in seconds; 0: 60 s and 10 s more per MiB of the file.
   double import_seconds = 0.0;
 };

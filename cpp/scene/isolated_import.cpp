@@ -109,6 +109,14 @@ std::string serialized(const ImportedScene& s) {
     w.value(m.occlusion_texcoord);
     w.value(m.wrap_s);
     w.value(m.wrap_t);
+    w.value(m.base_color.has_value());
+    if (m.base_color) {
+      w.value(m.base_color->factor);
+      w.items(m.base_color->image);
+      w.value(m.base_color->texcoord);
+      w.value(m.base_color->wrap_s);
+      w.value(m.base_color->wrap_t);
+    }
   }
   w.items(s.uv_sets.primitives);
   return w.bytes();
@@ -141,6 +149,14 @@ ImportedScene deserialized(Reader& r) {
     m.occlusion_texcoord = r.value<int>();
     m.wrap_s = r.value<WrapMode>();
     m.wrap_t = r.value<WrapMode>();
+    if (r.value<bool>()) {
+      BaseColor& c = m.base_color.emplace();
+      c.factor = r.value<std::array<float, 4>>();
+      c.image = r.items<unsigned char>();
+      c.texcoord = r.value<int>();
+      c.wrap_s = r.value<WrapMode>();
+      c.wrap_t = r.value<WrapMode>();
+    }
     s.uv_sets.materials.push_back(std::move(m));
   }
   s.uv_sets.primitives = r.items<LoadedPrimitive>();

@@ -2,7 +2,9 @@
 // loaded from a file only when asked for: renders never read them.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,11 +14,21 @@
 
 namespace mbao {
 
+// A material's base colour as bake_file writes it for a file of another
+// format (LoadOptions::base_colors; a glTF file keeps its own materials).
+struct BaseColor {
+  std::array<float, 4> factor{1.0f, 1.0f, 1.0f, 1.0f};  // glTF's baseColorFactor: colour, and opacity
+  std::vector<unsigned char> image;  // PNG or JPEG bytes; empty where it has none or it could not be read
+  int texcoord = 0;                  // the UV set the image is looked up in
+  WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
+};
+
 struct MaterialUvs {
   std::string name;
   int occlusion_texcoord = -1;  // its occlusionTexture's texCoord; -1 where it has none
   // Its occlusion texture's sampler; glTF's default where it has none.
   WrapMode wrap_s = WrapMode::Repeat, wrap_t = WrapMode::Repeat;
+  std::optional<BaseColor> base_color;  // read only where asked for
 };
 
 // Where a primitive of the file went: which node placed which mesh's

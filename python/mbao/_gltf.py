@@ -7,6 +7,7 @@ import copy
 import json
 import os
 import struct
+import warnings
 from urllib.parse import quote, unquote
 
 import numpy as np
@@ -42,9 +43,9 @@ class GltfDocument:
         of another format as (`path` names it in messages). normals: (N, 3)
         unit vectors or None. uv_sets: the scene's (scene.uv_sets) or None:
         with them, a primitive per loaded primitive, in their order, with its
-        material (the file's materials, by name) and its UV sets as
-        TEXCOORD_0, 1, ... up to the first it lacks; without them, one
-        primitive and no material."""
+        material (the file's materials, by name, with their base colours
+        where read) and its UV sets as TEXCOORD_0, 1, ... up to the first it
+        lacks; without them, one primitive and no material."""
         self = cls.__new__(cls)
         self.path, self.glb = os.fspath(path), glb
         vertices = np.ascontiguousarray(vertices, "<f4")
@@ -54,15 +55,17 @@ class GltfDocument:
         binary, views, accessors = bytearray(), [], []
         primitives = [_primitive_of(part, vertices, indices, normals, uv_sets, binary, views, accessors)
                       for part in placed]
-        buffer = {"byteLength": len(binary)}
-        if not glb:
-            buffer["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(binary)).decode("ascii")
-        self.bin = bytes(binary) if glb else b""
+        buffer = {}
         self.doc = {"asset": {"version": "2.0", "generator": "mbao"}, "scene": 0, "scenes": [{"nodes": [0]}],
                     "nodes": [{"mesh": 0}], "meshes": [{"primitives": primitives}], "buffers": [buffer],
                     "bufferViews": views, "accessors": accessors}
         if uv_sets is not None and uv_sets["materials"]:
             self.doc["materials"] = [{"name": material["name"]} for material in uv_sets["materials"]]
+            _add_base_colors(self.doc, uv_sets["materials"], primitives, binary, views, self.path)
+        buffer["byteLength"] = len(binary)
+        if not glb:
+            buffer["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(binary)).decode("ascii")
+        self.bin = bytes(binary) if glb else b""
         self.original = copy.deepcopy(self.doc)
         self.added, self._added_views = bytearray(), []
         return self
@@ -231,6 +234,44 @@ class GltfDocument:
             if uri and not uri.startswith("data:") and "://" not in uri:
                 moved = os.path.relpath(os.path.join(source, unquote(uri)), folder)
                 item["uri"] = quote(moved.replace(os.sep, "/"))
+
+
+WRAP_CODES = {"repeat": 10497, "clamp-to-edge": 33071, "mirrored-repeat": 33648}
+
+
+def _add_base_colors(doc, materials, primitives, binary, views, path):
+    """Each material's base colour (uv_sets' "base_color", where read) as its pbrMetallicRoughness: the factor,
+    and the image, its bytes appended to binary and views, where every primitive of the material has the UV set
+    it is looked up in (else a warning names the material and the set)."""
+    for index, material in enumerate(materials):
+        color = material.get("base_color")
+        if color is None:
+            continue
+        pbr = doc["materials"][index]["pbrMetallicRoughness"] = {"baseColorFactor": list(color["factor"])}
+        if color["image"] is None:
+            continue
+        uv_set = f"TEXCOORD_{color['texcoord']}"
+        lacking = [p for p in primitives if p.get("material") == index and uv_set not in p["attributes"]]
+        if lacking:
+            warnings.warn(f"{path}: material '{material['name']}''s base colour image is looked up in {uv_set}, "
+                          f"which {len(lacking)} of its primitives lack; the file is written without the image",
+                          stacklevel=4)
+            continue
+        views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(color["image"])})
+        binary.extend(color["image"])
+        binary.extend(b"\0" * (-len(binary) % 4))
+        png = color["image"][:4] == b"\x89PNG"
+        image = _appended(doc, "images", {"bufferView": len(views) - 1, "mimeType": "image/png" if png else "image/jpeg"})
+        texture = {"source": image}
+        if tuple(color["wrap"]) != ("repeat", "repeat"):
+            texture["sampler"] = _appended(doc, "samplers", {"wrapS": WRAP_CODES[color["wrap"][0]],
+                                                              "wrapT": WRAP_CODES[color["wrap"][1]]})
+        pbr["baseColorTexture"] = {"index": _appended(doc, "textures", texture), "texCoord": color["texcoord"]}
+
+
+def _appended(doc, key, item):
+    doc.setdefault(key, []).append(item)
+    return len(doc[key]) - 1
 
 
 def _primitive_of(part, vertices, indices, normals, uv_sets, binary, views, accessors):

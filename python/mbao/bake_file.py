@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 
 from . import _checks
-from ._gltf import GltfDocument
+from ._gltf import WRAP_CODES, GltfDocument
 from ._types import PathLike
 from .bake import Bake, bake
-from .scene import is_gltf_path, load
+from .scene import is_gltf_path, load, load_with_base_colors
 
 FLOAT, SCALAR, TRIANGLES = 5126, "SCALAR", 4
 _NUMPY_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
@@ -42,7 +42,8 @@ def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bi
     folder; new data in data URIs). An input of another format mbao.load reads
     (OBJ, PLY, FBX, ...) is written as glTF, .glb or .gltf as output says: its
     triangles in world space as one mesh, a primitive per mesh the file placed
-    with its material (by name) and UV sets, its normals where every vertex
+    with its material (by name, with its base colour and image) and UV sets,
+    its normals where every vertex
     has one, plus the bake (its alpha masks cut the bake's rays all the same);
     one without UV sets bakes textures with texcoord="generate". settings:
     those of mbao.bake. Returns the mbao.Bake, with
@@ -61,7 +62,7 @@ def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bi
         document.check_output(output)  # before the bake, not after it
         result = bake(scene, target=target, **settings)
     else:
-        baked = load(input, texcoords=True)
+        baked = load_with_base_colors(input)
         if target == "texture" and settings.get("texcoord") != "generate" and not baked.uv_sets["sets"]:
             raise ValueError(f"{os.fspath(input)}: it has no UV sets; bake it with texcoord=\"generate\"")
         document, scene = _converted(baked, input, output)
@@ -248,9 +249,6 @@ def _add_occlusion_textures(document, scene, result, bit_depth, generated_sets, 
     return replaced
 
 
-_WRAP_CODES = {"repeat": 10497, "clamp-to-edge": 33071, "mirrored-repeat": 33648}
-
-
 def _sampler(document, old_occlusion, wrap):
     """The sampler of a new occlusion texture, whose texels were baked with `wrap`:
     the replaced texture's where it wraps so (its filters kept), else a new one;
@@ -259,11 +257,11 @@ def _sampler(document, old_occlusion, wrap):
     if old_occlusion is not None:
         sampler = doc["textures"][old_occlusion["index"]].get("sampler")
         modes = doc["samplers"][sampler] if sampler is not None else {}
-        if (modes.get("wrapS", 10497), modes.get("wrapT", 10497)) == tuple(_WRAP_CODES[m] for m in wrap):
+        if (modes.get("wrapS", 10497), modes.get("wrapT", 10497)) == tuple(WRAP_CODES[m] for m in wrap):
             return sampler
     if tuple(wrap) == ("repeat", "repeat"):
         return None
-    return document.append("samplers", {"wrapS": _WRAP_CODES[wrap[0]], "wrapT": _WRAP_CODES[wrap[1]]})
+    return document.append("samplers", {"wrapS": WRAP_CODES[wrap[0]], "wrapT": WRAP_CODES[wrap[1]]})
 
 
 def _png(image, bit_depth):

@@ -90,9 +90,20 @@ def load(path: PathLike, *, normals: bool = True, texcoords: bool = False) -> _c
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
     normals, texcoords = _checks.boolean("normals", normals), _checks.boolean("texcoords", texcoords)
-    scene = _core.load(os.fspath(path), normals, texcoords)
+    return _warned(_core.load(os.fspath(path), normals, texcoords), stacklevel=3)
+
+
+def load_with_base_colors(path):
+    """load(path, texcoords=True) that also reads the base colour (factor and image) of each material of a file of
+    another format than glTF, into scene.uv_sets["materials"][i]["base_color"]: what bake_file writes them as. An
+    image that cannot be read is named in a warning."""
+    return _warned(_core.load(os.fspath(path), True, True, True), stacklevel=3)
+
+
+def _warned(scene, stacklevel):
+    """`scene`, its warnings issued as Python warnings pointing `stacklevel` frames up."""
     for message in scene.warnings:
-        warnings.warn(message, stacklevel=2)
+        warnings.warn(message, stacklevel=stacklevel)
     return scene
 
 

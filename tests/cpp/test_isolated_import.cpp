@@ -30,8 +30,11 @@ ImportedScene everything() {
   s.uv_sets.loaded = true;
   s.uv_sets.sets = {{{0, 1}, {1, 1}, {0, 0}}, {{0.5f, 0.5f}, {1, 0}, {0, 1}}};
   s.uv_sets.triangle_materials = {1};
-  s.uv_sets.materials = {MaterialUvs{"default", -1}, MaterialUvs{"floor", 1, WrapMode::ClampToEdge,
-                                                                  WrapMode::MirroredRepeat}};
+  s.uv_sets.materials = {
+      MaterialUvs{"default", -1, WrapMode::Repeat, WrapMode::Repeat, std::nullopt},
+      MaterialUvs{"floor", 1, WrapMode::ClampToEdge, WrapMode::MirroredRepeat,
+                  BaseColor{{0.5f, 0.25f, 1.0f, 0.75f}, {0x89, 'P', 'N', 'G'}, 2, WrapMode::MirroredRepeat,
+                            WrapMode::ClampToEdge}}};
   s.uv_sets.primitives = {LoadedPrimitive{2, 0, 0, 0, 3, 0, 1}};
   return s;
 }
@@ -58,6 +61,14 @@ TEST(IsolatedImport, BringsTheResultBackWhole) {
   EXPECT_EQ(s.uv_sets.materials[1].name, "floor");
   EXPECT_EQ(s.uv_sets.materials[1].occlusion_texcoord, 1);
   EXPECT_EQ(s.uv_sets.materials[1].wrap_t, WrapMode::MirroredRepeat);
+  EXPECT_FALSE(s.uv_sets.materials[0].base_color.has_value());
+  ASSERT_TRUE(s.uv_sets.materials[1].base_color.has_value());
+  const BaseColor& color = *s.uv_sets.materials[1].base_color;
+  EXPECT_EQ(color.factor, expected.uv_sets.materials[1].base_color->factor);
+  EXPECT_EQ(color.image, expected.uv_sets.materials[1].base_color->image);
+  EXPECT_EQ(color.texcoord, 2);
+  EXPECT_EQ(color.wrap_s, WrapMode::MirroredRepeat);
+  EXPECT_EQ(color.wrap_t, WrapMode::ClampToEdge);
   ASSERT_EQ(s.uv_sets.primitives.size(), 1u);
   EXPECT_EQ(s.uv_sets.primitives[0].node, 2);
   EXPECT_EQ(s.uv_sets.primitives[0].vertex_count, 3u);
