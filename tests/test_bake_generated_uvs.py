@@ -83,7 +83,7 @@ def test_charts_that_fit_only_closer_are_packed_so_with_a_warning_naming_the_res
 
 
 def test_charts_that_cannot_fit_even_touching_are_refused():
-    with pytest.raises(ValueError, match=r"charts do not fit 4 x 4 texels even at 2 x 2 texels each and touching; "
+    with pytest.raises(ValueError, match=r"charts do not fit 4 x 4 texels even at a texel each and touching; "
                                          r"raise the resolution"):
         generated(*icosphere(1.0, subdivisions=2), resolution=4, padding=4)
 

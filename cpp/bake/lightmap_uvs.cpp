@@ -12,6 +12,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "bake/chart_packing.h"
+
 namespace mbao {
 namespace {
 
@@ -33,10 +35,10 @@ std::vector<std::uint32_t> welded_ids(const TriangleMesh& mesh) {
   return welded;
 }
 
-struct Chart {
-  std::vector<std::uint32_t> members;  // local triangle indices
-  glm::dvec3 axis_u, axis_v;           // the plane it is projected onto
-  glm::dvec2 lo, hi;                   // its bounds in that plane
+// A round's charts: each one's triangles (local indices), and those laid flat in its plane, in their order.
+struct Charts {
+  std::vector<std::vector<std::uint32_t>> members;
+  std::vector<FlatChart> flat;
 };
 
 // An orthonormal basis of the plane perpendicular to unit n (Duff et al. 2017).
@@ -46,29 +48,6 @@ void plane_axes(const glm::dvec3& n, glm::dvec3* u, glm::dvec3* v) {
   const double b = n.x * n.y * a;
   *u = {1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x};
   *v = {b, sign + n.y * n.y * a, -n.y};
-}
-
-// Where each chart's box goes at `density` texels per unit: shelves filled left
-// to right, tallest charts first, `padding` texels apart and from the border.
-// Returns false where they do not fit.
-bool pack(const std::vector<Chart>& charts, const std::vector<std::size_t>& tallest_first, double density, int width,
-          int height, int padding, std::vector<glm::ivec2>* corners) {
-  corners->assign(charts.size(), glm::ivec2(0));
-  long long x = padding, y = padding, shelf = 0;
-  for (std::size_t c : tallest_first) {
-    const glm::dvec2 size = (charts[c].hi - charts[c].lo) * density;
-    const long long w = (long long)std::ceil(size.x) + 1, h = (long long)std::ceil(size.y) + 1;
-    if (x + w + padding > width) {
-      x = padding;
-      y += shelf + padding;
-      shelf = 0;
-    }
-    if (x + w + padding > width || y + h + padding > height) return false;
-    (*corners)[c] = glm::ivec2(int(x), int(y));
-    x += w + padding;
-    shelf = std::max(shelf, h);
-  }
-  return true;
 }
 
 // The triangles asked for: their unit normals, areas and neighbours.
@@ -108,124 +87,235 @@ Surface surface_of(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
   return s;
 }
 
-// Charts grown from the largest triangles not yet taken; a triangle joins only
-// charts of its own round (those that overlapped in a round start anew in the next).
-std::vector<Chart> grow_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-                               const Surface& surface, const std::vector<int>& round, double* worst_stretch) {
-  const std::size_t n = triangles.size();
+// A set of triangles whose unit normals all lie within `angle` of `axis`.
+struct Cone {
+  glm::dvec3 axis;
+  double angle = 0.0;
+};
+
+double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+// The narrowest cone around two cones: its axis on the arc between theirs.
+Cone enclosing(const Cone& a, const Cone& b) {
+  const double between = angle_between(a.axis, b.axis);
+  if (between + b.angle <= a.angle) return a;
+  if (between + a.angle <= b.angle) return b;
+  const glm::dvec3 across = b.axis - glm::dot(b.axis, a.axis) * a.axis;  // towards b, perpendicular to a
+  const double length = glm::length(across);
+  if (!(length > 1e-9)) return {a.axis, std::max(a.angle, between + b.angle)};  // no direction to turn in
+  const double angle = 0.5 * (between + a.angle + b.angle);
+  const double from_a = angle - a.angle;  // in (0, between): neither holds the other
+  return {std::cos(from_a) * a.axis + std::sin(from_a) * (across / length), angle};
+}
+
+// The widest cone a chart may have: no triangle stretched by more than 1 / kChartCosine.
+const double kWidestCone = std::acos(kChartCosine);
+
+// Charts grown from the largest triangles not yet taken across edges, each
+// while the normals of its triangles fit a cone no wider than kWidestCone
+// (its axis turning as it grows, which gives a third fewer charts on the
+// helmet than a cone around the seed's normal); a triangle joins only charts
+// of its own round (those that overlapped in a round start anew in the next).
+std::vector<std::vector<std::uint32_t>> grown_charts(const Surface& surface, const std::vector<int>& round,
+                                                     std::vector<Cone>* cones) {
+  const std::size_t n = surface.areas.size();
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return surface.areas[a] > surface.areas[b]; });
   std::vector<bool> taken(n, false);
-  std::vector<Chart> charts;
-  *worst_stretch = 1.0;
+  std::vector<std::vector<std::uint32_t>> charts;
   for (std::uint32_t seed : order) {
     if (taken[seed] || !(surface.areas[seed] > 0.0)) continue;
-    Chart chart;
-    const glm::dvec3 axis = surface.normals[seed];
-    plane_axes(axis, &chart.axis_u, &chart.axis_v);
+    Cone cone{surface.normals[seed], 0.0};
+    std::vector<std::uint32_t> members{seed};
     taken[seed] = true;
-    chart.members.push_back(seed);
-    for (std::size_t next = 0; next < chart.members.size(); ++next)
-      for (std::uint32_t neighbour : surface.neighbours[chart.members[next]]) {
-        if (taken[neighbour] || round[neighbour] != round[seed] ||
-            glm::dot(surface.normals[neighbour], axis) < kChartCosine)
-          continue;
+    for (std::size_t next = 0; next < members.size(); ++next)
+      for (std::uint32_t neighbour : surface.neighbours[members[next]]) {
+        if (taken[neighbour] || round[neighbour] != round[seed]) continue;
+        const Cone wider = enclosing(cone, Cone{surface.normals[neighbour], 0.0});
+        if (wider.angle > kWidestCone) continue;
         taken[neighbour] = true;
-        chart.members.push_back(neighbour);
+        members.push_back(neighbour);
+        cone = wider;
       }
-    chart.lo = glm::dvec2(INFINITY);
-    chart.hi = glm::dvec2(-INFINITY);
-    for (std::uint32_t i : chart.members) {
-      *worst_stretch = std::max(*worst_stretch, 1.0 / glm::dot(surface.normals[i], axis));
-      const glm::uvec3 t = mesh.triangles[triangles[i]];
-      for (int k = 0; k < 3; ++k) {
-        const glm::dvec3 p(mesh.positions[t[k]]);
-        const glm::dvec2 q(glm::dot(p, chart.axis_u), glm::dot(p, chart.axis_v));
-        chart.lo = glm::min(chart.lo, q);
-        chart.hi = glm::max(chart.hi, q);
-      }
-    }
-    charts.push_back(std::move(chart));
+    charts.push_back(std::move(members));
+    cones->push_back(cone);
   }
   return charts;
 }
 
-std::vector<std::size_t> tallest_first(const std::vector<Chart>& charts) {
+// The convex hull of `points`, counterclockwise (Andrew's monotone chain).
+std::vector<glm::dvec2> convex_hull(std::vector<glm::dvec2> points) {
+  std::sort(points.begin(), points.end(),
+            [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  const auto turn = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  std::vector<glm::dvec2> hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // the lower chain, then the upper
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  return hull;
+}
+
+// The direction of the long side of the least-area rectangle around `points`,
+// which lies along an edge of their hull.
+glm::dvec2 long_side(const std::vector<glm::dvec2>& points) {
+  const std::vector<glm::dvec2> hull = convex_hull(points);
+  glm::dvec2 best(1.0, 0.0);
+  double least = INFINITY;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const glm::dvec2 edge = hull[(i + 1) % hull.size()] - hull[i];
+    const double length = glm::length(edge);
+    if (!(length > 0.0)) continue;
+    const glm::dvec2 along = edge / length, across(-along.y, along.x);
+    glm::dvec2 lo(INFINITY), hi(-INFINITY);
+    for (const glm::dvec2& p : hull) {
+      const glm::dvec2 q(glm::dot(p, along), glm::dot(p, across));
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+    const glm::dvec2 size = hi - lo;
+    if (size.x * size.y < least) {
+      least = size.x * size.y;
+      best = size.x >= size.y ? along : across;
+    }
+  }
+  return best;
+}
+
+// `members` laid flat in the plane perpendicular to unit `axis`, turned in
+// that plane so that the least-area rectangle around them lies along their
+// box, long side first: boxes then hold as little empty space as they can.
+FlatChart laid_flat(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
+                    const std::vector<std::uint32_t>& members, const glm::dvec3& axis) {
+  glm::dvec3 u, v;
+  plane_axes(axis, &u, &v);
+  std::vector<glm::dvec2> corners;
+  corners.reserve(3 * members.size());
+  for (std::uint32_t i : members) {
+    const glm::uvec3 t = mesh.triangles[triangles[i]];
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3 p(mesh.positions[t[k]]);
+      corners.emplace_back(glm::dot(p, u), glm::dot(p, v));
+    }
+  }
+  const glm::dvec2 along = long_side(corners);
+  glm::dvec2 lo(INFINITY), hi(-INFINITY);
+  for (glm::dvec2& q : corners) {
+    q = glm::dvec2(along.x * q.x + along.y * q.y, -along.y * q.x + along.x * q.y);  // a turn: no mirroring
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  for (glm::dvec2& q : corners) q -= lo;
+  return FlatChart{std::move(corners), hi - lo};
+}
+
+// The charts of a round, each laid flat in the plane perpendicular to its cone's axis.
+Charts grow_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
+                   const std::vector<int>& round, double* worst_stretch) {
+  std::vector<Cone> cones;
+  Charts charts;
+  charts.members = grown_charts(surface, round, &cones);
+  *worst_stretch = 1.0;
+  for (std::size_t c = 0; c < charts.members.size(); ++c) {
+    const glm::dvec3 axis = glm::normalize(cones[c].axis);
+    for (std::uint32_t i : charts.members[c])
+      *worst_stretch = std::max(*worst_stretch, 1.0 / glm::dot(surface.normals[i], axis));
+    charts.flat.push_back(laid_flat(mesh, triangles, charts.members[c], axis));
+  }
+  return charts;
+}
+
+std::vector<std::size_t> tallest_first(const std::vector<FlatChart>& charts) {
   std::vector<std::size_t> order(charts.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return charts[a].hi.y - charts[a].lo.y > charts[b].hi.y - charts[b].lo.y;
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return charts[a].size.y > charts[b].size.y; });
   return order;
 }
 
 // The least density tried: charts of more than 1e-270 world units still get boxes of 2 texels.
 constexpr double kLeastDensity = 1e-30;
 
-// Whether the charts fit at some density above 0, `padding` apart: each in a
-// box of 2 x 2 texels (1 x 1 where it has no extent). At density 0 itself every
-// chart would shrink to a point, which covers no texel.
-bool fit_at_all(const std::vector<Chart>& charts, int width, int height, int padding) {
-  std::vector<glm::ivec2> placed;
-  return pack(charts, tallest_first(charts), kLeastDensity, width, height, padding, &placed);
+// Whether the charts fit at some density above 0, `padding` apart: each a
+// texel in a box of 2 x 2 (1 x 1 where it has no extent). At density 0 itself
+// every chart would shrink to a point, which covers no texel.
+bool fit_at_all(const std::vector<FlatChart>& charts, int width, int height, int padding) {
+  return packed_charts(charts, tallest_first(charts), kLeastDensity, width, height, padding).has_value();
 }
 
 // The largest padding up to `padding` at which the charts fit at all.
-int fitting_padding(const std::vector<Chart>& charts, int width, int height, int padding) {
+int fitting_padding(const std::vector<FlatChart>& charts, int width, int height, int padding) {
   for (int p = padding; p >= 0; --p)
     if (fit_at_all(charts, width, height, p)) return p;
   throw std::invalid_argument("generated UVs: " + std::to_string(charts.size()) + " charts do not fit " +
                               std::to_string(width) + " x " + std::to_string(height) +
-                              " texels even at 2 x 2 texels each and touching; raise the resolution");
+                              " texels even at a texel each and touching; raise the resolution");
 }
 
 // The texture size, `width` x `height` times the least power of two, at which
 // the charts fit `padding` apart; none up to kMaxTextureSide.
-std::optional<glm::ivec2> size_keeping(const std::vector<Chart>& charts, int width, int height, int padding) {
+std::optional<glm::ivec2> size_keeping(const std::vector<FlatChart>& charts, int width, int height, int padding) {
   for (long long w = width, h = height; std::max(w, h) <= kMaxTextureSide; w *= 2, h *= 2)
     if (fit_at_all(charts, int(w), int(h), padding)) return glm::ivec2(int(w), int(h));
   return std::nullopt;
 }
 
+// Steps of the density's bisection once it is within a factor 2: the last
+// changes it by less than 0.1%.
+constexpr int kDensitySteps = 10;
+
 // The largest density at which the charts fit `padding` apart (they must fit
-// at kLeastDensity), by bisection from the one at which their boxes' area alone would
-// fill the texture, and where each goes.
-double densest_packing(const std::vector<Chart>& charts, int width, int height, int padding,
+// at kLeastDensity), and where each goes: halving from twice the one at which
+// their boxes' area alone would fill the texture until they fit, then by
+// bisection in ratio.
+double densest_packing(const std::vector<FlatChart>& charts, int width, int height, int padding,
                        std::vector<glm::ivec2>* placed) {
   const std::vector<std::size_t> order = tallest_first(charts);
   double box_area = 0.0;
-  for (const Chart& c : charts) box_area += (c.hi.x - c.lo.x) * (c.hi.y - c.lo.y);
-  double lo = kLeastDensity, hi = box_area > 0.0 ? std::sqrt(double(width) * double(height) / box_area) : 1.0;
-  for (int step = 0; step < 40; ++step) {
-    const double middle = 0.5 * (lo + hi);
-    if (pack(charts, order, middle, width, height, padding, placed))
-      lo = middle;
-    else
-      hi = middle;
+  for (const FlatChart& c : charts) box_area += c.size.x * c.size.y;
+  double hi = box_area > 0.0 ? 2.0 * std::sqrt(double(width) * double(height) / box_area) : 1.0, lo = 0.5 * hi;
+  std::optional<std::vector<glm::ivec2>> fits;
+  for (; lo > kLeastDensity && !(fits = packed_charts(charts, order, lo, width, height, padding)); lo *= 0.5) hi = lo;
+  if (!fits) {
+    lo = kLeastDensity;
+    fits = packed_charts(charts, order, lo, width, height, padding);
   }
-  pack(charts, order, lo, width, height, padding, placed);
+  *placed = std::move(*fits);
+  for (int step = 0; step < kDensitySteps; ++step) {
+    const double middle = std::sqrt(lo * hi);
+    if ((fits = packed_charts(charts, order, middle, width, height, padding))) {
+      lo = middle;
+      *placed = std::move(*fits);
+    } else {
+      hi = middle;
+    }
+  }
   return lo;
 }
 
-std::vector<glm::vec2> chart_uvs(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-                                 const std::vector<Chart>& charts, const std::vector<glm::ivec2>& placed,
-                                 double density, int width, int height) {
-  std::vector<glm::vec2> uvs(3 * triangles.size(), glm::vec2(0.0f));
-  for (std::size_t c = 0; c < charts.size(); ++c) {
-    const Chart& chart = charts[c];
+std::vector<glm::vec2> chart_uvs(const Charts& charts, const std::vector<glm::ivec2>& placed, double density,
+                                 std::size_t triangles, int width, int height) {
+  std::vector<glm::vec2> uvs(3 * triangles, glm::vec2(0.0f));
+  for (std::size_t c = 0; c < charts.members.size(); ++c) {
     // Half a texel in from the box's corner: the box is a texel larger than the chart.
     const glm::dvec2 origin = glm::dvec2(placed[c]) + 0.5;
-    for (std::uint32_t i : chart.members) {
-      const glm::uvec3 t = mesh.triangles[triangles[i]];
-      for (int k = 0; k < 3; ++k) {
-        const glm::dvec3 p(mesh.positions[t[k]]);
-        const glm::dvec2 q =
-            (glm::dvec2(glm::dot(p, chart.axis_u), glm::dot(p, chart.axis_v)) - chart.lo) * density + origin;
-        uvs[3 * i + std::size_t(k)] = glm::vec2(q.x / width, q.y / height);
+    for (std::size_t m = 0; m < charts.members[c].size(); ++m)
+      for (std::size_t k = 0; k < 3; ++k) {
+        const glm::dvec2 q = charts.flat[c].corners[3 * m + k] * density + origin;
+        uvs[3 * std::size_t(charts.members[c][m]) + k] = glm::vec2(q.x / width, q.y / height);
       }
-    }
   }
   return uvs;
 }
@@ -243,13 +333,13 @@ LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<st
   std::vector<int> round(triangles.size(), 0);
   for (int r = 0; r < kMaxRounds; ++r) {
     LightmapUvs result;
-    const std::vector<Chart> charts = grow_charts(mesh, triangles, surface, round, &result.worst_stretch);
+    const Charts charts = grow_charts(mesh, triangles, surface, round, &result.worst_stretch);
     std::vector<glm::ivec2> placed;
-    result.padding = fitting_padding(charts, width, height, padding);
-    if (result.padding < padding) result.size_keeping_padding = size_keeping(charts, width, height, padding);
-    result.texels_per_unit = densest_packing(charts, width, height, result.padding, &placed);
-    result.charts = charts.size();
-    result.corner_uvs = chart_uvs(mesh, triangles, charts, placed, result.texels_per_unit, width, height);
+    result.padding = fitting_padding(charts.flat, width, height, padding);
+    if (result.padding < padding) result.size_keeping_padding = size_keeping(charts.flat, width, height, padding);
+    result.texels_per_unit = densest_packing(charts.flat, width, height, result.padding, &placed);
+    result.charts = charts.flat.size();
+    result.corner_uvs = chart_uvs(charts, placed, result.texels_per_unit, triangles.size(), width, height);
     result.layout.emplace(mesh, triangles, result.corner_uvs, width, height, WrapMode::Repeat, WrapMode::Repeat);
     if (result.layout->second_claimants().empty()) return result;
     for (std::size_t i : result.layout->second_claimants()) round[i] = r + 1;

@@ -1,6 +1,7 @@
 // A new UV set for a bake (texcoord="generate", SPEC 6.3): charts of connected
-// triangles whose normals lie close to the chart's first, each projected onto
-// that triangle's plane, packed into the texture at one texel density.
+// triangles whose normals fit a narrow cone, each projected onto the plane
+// perpendicular to its axis, packed into the texture by their outlines
+// (bake/chart_packing.h) at one texel density.
 #pragma once
 
 #include <cstdint>
@@ -31,14 +32,15 @@ struct LightmapUvs {
   std::optional<TexelLayout> layout;  // of corner_uvs in the texture (REPEAT), which nothing claims twice
 };
 
-// Triangles join a chart where the angle between their normal and the chart's
-// seed's is below acos(kChartCosine), about 37 degrees, so none is stretched
-// by more than 1.25 in area.
+// Triangles join a chart while their normals fit a cone of half-angle
+// acos(kChartCosine), about 37 degrees, around the axis it is projected along,
+// so none is stretched by more than 1.25 in area.
 constexpr double kChartCosine = 0.8;
 
 // Charts for `triangles` of `mesh` (neighbours: triangles sharing an edge
 // between equal positions), packed into width x height texels with `padding`
-// texels between them and around the border (fewer where they fit only so),
+// texels between the texels they touch and around the border (fewer where
+// they fit only so),
 // at the largest density that fits. Triangles of zero area get UVs of zero
 // area. Throws std::invalid_argument where the charts cannot fit even a texel
 // each and touching.
