@@ -59,7 +59,7 @@ json vertex_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& s
 // A texture bake of every material into generated UVs, each stage timed.
 json texture_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& scene,
                   const mbao::RenderSettings& settings) {
-  double uv_ms = 0.0, trace_ms = 0.0, dilation_ms = 0.0;
+  double uv_ms = 0.0, trace_ms = 0.0, dilation_ms = 0.0, covered = 0.0;
   std::uint64_t rays = 0;
   std::size_t charts = 0, materials = 0;
   for (const auto& [material, triangles] : triangles_by_material(*scene)) {
@@ -77,10 +77,12 @@ json texture_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& 
     mbao::dilate(layout.covered(), kTextureSide, kTextureSide, kPadding, {&bake.values, &bake.standard_error});
     dilation_ms += clock.elapsed_ms();
     charts += uvs.charts;
+    covered += double(layout.covered_count()) / (double(kTextureSide) * kTextureSide);
   }
   json result = rays_json(trace_ms, rays);
   result["materials"] = materials;
   result["charts"] = charts;
+  result["texels_covered"] = covered / double(materials);  // the mean over materials of their textures' fraction
   result["uv_ms"] = uv_ms;
   result["dilation_ms"] = dilation_ms;
   result["total_ms"] = uv_ms + trace_ms + dilation_ms;
@@ -95,8 +97,8 @@ json texture_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& 
 json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, const Options& options) {
   std::cout << "| scene | max_distance | estimator | render Mrays/s | render AO Mrays/s | vertex bake Mrays/s | "
                "texture bake Mrays/s | render AO / vertex | render AO / texture | texture bake s (UVs and layout, "
-               "tracing, dilation) | device |\n"
-            << "|---|---:|---|---:|---:|---:|---:|---:|---:|---|---|\n";
+               "tracing, dilation) | texels covered | device |\n"
+            << "|---|---:|---|---:|---:|---:|---:|---:|---:|---|---:|---|\n";
   json rows = json::array();
   for (const BenchScene& s : scenes) {
     const std::shared_ptr<mbao::Scene> scene = with_materials(s);
@@ -127,9 +129,9 @@ json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, cons
                   << " | " << fixed(render_rate / double(texture["mrays_per_s"]), 2) << " | "
                   << fixed(double(texture["total_ms"]) / 1e3, 1) << " (" << fixed(double(texture["uv_ms"]) / 1e3, 1)
                   << ", " << fixed(double(texture["frame_ms"]) / 1e3, 1) << ", "
-                  << fixed(double(texture["dilation_ms"]) / 1e3, 1) << ")";
+                  << fixed(double(texture["dilation_ms"]) / 1e3, 1) << ") | " << fixed(texture["texels_covered"], 2);
       } else {
-        std::cout << " | " << fixed(render_rate / double(vertex["mrays_per_s"]), 2) << " | | ";
+        std::cout << " | " << fixed(render_rate / double(vertex["mrays_per_s"]), 2) << " | | | ";
       }
       std::cout << " | " << renderer.device().name << " |" << std::endl;
       rows.push_back(row);
@@ -141,7 +143,8 @@ json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, cons
             << "over the whole frame). Vertex bake: 16 estimates per vertex, more for "
             << "small meshes (2^20 in all). Texture bake: every material into generated UVs at " << kTextureSide
             << "x" << kTextureSide << ", padding " << kPadding << ", " << kTexelSamples
-            << " estimates per texel; its Mrays/s over the tracing alone.\n\n";
+            << " estimates per texel; its Mrays/s over the tracing alone; texels covered: the mean over "
+            << "materials of the fraction of their texture's texels a triangle covers.\n\n";
   return rows;
 }
 

@@ -197,7 +197,7 @@ def organisation(run):
 def bake(run):
     header = ["scene", "max_distance", "estimator", "render Mrays/s", "render AO Mrays/s", "vertex estimates",
               "vertex bake Mrays/s", "texture bake Mrays/s", "render AO / vertex ratio", "render AO / texture ratio",
-              "texture bake ms", "UVs and layout ms", "tracing ms", "dilation ms"]
+              "texture bake ms", "UVs and layout ms", "tracing ms", "dilation ms", "generated UVs: texels covered"]
     rows = []
     for row in run["bake"]:
         render, vertex = row["render"]["ao_mrays_per_s"], row["vertex_bake"]["mrays_per_s"]
@@ -205,10 +205,12 @@ def bake(run):
                  f"{render:.1f}", row["vertex_bake"]["samples"], f"{vertex:.1f}"]
         t = row.get("texture_bake")
         if t is None:  # the texture bake runs with the bakes' default estimator only
-            cells += ["", f"{render / vertex:.2f}", "", "", "", "", ""]
+            cells += ["", f"{render / vertex:.2f}", "", "", "", "", "", ""]
         else:
+            covered = t.get("texels_covered")  # runs before outline packing did not record it
             cells += [f"{t['mrays_per_s']:.1f}", f"{render / vertex:.2f}", f"{render / t['mrays_per_s']:.2f}",
-                      ms(t["total_ms"]), ms(t["uv_ms"]), ms(t["frame_ms"]), ms(t["dilation_ms"])]
+                      ms(t["total_ms"]), ms(t["uv_ms"]), ms(t["frame_ms"]), ms(t["dilation_ms"]),
+                      "" if covered is None else f"{covered:.2f}"]
         rows.append(cells)
     return table(header, rows)
 
