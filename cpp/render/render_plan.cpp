@@ -5,13 +5,40 @@
 namespace mbao {
 namespace {
 
-// The device table. Each entry's measurement is in docs/kernel-variants.md. Constant-initialized, so
-// that other files' static objects may read it.
-constexpr DeviceProfile kCpu{"CPU", Traversal::Stack, 16, KernelOrganisation::Megakernel, true, 16, true,
-                             std::size_t(1) << 22, true};
-constexpr DeviceProfile kGpu{"GPU", Traversal::ShortStack, 0, KernelOrganisation::Wavefront, false, 0, false, 0, false};
-constexpr DeviceProfile kOther{"other", Traversal::ShortStack, 0, KernelOrganisation::Megakernel, false, 0, false, 0,
-                               false};
+// The device table, each field named. Each entry's measurement is in
+// docs/kernel-variants.md. Constant-initialized, so that other files' static
+// objects may read it.
+constexpr DeviceProfile cpu_profile() {
+  DeviceProfile cpu;
+  cpu.device_class = "CPU";
+  cpu.walk = Traversal::Stack;
+  cpu.min_lanes_depth = 16;
+  cpu.organisation = KernelOrganisation::Megakernel;
+  cpu.load_both_children = true;
+  cpu.min_origin_path_depth = 16;
+  cpu.shares_host_memory = true;
+  cpu.min_indexed_triangles = std::size_t(1) << 22;
+  cpu.gbuffer_packets = true;
+  return cpu;
+}
+
+constexpr DeviceProfile gpu_profile() {
+  DeviceProfile gpu;
+  gpu.device_class = "GPU";
+  gpu.walk = Traversal::ShortStack;
+  gpu.organisation = KernelOrganisation::Wavefront;
+  return gpu;
+}
+
+// Accelerators and others: unmeasured, so the GPU's walk without its wavefront.
+constexpr DeviceProfile other_profile() {
+  DeviceProfile other;
+  other.device_class = "other";
+  other.walk = Traversal::ShortStack;
+  return other;
+}
+
+constexpr DeviceProfile kCpu = cpu_profile(), kGpu = gpu_profile(), kOther = other_profile();
 
 bool walks_full_stack(Traversal walk) { return walk == Traversal::Stack || walk == Traversal::Lanes; }
 

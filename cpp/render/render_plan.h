@@ -20,22 +20,23 @@
 namespace mbao {
 
 // What one class of device runs where the settings leave the choice to mbao.
+// Each field's default is "no": a profile names what it turns on.
 struct DeviceProfile {
-  const char* device_class;              // "CPU", "GPU" or "other" (accelerators: unmeasured)
-  Traversal walk;                        // for rays walked one per work item
-  int min_lanes_depth;                   // lanes for trees at least this deep (0: never)
-  KernelOrganisation organisation;       // where the wavefront can run the settings
-  bool load_both_children;               // in the full stack's walk (MBAO_LOAD_BOTH_CHILDREN)
-  int min_origin_path_depth;             // origin paths for trees at least this deep (0: never)
+  const char* device_class = "";                              // "CPU", "GPU" or "other" (accelerators: unmeasured)
+  Traversal walk = Traversal::ShortStack;                     // for rays walked one per work item
+  int min_lanes_depth = 0;                                    // lanes for trees at least this deep (0: never)
+  KernelOrganisation organisation = KernelOrganisation::Megakernel;  // where the wavefront can run the settings
+  bool load_both_children = false;                            // in the full stack's walk (MBAO_LOAD_BOTH_CHILDREN)
+  int min_origin_path_depth = 0;                              // origin paths for trees at least this deep (0: never)
   // The device reads host memory: it reads the scene's tree where it is
   // (CL_MEM_USE_HOST_PTR, render/device_scene.h).
-  bool shares_host_memory;
+  bool shares_host_memory = false;
   // Where it does, scenes of at least this many triangles are read from the
   // mesh's own vertices and indices (MBAO_INDEXED_TRIANGLES), not from 48
   // bytes of coordinates per triangle in a buffer of their own (0: never).
-  std::size_t min_indexed_triangles;
+  std::size_t min_indexed_triangles = 0;
   // HBAO's G-buffer walks its camera rays in packets (lanes), whatever the tree's depth.
-  bool gbuffer_packets;
+  bool gbuffer_packets = false;
 };
 
 // The row of the device table for `device`.
