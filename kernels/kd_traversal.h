@@ -20,13 +20,9 @@
 #define MBAO_KD_TRAVERSAL_H
 
 #include "mbao/limits.h"
+#include "mbao/traversal.h"
 #include "scene.h"
 
-#define MBAO_TRAVERSAL_RESTART 0
-#define MBAO_TRAVERSAL_PUSHDOWN 1
-#define MBAO_TRAVERSAL_SHORT_STACK 2
-#define MBAO_TRAVERSAL_STACK 3
-#define MBAO_TRAVERSAL_LANES 4
 #ifndef MBAO_TRAVERSAL
 #define MBAO_TRAVERSAL MBAO_TRAVERSAL_PUSHDOWN
 #endif

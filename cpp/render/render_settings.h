@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mbao/limits.h"
+#include "mbao/traversal.h"
 
 namespace mbao {
 
@@ -17,8 +18,15 @@ enum class NormalMode { Shading, Geometric };
 // render walks its AO rays so in the wavefront organisation only, and its
 // camera rays sixteen to a packet (kernels/kd_packet.h).
 // Auto: the fastest measured for the device's class (plan_render in render/render_plan.h).
-// The values are the kernels' MBAO_TRAVERSAL (kernels/kd_traversal.h).
-enum class Traversal { Restart, PushDown, ShortStack, Stack, Lanes, Auto };
+// The values are the kernels' MBAO_TRAVERSAL (kernels/mbao/traversal.h).
+enum class Traversal {
+  Restart = MBAO_TRAVERSAL_RESTART,
+  PushDown = MBAO_TRAVERSAL_PUSHDOWN,
+  ShortStack = MBAO_TRAVERSAL_SHORT_STACK,
+  Stack = MBAO_TRAVERSAL_STACK,
+  Lanes = MBAO_TRAVERSAL_LANES,
+  Auto
+};
 // How the AO work is cut into kernels: one work item per pixel runs the whole
 // estimator, or one launch per bounce over a queue of the surfaces that bounce on.
 // Auto: the faster measured for the device's type where the wavefront can run
