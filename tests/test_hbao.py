@@ -176,16 +176,24 @@ def test_stats_describe_an_hbao_frame(cornell):
     (dict(max_distance=float("inf")), r"finite max_distance"),
     (dict(spp=2), r"spp"),
     (dict(engine=mbao.Engine(organisation="wavefront")), r"organisation"),
-    (dict(hbao=mbao.HBAO(directions=0)), r"directions.*\[1, 64\]"),
-    (dict(hbao=mbao.HBAO(steps=65)), r"steps.*\[1, 64\]"),
-    (dict(hbao=mbao.HBAO(angle_bias_deg=90)), r"angle_bias_deg.*\[0, 90\)"),
-    (dict(hbao=mbao.HBAO(falloff=1.5)), r"falloff.*\[0, 1\]"),
 ])
 def test_bad_hbao_settings(cornell, arguments, message):
     settings = dict(width=8, height=8, method="hbao", max_distance=100.0)
     settings.update(arguments)
     with pytest.raises(ValueError, match=message):
         mbao.render(cornell, **settings)
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (dict(directions=0), r"directions.*\[1, 64\]"),
+    (dict(steps=65), r"steps.*\[1, 64\]"),
+    (dict(angle_bias_deg=90), r"angle_bias_deg.*\[0, 90\)"),
+    (dict(falloff=1.5), r"falloff.*\[0, 1\]"),
+])
+def test_an_hbao_out_of_range_is_refused_where_it_is_made(arguments, message):
+    """As Denoise and Temporal are: the error points at the line that made it, not at a later render."""
+    with pytest.raises(ValueError, match=message):
+        mbao.HBAO(**arguments)
 
 
 def test_hbao_settings_must_be_an_hbao(cornell):

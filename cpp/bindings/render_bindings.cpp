@@ -206,7 +206,9 @@ angle_bias_deg: horizons less than this above the tangent plane are ignored, in 
 falloff: attenuation W(r) = 1 - falloff * (r / radius)^2 of each horizon rise, in [0, 1].
 The radius, in world units, is the render's max_distance.)doc")
       .def(py::init([](std::int64_t directions, std::int64_t steps, float angle_bias_deg, float falloff) {
-             return HbaoSettings{directions, steps, angle_bias_deg, falloff};
+             const HbaoSettings h{directions, steps, angle_bias_deg, falloff};
+             h.validate();
+             return h;
            }),
            py::arg("directions") = HbaoSettings{}.directions, py::arg("steps") = HbaoSettings{}.steps,
            py::arg("angle_bias_deg") = HbaoSettings{}.angle_bias_deg, py::arg("falloff") = HbaoSettings{}.falloff)

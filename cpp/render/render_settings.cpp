@@ -173,12 +173,15 @@ void RenderSettings::validate_hbao() const {
   if (!std::isfinite(radius()))
     bad("HBAO needs a finite max_distance: it is the radius, in world units, that it searches for occluders");
   if (organisation == KernelOrganisation::Wavefront) bad("organisation \"wavefront\" applies to the ray-traced method only");
-  check_range("hbao directions", hbao.directions, 1, 64);
-  check_range("hbao steps", hbao.steps, 1, 64);
-  if (!(hbao.angle_bias_deg >= 0.0f && hbao.angle_bias_deg < 90.0f))
-    bad("hbao angle_bias_deg must be in [0, 90), got " + std::to_string(hbao.angle_bias_deg));
-  if (!(hbao.falloff >= 0.0f && hbao.falloff <= 1.0f))
-    bad("hbao falloff must be in [0, 1], got " + std::to_string(hbao.falloff));
+  hbao.validate();
+}
+
+void HbaoSettings::validate() const {
+  check_range("hbao directions", directions, 1, 64);
+  check_range("hbao steps", steps, 1, 64);
+  if (!(angle_bias_deg >= 0.0f && angle_bias_deg < 90.0f))
+    bad("hbao angle_bias_deg must be in [0, 90), got " + std::to_string(angle_bias_deg));
+  if (!(falloff >= 0.0f && falloff <= 1.0f)) bad("hbao falloff must be in [0, 1], got " + std::to_string(falloff));
 }
 
 void DenoiseSettings::validate() const {

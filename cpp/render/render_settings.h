@@ -41,6 +41,8 @@ struct HbaoSettings {
   std::int64_t steps = 6;       // samples along each direction
   float angle_bias_deg = 10.0f;  // horizons less than this above the tangent plane are ignored
   float falloff = 1.0f;          // attenuation W(r) = 1 - falloff * (r / radius)^2, in [0, 1]
+  // Throws std::invalid_argument naming the first setting out of its range.
+  void validate() const;
 };
 
 // The spatial filter's settings, with SPEC 7.3's defaults.
