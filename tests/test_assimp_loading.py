@@ -113,6 +113,21 @@ def test_a_bad_file_raises_load_error_naming_it(tmp_path, name, content, message
     assert str(path) in str(error.value)
 
 
+@pytest.mark.parametrize("name", ["scan", "scan.data"])
+def test_a_file_whose_extension_names_no_format_is_read_by_its_content(tmp_path, name):
+    """Assimp's test files include models without extensions; it tells their format from their signature."""
+    vertices, triangles = np.float32([[0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.int32([[0, 1, 2]])
+    write_ply(tmp_path / name, vertices, triangles, binary=True)
+    np.testing.assert_array_equal(corners(mbao.load(tmp_path / name)), vertices[triangles])
+
+
+def test_a_file_that_is_neither_gltf_nor_of_a_format_assimp_recognises_says_both(tmp_path):
+    (tmp_path / "notes").write_text("Not a model.\n")
+    with pytest.raises(mbao.LoadError, match=r"notes: neither a GLB file .* nor glTF JSON .*; nor did Assimp "
+                                             r"recognise its content: .*notes: No suitable reader"):
+        mbao.load(tmp_path / "notes")
+
+
 def test_a_file_that_makes_assimp_abort_is_a_load_error(tmp_path, capfd):
     """Debian's Assimp asserts, and so aborts, in its triangulation on this
     PLY (a fuzzer's find); it runs in a process of its own, so the caller gets

@@ -882,10 +882,11 @@ def gltf_1(positions, indices):
     }
 
 
-def test_gltf_1_loads_through_assimp(tmp_path):
+@pytest.mark.parametrize("version", ["1.0", 1], ids=["string", "number"])  # collada2gltf wrote the number 1
+def test_gltf_1_loads_through_assimp(tmp_path, version):
     """SPEC 3.2: Assimp's importer reads glTF 1.0; the same triangles as its 2.0 form."""
     path = tmp_path / "one.gltf"
-    path.write_text(json.dumps(gltf_1(QUAD, QUAD_INDICES.ravel())))
+    path.write_text(json.dumps(dict(gltf_1(QUAD, QUAD_INDICES.ravel()), asset={"version": version})))
     scene = load_clean(path)
     b = GltfBuilder()
     b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(QUAD, QUAD_INDICES)]))])

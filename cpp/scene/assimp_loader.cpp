@@ -106,6 +106,17 @@ std::shared_ptr<Scene> load_gltf_1(const std::string& path, const LoadOptions& o
   }
 }
 
+// A file whose extension names no format and which is not glTF, as Assimp
+// reads it: by its content, as its importers recognise their formats' signatures.
+std::shared_ptr<Scene> load_by_content(const std::string& path, const LoadOptions& options,
+                                       const std::string& gltf_error) {
+  try {
+    return load_with_assimp(path, options);
+  } catch (const LoadError& e) {
+    throw LoadError(gltf_error + "; nor did Assimp recognise its content: " + e.what());
+  }
+}
+
 }  // namespace
 
 std::shared_ptr<Scene> load_scene(const std::string& path, const LoadOptions& options) {
@@ -116,11 +127,12 @@ std::shared_ptr<Scene> load_scene(const std::string& path, const LoadOptions& op
   try {
     return load_gltf_from_memory(bytes.data(), bytes.size(), path,
                                  std::filesystem::path(path).parent_path().string(), options);
-  } catch (const LoadError&) {
+  } catch (const LoadError& e) {
     // Asked only of a file the glTF 2.0 loader refused: a 2.0 file's JSON is not parsed twice.
-    if (!is_gltf_1(bytes.data(), bytes.size())) throw;
+    if (is_gltf_1(bytes.data(), bytes.size())) return load_gltf_1(path, options);
+    if (extension == ".gltf" || extension == ".glb" || looks_like_gltf(bytes.data(), bytes.size())) throw;
+    return load_by_content(path, options, e.what());
   }
-  return load_gltf_1(path, options);
 }
 
 }  // namespace mbao

@@ -27,7 +27,8 @@ std::shared_ptr<Scene> load_with_assimp_from_memory(const unsigned char* bytes, 
 
 // mbao.load's reader: glTF (.gltf, .glb, and files whose extension Assimp
 // does not know, which the glTF loader tells apart by their content) through
-// tinygltf, every other format Assimp reads through Assimp.
+// tinygltf, every other format Assimp reads through Assimp; a file of an
+// unknown extension that is not glTF, through Assimp by its content.
 std::shared_ptr<Scene> load_scene(const std::string& path, const LoadOptions& options = {});
 
 }  // namespace mbao

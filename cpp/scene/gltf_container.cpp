@@ -88,6 +88,10 @@ std::string_view glb_json_chunk(const unsigned char* bytes, std::size_t size, co
 
 }  // namespace
 
+bool looks_like_gltf(const unsigned char* bytes, std::size_t size) {
+  return (size >= 4 && std::memcmp(bytes, "glTF", 4) == 0) || starts_like_json_object(bytes, size);
+}
+
 GltfContainer check_gltf_container(const unsigned char* bytes, std::size_t size, const std::string& name) {
   if (size >= 4 && std::memcmp(bytes, "glTF", 4) == 0) {
     const std::string_view json = glb_json_chunk(bytes, size, name);
@@ -118,7 +122,9 @@ bool is_gltf_1(const unsigned char* bytes, std::size_t size) {
   if (doc.is_discarded() || !doc.is_object()) return false;
   const auto asset = doc.find("asset");
   if (asset == doc.end() || !asset->is_object()) return false;
+  // Writers before 1.0 was final (collada2gltf) wrote the version as the number 1.
   const auto version = asset->find("version");
+  if (version != asset->end() && version->is_number()) return version->get<double>() == 1.0;
   return version != asset->end() && version->is_string() && version->get<std::string>().rfind("1.", 0) == 0;
 }
 
