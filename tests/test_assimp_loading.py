@@ -225,6 +225,23 @@ def test_an_obj_material_below_half_opacity_leaves_no_surface(tmp_path):
     assert scene.triangle_count == 1 and scene.alpha_masks is None
 
 
+def test_a_file_whose_every_material_is_below_half_opacity_loads_opaque_with_a_warning(tmp_path):
+    """Leaving nothing helps no one, and Collada exporters often write transparency 0 for opaque (Assimp's own
+    teapots.DAE): every opacity is taken as 1, and the warning names the materials."""
+    from meshes import plane
+
+    vertices, triangles = plane(1.0)
+    (tmp_path / "glass.mtl").write_text("newmtl glass\nd 0.0\nnewmtl mist\nd 0.2\n")
+    lines = ["mtllib glass.mtl", "usemtl glass"] + [f"v {x} {y} {z}" for x, y, z in vertices]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles]
+    lines += ["usemtl mist", "v 0 1 0", "v 1 1 0", "v 0 2 0", "f 5 6 7"]
+    (tmp_path / "glass.obj").write_text("\n".join(lines) + "\n")
+    with pytest.warns(UserWarning, match=r"every triangle is in a material of opacity below 0.5 \('glass', 'mist'\), "
+                                         r"which would leave nothing; their opacity is taken as 1"):
+        scene = mbao.load(tmp_path / "glass.obj")
+    assert scene.triangle_count == len(triangles) + 1
+
+
 def test_a_mask_image_that_is_not_there_is_named_and_its_surface_is_opaque(tmp_path):
     (tmp_path / "lost.mtl").write_text("newmtl lost\nmap_d missing.png\n")
     (tmp_path / "lost.obj").write_text("mtllib lost.mtl\nusemtl lost\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\n"
@@ -247,7 +264,8 @@ def test_a_map_whose_alpha_is_on_one_side_of_the_cutoff_everywhere_is_no_mask(tm
         scene = masked_obj(tmp_path, ["map_Kd colour.png"], {"colour.png": rgba})
         assert scene.triangle_count == triangles and scene.alpha_masks is None
     else:
-        with pytest.raises(mbao.LoadError, match="no triangles in it"):
+        with pytest.raises(mbao.LoadError, match=r"no triangles in it are left: the alpha of their materials' images "
+                                                 r"\('\w+'\) is below 0.5 everywhere"):
             masked_obj(tmp_path, ["map_Kd colour.png"], {"colour.png": rgba})
 
 

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <limits>
 #include <map>
+#include <set>
 #include <optional>
 #include <string>
 #include <utility>
@@ -54,8 +56,10 @@ class AssimpMasks {
   };
 
   // An image that cannot be read or decoded adds to `warnings`, and its material is opaque.
-  AssimpMasks(const aiScene& scene, std::string path, std::vector<std::string>& warnings)
+  // Without `honour_opacity`, every material's opacity is taken as 1.
+  AssimpMasks(const aiScene& scene, std::string path, bool honour_opacity, std::vector<std::string>& warnings)
       : scene_(scene),
+        honour_opacity_(honour_opacity),
         path_(std::move(path)),
         base_dir_(std::filesystem::path(path_).parent_path()),
         warnings_(warnings),
@@ -74,7 +78,7 @@ class AssimpMasks {
     if (index >= scene_.mNumMaterials) return {};
     const aiMaterial& m = *scene_.mMaterials[index];
     float opacity = 1.0f;
-    m.Get(AI_MATKEY_OPACITY, opacity);
+    if (honour_opacity_) m.Get(AI_MATKEY_OPACITY, opacity);
     const std::string what = std::string("material '") + m.GetName().C_Str() + "'";
     for (const auto& [type, first_channel] : {std::pair{aiTextureType_OPACITY, true}, {aiTextureType_DIFFUSE, false}}) {
       aiString file;
@@ -131,6 +135,7 @@ class AssimpMasks {
   }
 
   const aiScene& scene_;
+  bool honour_opacity_;
   std::string path_;
   std::filesystem::path base_dir_;
   std::vector<std::string>& warnings_;
@@ -149,9 +154,9 @@ glm::vec3 to_glm(const aiVector3D& v) { return {v.x, v.y, v.z}; }
 // their alpha masks.
 class Gatherer {
  public:
-  Gatherer(const aiScene& scene, const std::string& path, const LoadOptions& options,
+  Gatherer(const aiScene& scene, const std::string& path, const LoadOptions& options, bool honour_opacity,
            std::vector<std::string>& warnings)
-      : scene_(scene), path_(path), normals_(options.normals), masks_(scene, path, warnings) {
+      : scene_(scene), path_(path), normals_(options.normals), masks_(scene, path, honour_opacity, warnings) {
     if (options.texcoords) read_materials(options.base_colors, warnings);
   }
 
@@ -175,6 +180,8 @@ class Gatherer {
     return std::move(mesh_);
   }
   AlphaMasks take_masks() { return masks_.take(); }
+  // The names of the materials whose triangles were left out as transparent everywhere.
+  const std::set<std::string>& transparent() const { return transparent_; }
   UvSets take_uv_sets() { return std::move(uv_sets_); }
 
  private:
@@ -284,7 +291,12 @@ class Gatherer {
   void mesh(const aiMesh& m, const glm::mat4& world) {
     if (!(m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;  // points and lines, sorted apart
     const AssimpMasks::Material material = masks_.material(m.mMaterialIndex);
-    if (material.coverage == AssimpMasks::Coverage::Transparent) return;  // cut away everywhere: no triangles
+    if (material.coverage == AssimpMasks::Coverage::Transparent) {  // cut away everywhere: no triangles
+      transparent_.insert(m.mMaterialIndex < scene_.mNumMaterials
+                              ? scene_.mMaterials[m.mMaterialIndex]->GetName().C_Str()
+                              : std::to_string(m.mMaterialIndex));
+      return;
+    }
     const auto base = std::uint32_t(mesh_.positions.size());
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
     const bool with_normals = normals_ && m.HasNormals();
@@ -332,6 +344,7 @@ class Gatherer {
   int nodes_ = 0;
   TriangleMesh mesh_;
   AssimpMasks masks_;
+  std::set<std::string> transparent_;
   UvSets uv_sets_;
 };
 
@@ -377,6 +390,47 @@ std::size_t dropped_primitives(const aiScene& scene) {
   return count;
 }
 
+// The scene's triangles, masks, camera and UV sets; where `honour_opacity` is
+// false, every material's opacity is taken as 1.
+ImportedScene gathered(const aiScene& scene, const std::string& path, const LoadOptions& options,
+                       bool honour_opacity, std::set<std::string>* transparent = nullptr) {
+  std::vector<std::string> warnings;
+  Gatherer gatherer(scene, path, options, honour_opacity, warnings);
+  gatherer.node(*scene.mRootNode, glm::mat4(1.0f));
+  if (const std::size_t dropped = dropped_primitives(scene))
+    warnings.push_back(path + ": " + std::to_string(dropped) + " points and lines skipped; only triangles render");
+  std::optional<Camera> camera = first_camera(scene, path, warnings);
+  if (transparent) *transparent = gatherer.transparent();
+  return {gatherer.take_mesh(), gatherer.take_masks(), camera, std::move(warnings), gatherer.take_uv_sets()};
+}
+
+std::string joined(const std::set<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "'" : ", '") + name + "'";
+  return text;
+}
+
+// A scene all of whose triangles are in materials cut away everywhere
+// (`transparent`; SPEC 3.2), read again with every opacity taken as 1, with a
+// warning: Collada exporters often write transparency the other way round from
+// what the format means, and a scene of nothing helps no one. Where the
+// materials' images still cut it all away, a LoadError naming them.
+ImportedScene opaque_instead(const aiScene& scene, const std::string& path, const LoadOptions& options,
+                             const std::set<std::string>& transparent) {
+  std::set<std::string> still;
+  ImportedScene s = gathered(scene, path, options, false, &still);
+  if (s.mesh.triangles.empty())
+    throw LoadError(path + ": no triangles in it are left: the alpha of their materials' images (" + joined(still) +
+                    ") is below 0.5 everywhere (SPEC 3.2)");
+  std::set<std::string> by_opacity;
+  std::set_difference(transparent.begin(), transparent.end(), still.begin(), still.end(),
+                      std::inserter(by_opacity, by_opacity.end()));
+  s.warnings.push_back(path + ": every triangle is in a material of opacity below 0.5 (" + joined(by_opacity) +
+                       "), which would leave nothing; their opacity is taken as 1 (a Collada exporter may have "
+                       "written its transparency the other way round)");
+  return s;
+}
+
 // Why a scene with meshes is flagged incomplete: LightWave's scene loader flags
 // one without materials; the flag carries no reason of its own.
 std::string what_is_missing(const aiScene& scene) {
@@ -387,20 +441,16 @@ std::string what_is_missing(const aiScene& scene) {
 
 ImportedScene scene_from_assimp(const aiScene& scene, const std::string& path, const LoadOptions& options) {
   if (!scene.mRootNode) throw LoadError(path + ": Assimp read no node tree from it");
-  std::vector<std::string> warnings;
-  Gatherer gatherer(scene, path, options, warnings);
-  gatherer.node(*scene.mRootNode, glm::mat4(1.0f));
-  if (const std::size_t dropped = dropped_primitives(scene))
-    warnings.push_back(path + ": " + std::to_string(dropped) + " points and lines skipped; only triangles render");
-  std::optional<Camera> camera = first_camera(scene, path, warnings);
-  TriangleMesh mesh = gatherer.take_mesh();
-  if (mesh.triangles.empty())
-    throw LoadError(path + (scene.mNumMeshes == 0 ? ": no meshes in it (Assimp found no geometry it could read)"
-                                                  : ": no triangles in it"));
+  std::set<std::string> transparent;
+  ImportedScene s = gathered(scene, path, options, true, &transparent);
+  if (s.mesh.triangles.empty() && scene.mNumMeshes == 0)
+    throw LoadError(path + ": no meshes in it (Assimp found no geometry it could read)");
+  if (s.mesh.triangles.empty() && transparent.empty()) throw LoadError(path + ": no triangles in it");
+  if (s.mesh.triangles.empty()) s = opaque_instead(scene, path, options, transparent);
   if (scene.mFlags & AI_SCENE_FLAGS_INCOMPLETE)
-    warnings.push_back(path + ": Assimp flagged the scene incomplete (" + what_is_missing(scene) +
-                       "); its triangles are loaded");
-  return {std::move(mesh), gatherer.take_masks(), camera, std::move(warnings), gatherer.take_uv_sets()};
+    s.warnings.push_back(path + ": Assimp flagged the scene incomplete (" + what_is_missing(scene) +
+                         "); its triangles are loaded");
+  return s;
 }
 
 }  // namespace mbao
