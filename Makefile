@@ -23,7 +23,7 @@ APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbconvert python3-nbformat python3-ipykernel \
   python3-matplotlib python3-tqdm python3-pil python3-distributed python3-dask python3-aiohttp libgtest-dev
 
-.PHONY: demo test bench notebook notebook-kernel gltf-validator deps build sanitize-build clean
+.PHONY: demo test bench corpus notebook notebook-kernel gltf-validator deps build sanitize-build clean
 
 demo: build
 	mkdir -p out
@@ -67,6 +67,14 @@ SCENES := ../shared/scenes
 bench: APT_PACKAGES += libembree-dev
 bench: build
 	$(BUILD)/bench/mbao_bench --scenes $(SCENES) --json bench/results/latest.json
+
+# Every model file under CORPUS loaded and rendered, beside what Assimp's own
+# command line (Debian's assimp-utils, only this target's) and the Khronos
+# validator say of it (tools/corpus_check.py): `make corpus CORPUS=folder`
+# writes docs/corpus.md. docs/limits.md says which corpus it last ran on.
+corpus: APT_PACKAGES += assimp-utils
+corpus: build $(GLTF_VALIDATOR)
+	$(VENV)/bin/python tools/corpus_check.py $(CORPUS) --report docs/corpus.md
 
 # Jupyter's notebook server from Debian, started on notebooks/, whose kernel
 # "mbao" `build` registered. Only this target (and `test`, for the viewer's
