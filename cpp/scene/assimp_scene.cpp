@@ -8,8 +8,8 @@
 #include <iterator>
 #include <limits>
 #include <map>
-#include <set>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -390,17 +390,18 @@ std::size_t dropped_primitives(const aiScene& scene) {
   return count;
 }
 
-// The scene's triangles, masks, camera and UV sets; where `honour_opacity` is
-// false, every material's opacity is taken as 1.
+// The scene's triangles, masks, camera and UV sets, and in `transparent` the
+// materials left out as cut away everywhere; where `honour_opacity` is false,
+// every material's opacity is taken as 1.
 ImportedScene gathered(const aiScene& scene, const std::string& path, const LoadOptions& options,
-                       bool honour_opacity, std::set<std::string>* transparent = nullptr) {
+                       bool honour_opacity, std::set<std::string>& transparent) {
   std::vector<std::string> warnings;
   Gatherer gatherer(scene, path, options, honour_opacity, warnings);
   gatherer.node(*scene.mRootNode, glm::mat4(1.0f));
   if (const std::size_t dropped = dropped_primitives(scene))
     warnings.push_back(path + ": " + std::to_string(dropped) + " points and lines skipped; only triangles render");
   std::optional<Camera> camera = first_camera(scene, path, warnings);
-  if (transparent) *transparent = gatherer.transparent();
+  transparent = gatherer.transparent();
   return {gatherer.take_mesh(), gatherer.take_masks(), camera, std::move(warnings), gatherer.take_uv_sets()};
 }
 
@@ -418,7 +419,7 @@ std::string joined(const std::set<std::string>& names) {
 ImportedScene opaque_instead(const aiScene& scene, const std::string& path, const LoadOptions& options,
                              const std::set<std::string>& transparent) {
   std::set<std::string> still;
-  ImportedScene s = gathered(scene, path, options, false, &still);
+  ImportedScene s = gathered(scene, path, options, false, still);
   if (s.mesh.triangles.empty())
     throw LoadError(path + ": no triangles in it are left: the alpha of their materials' images (" + joined(still) +
                     ") is below 0.5 everywhere (SPEC 3.2)");
@@ -442,7 +443,7 @@ std::string what_is_missing(const aiScene& scene) {
 ImportedScene scene_from_assimp(const aiScene& scene, const std::string& path, const LoadOptions& options) {
   if (!scene.mRootNode) throw LoadError(path + ": Assimp read no node tree from it");
   std::set<std::string> transparent;
-  ImportedScene s = gathered(scene, path, options, true, &transparent);
+  ImportedScene s = gathered(scene, path, options, true, transparent);
   if (s.mesh.triangles.empty() && scene.mNumMeshes == 0)
     throw LoadError(path + ": no meshes in it (Assimp found no geometry it could read)");
   if (s.mesh.triangles.empty() && transparent.empty()) throw LoadError(path + ": no triangles in it");
