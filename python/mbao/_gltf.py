@@ -260,8 +260,8 @@ def _add_base_colors(doc, materials, primitives, binary, views, path):
         views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(color["image"])})
         binary.extend(color["image"])
         binary.extend(b"\0" * (-len(binary) % 4))
-        png = color["image"][:4] == b"\x89PNG"
-        image = _appended(doc, "images", {"bufferView": len(views) - 1, "mimeType": "image/png" if png else "image/jpeg"})
+        mime_type = "image/png" if color["image"][:4] == b"\x89PNG" else "image/jpeg"  # png_or_jpeg's two
+        image = _appended(doc, "images", {"bufferView": len(views) - 1, "mimeType": mime_type})
         texture = {"source": image}
         if tuple(color["wrap"]) != ("repeat", "repeat"):
             texture["sampler"] = _appended(doc, "samplers", {"wrapS": WRAP_CODES[color["wrap"][0]],
