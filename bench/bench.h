@@ -83,7 +83,7 @@ json distance_json(float max_distance);
 std::string distance_text(float max_distance);
 // A kd-tree's size, shape and SAH cost.
 json tree_stats_json(const mbao::KdTreeStats& tree);
-// Nodes, leaves, triangle tests and restarts per ray of a render with count_traversal.
+// Nodes, leaves, triangle tests and restarts per ray of a render with traversal_stats.
 json per_ray_counts(const mbao::RenderStats& counted);
 // Median frame over `frames` renders, after one untimed render that builds the
 // kernels and uploads the scene.

@@ -81,7 +81,7 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
       settings.bounces = bounces;
       const Interleaved f = interleaved_frames(renderer, embree, s, settings, options.frames);
       mbao::RenderSettings counting = settings;
-      counting.count_traversal = true;
+      counting.traversal_stats = true;
       const mbao::RenderStats counted = renderer.render(s.scene, s.camera, counting).stats;
       json mbao_frames = f.mbao.to_json();
       mbao_frames["bounces"] = bounces;

@@ -50,7 +50,7 @@ json kd_builds(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, 
     for (std::size_t v = 0; v < tried.size(); ++v) {
       mbao::RenderSettings settings = options.settings;
       settings.bounces = 2;
-      settings.count_traversal = true;
+      settings.traversal_stats = true;
       // The tree the rays walk, in the device's frame (see Scene::render_origin).
       const std::shared_ptr<mbao::Scene> scene = rebuilt(s, tried[v].options);
       const json counts = per_ray_counts(renderer.render(scene, s.camera, settings).stats);

@@ -26,9 +26,9 @@ json traversals(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes,
     settings.bounces = 2;
     for (mbao::Traversal traversal : traversals_for(renderer.device())) {
       settings.traversal = traversal;
-      settings.count_traversal = false;
+      settings.traversal_stats = false;
       const json frames = measure_frames(renderer, s, settings, options.frames);
-      settings.count_traversal = true;
+      settings.traversal_stats = true;
       const json counts = per_ray_counts(renderer.render(s.scene, s.camera, settings).stats);
       std::cout << "| " << s.name << " | " << mbao::to_string(traversal) << " | " << fixed(frames["frame_ms"], 1)
                 << " | " << fixed(counts["nodes_per_ray"], 1) << " | " << fixed(counts["leaves_per_ray"], 1) << " | "

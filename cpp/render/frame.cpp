@@ -48,7 +48,7 @@ Frame::BufferSizes Frame::buffer_sizes(const RenderSettings& s, std::size_t tile
   sizes.ao_second_moment = primaries == PrimarySurfaces::GivenPoints ? pixels * sizeof(cl_float) : 0;
   sizes.ao_variance = ao && (s.variance || s.filtered()) ? pixels * sizeof(cl_float) : 0;
   sizes.gbuffer = pixels * gbuffer_plane_count(gbuffer_planes(s, output)) * sizeof(cl_float);
-  sizes.traversal_totals = s.count_traversal ? 4 * sizeof(cl_ulong) : 0;
+  sizes.traversal_totals = s.traversal_stats ? 4 * sizeof(cl_ulong) : 0;
   const bool wavefront = ao && s.organisation == KernelOrganisation::Wavefront;
   sizes.wavefront = wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
   return sizes;

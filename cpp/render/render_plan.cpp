@@ -209,7 +209,7 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   ProgramVariant& p = plan.program;
   p.program = Program::Render;
   p.walk = plan.traversal;
-  p.count_traversal = s.count_traversal;
+  p.count_traversal = s.traversal_stats;
   p.alpha_masks = scene.alpha_masks;
   p.shading_normals = s.normals == NormalMode::Shading && scene.vertex_normals;
   p.unlimited_distance = hbao || std::isinf(s.radius());

@@ -99,7 +99,7 @@ struct RenderSettings {
   NormalMode normals = NormalMode::Shading;
   std::uint64_t seed = 0;
   Traversal traversal = Traversal::Auto;
-  bool count_traversal = false;  // build the kernels that count nodes, leaves, triangle tests and restarts
+  bool traversal_stats = false;  // build the kernels that count nodes, leaves, triangle tests and restarts
   bool variance = false;         // estimate each pixel's variance (SPEC 7.1) into RenderResult::variance
   // How the work is cut up; none of these changes the image.
   std::size_t tile_pixels = 0;      // pixels per launch; 0 picks a size that bounds memory (the wavefront's always)

@@ -38,7 +38,7 @@ struct RenderStats {
   std::size_t tiles = 0;
   std::string device;
   KdTreeStats tree;
-  std::optional<TraversalTotals> traversal;  // with RenderSettings::count_traversal
+  std::optional<TraversalTotals> traversal;  // with RenderSettings::traversal_stats
 };
 
 struct RenderResult {

@@ -225,7 +225,7 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   frame.enqueue_read_back(queue, result, secondary_rays.data());
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
-  if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
+  if (settings.traversal_stats) stats.traversal = frame.traversal_totals(queue);
   if (begin == 0 && end == pixels) {
     for (cl_uint r : secondary_rays) stats.rays_secondary += r;
   } else {  // the other pixels hold what the device's buffer held
@@ -318,24 +318,24 @@ void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program,
   }
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
-  if (settings.count_traversal) stats.traversal = frame.traversal_totals(queue);
+  if (settings.traversal_stats) stats.traversal = frame.traversal_totals(queue);
 }
 
 TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std::vector<cl_float4>& origins,
                             const std::vector<cl_float4>& directions, bool any_hit, Traversal traversal,
-                            bool count_traversal) {
+                            bool traversal_stats) {
   if (origins.size() != directions.size())
     throw std::invalid_argument("trace: " + std::to_string(origins.size()) + " origins but " +
                                 std::to_string(directions.size()) + " directions");
   TraceResult result;
   result.hits.resize(origins.size());
-  if (count_traversal) result.counts.resize(origins.size());
+  if (traversal_stats) result.counts.resize(origins.size());
   if (origins.empty()) return result;
   std::lock_guard<std::mutex> lock(mutex_);
   DeviceScene::check_fits(*scene, device().device, false,
                           plans_indexed_triangles(device(), scene->mesh().triangles.size()));
   DeviceScene::tree_within(*scene, device().device);
-  const ProgramVariant variant = plan_trace(traversal, count_traversal, device(), SceneTraits::of(*scene));
+  const ProgramVariant variant = plan_trace(traversal, traversal_stats, device(), SceneTraits::of(*scene));
   const std::shared_ptr<const DeviceScene> device_scene =
       scenes_.get(compute_, scene, false, variant.indexed_triangles);
   const BuiltProgram built = compute_.programs().get(variant.file(), variant.options());
@@ -351,7 +351,7 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
                                 const_cast<cl_float4*>(directions.data()));
     cl::Buffer hit_buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
     cl::Buffer count_buffer;
-    if (count_traversal) count_buffer = cl::Buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
+    if (traversal_stats) count_buffer = cl::Buffer(context, CL_MEM_WRITE_ONLY, n * sizeof(cl_uint4));
     const bool lanes = variant.walk == Traversal::Lanes;
     cl::Kernel kernel(built.program, lanes ? "trace_rays_in_lanes" : "trace_rays");
     const std::size_t group = work_group_size_for(kernel, device().device, 0);
@@ -364,7 +364,7 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
                       hit_buffer, count_buffer);
     launch(queue, kernel, (n + rays_per_item - 1) / rays_per_item, group);
     read_buffer(queue, hit_buffer, true, 0, n * sizeof(cl_uint4), result.hits.data());
-    if (count_traversal)
+    if (traversal_stats)
       read_buffer(queue, count_buffer, true, 0, n * sizeof(cl_uint4), result.counts.data());
   } catch (const cl::Error& e) {
     throw_device_error("tracing rays in " + scene->name() + " on " + device().description(), e);

@@ -96,7 +96,7 @@ class Renderer {
   // with any_hit the first hit found.
   TraceResult trace(const std::shared_ptr<const Scene>& scene, const std::vector<cl_float4>& origins,
                     const std::vector<cl_float4>& directions, bool any_hit, Traversal traversal,
-                    bool count_traversal = false);
+                    bool traversal_stats = false);
 
  private:
   // A bake's points, for the positions it traces.

@@ -151,7 +151,7 @@ std::vector<SettingSpec> make_specs() {
              "Pixels per launch; automatic bounds the memory and the rays of a launch."),
       member("work_group_size", G::Engine, K::AutoCount, &RenderSettings::work_group_size,
              "OpenCL work-group size; automatic is 64, or the kernel's limit where lower."),
-      member("traversal_stats", G::Engine, K::Flag, &RenderSettings::count_traversal,
+      member("traversal_stats", G::Engine, K::Flag, &RenderSettings::traversal_stats,
              "Count nodes, leaves, triangle tests and restarts per ray into stats[\"traversal\"] (kernels "
              "built to count, somewhat slower)."),
   };

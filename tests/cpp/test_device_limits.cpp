@@ -12,14 +12,14 @@
 namespace mbao {
 namespace {
 
-RenderSettings small(KernelOrganisation organisation, std::int64_t bounces, bool count_traversal) {
+RenderSettings small(KernelOrganisation organisation, std::int64_t bounces, bool traversal_stats) {
   RenderSettings settings;
   settings.width = 24;
   settings.height = 16;
   settings.bounces = bounces;
   settings.tile_pixels = 64;
   settings.organisation = organisation;
-  settings.count_traversal = count_traversal;
+  settings.traversal_stats = traversal_stats;
   return settings;
 }
 

@@ -77,7 +77,7 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
   s.bounces = 2;
   s.samples = 3;
   s.seed = 17;
-  s.count_traversal = true;
+  s.traversal_stats = true;
 
   std::unique_ptr<Image> first;
   std::vector<float> first_variance;
@@ -141,7 +141,7 @@ TEST(KernelVariants, SponzaIsTheSameImageFromEitherTriangleLayout) {
   s.bounces = 2;
   s.samples = 2;
   s.max_distance = *camera.max_distance;
-  s.count_traversal = true;
+  s.traversal_stats = true;
   RenderPlan plan = plan_render(s, compute.device(), SceneTraits::of(*sponza));
   ASSERT_TRUE(plan.program.alpha_masks && plan.program.shading_normals);
   const bool shares_host_memory = device_profile(compute.device()).shares_host_memory;

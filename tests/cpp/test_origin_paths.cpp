@@ -236,7 +236,7 @@ RenderSettings small(std::int64_t bounces, bool origin_paths) {
   RenderSettings s;
   s.width = s.height = 48;
   s.bounces = bounces;
-  s.count_traversal = true;
+  s.traversal_stats = true;
   s.origin_paths = origin_paths;
   return s;
 }

@@ -132,7 +132,7 @@ TEST(RenderPlan, EachProgramIsBuiltWithTheDefinesItReads) {
   SceneTraits scene = kDeep;
   scene.alpha_masks = scene.vertex_normals = true;
   RenderSettings s = two_bounces();
-  s.count_traversal = true;
+  s.traversal_stats = true;
   s.max_distance = 2.0f;
   EXPECT_EQ(plan_render(s, kCpu, scene).program.options(),
             "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 "
@@ -195,7 +195,7 @@ TEST(RenderPlan, EveryPlannedProgramIsAListedVariant) {
         for (int bits = 0; bits < 32; ++bits) {
           RenderSettings s = two_bounces();
           s.traversal = t;
-          s.count_traversal = bits & 1;
+          s.traversal_stats = bits & 1;
           if (bits & 2) s.max_distance = 1.0f;
           s.normals = bits & 4 ? NormalMode::Geometric : NormalMode::Shading;
           s.method = bits & 8 ? Method::Hbao : Method::RayTraced;

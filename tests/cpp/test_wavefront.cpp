@@ -127,7 +127,7 @@ TEST(Wavefront, QueuesStayBoundedWhateverTileIsAskedFor) {
 TEST(Wavefront, TracesTheMegakernelsRaysNodeForNode) {
   const auto cornell = cornell_box();
   RenderSettings s = small(2);
-  s.count_traversal = true;
+  s.traversal_stats = true;
   const RenderStats mega = render(cornell, *cornell->camera(), s, KernelOrganisation::Megakernel).stats;
   for (const Traversal walk : kWavefrontWalks) {
     SCOPED_TRACE(to_string(walk));
