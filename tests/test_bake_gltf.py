@@ -47,7 +47,8 @@ def test_load_reads_uv_sets_only_when_asked(tmp_path):
     np.testing.assert_array_equal(uv_sets["triangle_materials"], [0] * 32 + [1] * 2)
     assert uv_sets["materials"][0]["occlusion_texcoord"] == 1
     assert uv_sets["materials"][0]["wrap"] == ("mirrored-repeat", "mirrored-repeat")
-    assert uv_sets["materials"][1] == dict(name="wall", occlusion_texcoord=None, wrap=("repeat", "repeat"))
+    assert uv_sets["materials"][1] == dict(name="wall", occlusion_texcoord=None, wrap=("repeat", "repeat"),
+                                           base_color=None)  # read for bake_file from other formats only
 
 
 def test_each_material_is_baked_into_its_own_set(tmp_path):
