@@ -409,6 +409,7 @@ def _orbit(args):
 
 def _view(args):
     import asyncio
+    import signal
 
     from .viewer import open_viewer
     from .viewer.view_settings import VIEWER
@@ -425,12 +426,19 @@ def _view(args):
         print(viewer.url, flush=True)
         if not args.no_browser:
             _open_browser(viewer.url)
+        # Through the loop, whose wakeup descriptor the signal writes to: a plain handler runs only
+        # once the main thread wakes, and the signal may land on one of OpenCL's threads instead.
+        stopped = asyncio.Event()
+        for stop_signal in (signal.SIGINT, signal.SIGTERM):
+            asyncio.get_running_loop().add_signal_handler(stop_signal, stopped.set)
         try:
-            await asyncio.Event().wait()
+            await stopped.wait()
         finally:
             await viewer.stop()
 
     asyncio.run(serve())
+    print("mbao: stopped", file=sys.stderr)
+    return 0
 
 
 def _open_browser(url):
