@@ -212,34 +212,33 @@ def test_an_image_that_does_not_decode_leaves_the_surface_opaque(tmp_path):
     assert scene.alpha_masks is None and scene.triangle_count == 2  # opaque, whatever its d says
 
 
-def test_an_obj_material_below_half_opacity_leaves_no_surface(tmp_path):
+def plane_and_triangle_obj(tmp_path, plane_material, triangle_material, materials):
+    """glass.obj: a plane of two triangles in `plane_material` and a triangle in `triangle_material`, materials
+    from glass.mtl, whose text is `materials`."""
     from meshes import plane
 
     vertices, triangles = plane(1.0)
-    (tmp_path / "glass.mtl").write_text("newmtl glass\nd 0.3\nnewmtl wall\nd 1.0\n")
-    lines = ["mtllib glass.mtl", "usemtl glass"] + [f"v {x} {y} {z}" for x, y, z in vertices]
+    (tmp_path / "glass.mtl").write_text(materials)
+    lines = ["mtllib glass.mtl", f"usemtl {plane_material}"] + [f"v {x} {y} {z}" for x, y, z in vertices]
     lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles]
-    lines += ["usemtl wall", "v 0 1 0", "v 1 1 0", "v 0 2 0", "f 5 6 7"]
+    lines += [f"usemtl {triangle_material}", "v 0 1 0", "v 1 1 0", "v 0 2 0", "f 5 6 7"]
     (tmp_path / "glass.obj").write_text("\n".join(lines) + "\n")
-    scene = mbao.load(tmp_path / "glass.obj")
+    return tmp_path / "glass.obj"
+
+
+def test_an_obj_material_below_half_opacity_leaves_no_surface(tmp_path):
+    scene = mbao.load(plane_and_triangle_obj(tmp_path, "glass", "wall", "newmtl glass\nd 0.3\nnewmtl wall\nd 1.0\n"))
     assert scene.triangle_count == 1 and scene.alpha_masks is None
 
 
 def test_a_file_whose_every_material_is_below_half_opacity_loads_opaque_with_a_warning(tmp_path):
     """Leaving nothing helps no one, and Collada exporters often write transparency 0 for opaque (Assimp's own
     teapots.DAE): every opacity is taken as 1, and the warning names the materials."""
-    from meshes import plane
-
-    vertices, triangles = plane(1.0)
-    (tmp_path / "glass.mtl").write_text("newmtl glass\nd 0.0\nnewmtl mist\nd 0.2\n")
-    lines = ["mtllib glass.mtl", "usemtl glass"] + [f"v {x} {y} {z}" for x, y, z in vertices]
-    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles]
-    lines += ["usemtl mist", "v 0 1 0", "v 1 1 0", "v 0 2 0", "f 5 6 7"]
-    (tmp_path / "glass.obj").write_text("\n".join(lines) + "\n")
+    path = plane_and_triangle_obj(tmp_path, "glass", "mist", "newmtl glass\nd 0.0\nnewmtl mist\nd 0.2\n")
     with pytest.warns(UserWarning, match=r"every triangle is in a material of opacity below 0.5 \('glass', 'mist'\), "
                                          r"which would leave nothing; their opacity is taken as 1"):
-        scene = mbao.load(tmp_path / "glass.obj")
-    assert scene.triangle_count == len(triangles) + 1
+        scene = mbao.load(path)
+    assert scene.triangle_count == 3  # the plane's two and the triangle
 
 
 def test_a_mask_image_that_is_not_there_is_named_and_its_surface_is_opaque(tmp_path):
