@@ -42,6 +42,21 @@ std::uint32_t wrap_of(aiTextureMapMode mode) {
   }
 }
 
+// Image `file` of a material: one embedded in the scene ("*n", or named by
+// its file name), or a file found beside the model, in `model_folder`. Given
+// to `encoded(bytes, size)` where it is an encoded image (a file, or one
+// embedded compressed), to `texels(texture)` where it is embedded as texels.
+template <typename Encoded, typename Texels>
+auto with_image(const aiScene& scene, const std::filesystem::path& model_folder, const aiString& file,
+                const std::string& what, Encoded encoded, Texels texels) {
+  if (const aiTexture* embedded = scene.GetEmbeddedTexture(file.C_Str()))
+    return embedded->mHeight == 0  // compressed: mWidth bytes of an encoded image
+               ? encoded(reinterpret_cast<const unsigned char*>(embedded->pcData), std::size_t(embedded->mWidth))
+               : texels(*embedded);
+  const std::vector<unsigned char> bytes = read_regular_file(find_texture_file(model_folder, file.C_Str()), what);
+  return encoded(bytes.data(), bytes.size());
+}
+
 // The alpha masks of a file's materials (SPEC 3.2): a material's opacity map
 // (OBJ map_d: its alpha, else its first channel), else the alpha of its
 // diffuse map (map_Kd), times its opacity (OBJ d), cuts the surface where it
@@ -116,22 +131,19 @@ class AssimpMasks {
     return cannot_hold_alpha(file.C_Str());
   }
 
-  // An image embedded in the file ("*n", or named by its file name) or a file beside it.
   AlphaImage alpha_of(const aiString& file, bool first_channel, const std::string& what) const {
-    if (const aiTexture* embedded = scene_.GetEmbeddedTexture(file.C_Str())) {
-      if (embedded->mHeight == 0)  // compressed: mWidth bytes of an encoded image
-        return decode_alpha(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth,
-                            path_ + ": " + what, first_channel);
-      check_alpha_texels(embedded->mWidth, embedded->mHeight, path_ + ": " + what);
-      const std::size_t texels = std::size_t(embedded->mWidth) * embedded->mHeight;
-      AlphaImage image{int(embedded->mWidth), int(embedded->mHeight), true, {}};
-      image.alpha.reserve(texels);
-      for (std::size_t i = 0; i < texels; ++i) image.alpha.push_back(embedded->pcData[i].a);
-      return image;
-    }
-    const std::vector<unsigned char> bytes = read_regular_file(find_texture_file(base_dir_, file.C_Str()),
-                                                               path_ + ": " + what);
-    return decode_alpha(bytes.data(), bytes.size(), path_ + ": " + what, first_channel);
+    const std::string named = path_ + ": " + what;
+    return with_image(
+        scene_, base_dir_, file, named,
+        [&](const unsigned char* bytes, std::size_t size) { return decode_alpha(bytes, size, named, first_channel); },
+        [&](const aiTexture& texture) {
+          check_alpha_texels(texture.mWidth, texture.mHeight, named);
+          const std::size_t texels = std::size_t(texture.mWidth) * texture.mHeight;
+          AlphaImage image{int(texture.mWidth), int(texture.mHeight), true, {}};
+          image.alpha.reserve(texels);
+          for (std::size_t i = 0; i < texels; ++i) image.alpha.push_back(texture.pcData[i].a);
+          return image;
+        });
   }
 
   const aiScene& scene_;
@@ -250,24 +262,21 @@ class Gatherer {
     return color;
   }
 
-  // Image `file` as a glTF file holds it (PNG or JPEG): one embedded in the file, or a file found beside it.
+  // Image `file` as a glTF file holds it (PNG or JPEG).
   std::vector<unsigned char> gltf_image_of(const aiString& file, const std::string& what) const {
-    const aiTexture* embedded = scene_.GetEmbeddedTexture(file.C_Str());
-    if (embedded && embedded->mHeight == 0)  // compressed: mWidth bytes of an encoded image
-      return png_or_jpeg(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth, what);
-    if (embedded) {
-      check_image_texels(embedded->mWidth, embedded->mHeight, what);
-      std::vector<std::uint8_t> rgba;
-      rgba.reserve(4 * std::size_t(embedded->mWidth) * embedded->mHeight);
-      for (std::size_t i = 0; i < std::size_t(embedded->mWidth) * embedded->mHeight; ++i) {
-        const aiTexel& t = embedded->pcData[i];
-        rgba.insert(rgba.end(), {t.r, t.g, t.b, t.a});
-      }
-      return png_of_rgba(rgba.data(), int(embedded->mWidth), int(embedded->mHeight));
-    }
-    const std::vector<unsigned char> bytes =
-        read_regular_file(find_texture_file(std::filesystem::path(path_).parent_path(), file.C_Str()), what);
-    return png_or_jpeg(bytes.data(), bytes.size(), what);
+    return with_image(
+        scene_, std::filesystem::path(path_).parent_path(), file, what,
+        [&](const unsigned char* bytes, std::size_t size) { return png_or_jpeg(bytes, size, what); },
+        [&](const aiTexture& texture) {
+          check_image_texels(texture.mWidth, texture.mHeight, what);
+          std::vector<std::uint8_t> rgba;
+          rgba.reserve(4 * std::size_t(texture.mWidth) * texture.mHeight);
+          for (std::size_t i = 0; i < std::size_t(texture.mWidth) * texture.mHeight; ++i) {
+            const aiTexel& t = texture.pcData[i];
+            rgba.insert(rgba.end(), {t.r, t.g, t.b, t.a});
+          }
+          return png_of_rgba(rgba.data(), int(texture.mWidth), int(texture.mHeight));
+        });
   }
 
   // The mesh's UV channels as sets (v down the image, as glTF's: aiProcess_FlipUVs), NaN for the channels
