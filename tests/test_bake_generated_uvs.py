@@ -9,7 +9,7 @@ import pytest
 
 import mbao
 from conftest import shared_scene
-from meshes import box, icosphere, merge, plane
+from meshes import box, icosphere, merge, plane, quads_to_triangles
 
 
 def generated(vertices, indices, **settings):
@@ -47,6 +47,38 @@ def test_charts_share_one_density_and_stretch_at_most_1_25():
     ratio = texels_per_unit_area(texture, vertices, indices, resolution) / stats["texels_per_unit"] ** 2
     assert ratio.max() <= 1.0 + 1e-3 and ratio.min() >= 1.0 / stats["worst_stretch"] - 1e-3
     assert 0.05 < stats["texels_used"] <= 1.0
+
+
+def floor_cells(cells, y=0.0):
+    """Unit squares of the floor y = const, facing up, one per (i, j) cell."""
+    vertices, quads = [], []
+    for i, j in cells:
+        quads.append(len(vertices) + np.arange(4))
+        vertices += [[i, y, j], [i, y, j + 1], [i + 1, y, j + 1], [i + 1, y, j]]
+    return np.array(vertices, float), quads_to_triangles(quads)
+
+
+def test_a_small_chart_is_packed_into_the_gap_a_larger_one_leaves():
+    """An L of floor (a 3 x 3 square less a corner) and a wall square: first
+    fit, largest first, puts the square in the L's missing corner, inside the
+    L's box, where packing boxes would need room beside it."""
+    floor = floor_cells([(i, j) for i in range(3) for j in range(3) if (i, j) != (2, 2)])
+    wall = (np.array([[5.0, 0.0, 0.0], [5.0, 0.8, 0.0], [5.0, 0.8, 0.8], [5.0, 0.0, 0.8]]), [[0, 1, 2], [0, 2, 3]])
+    texture = generated(*merge(floor, wall), resolution=64, padding=2)
+    assert texture.stats["charts"] == 2 and texture.stats["claimed_twice"] == 0
+    uv = texture.texcoords[np.argsort(texture.triangles)]
+    floor_uv, wall_uv = uv[:16].reshape(-1, 2), uv[16:].reshape(-1, 2)
+    assert np.all(wall_uv >= floor_uv.min(axis=0)) and np.all(wall_uv <= floor_uv.max(axis=0))
+
+
+def test_a_long_strip_is_cut_so_that_it_does_not_set_the_density():
+    """A floor 32 units long and 1 wide, uncut, would fit 64 texels at no more
+    than (64 - 2 * padding - 1) / 32 texels per unit; cut across into pieces,
+    it packs denser."""
+    resolution, padding = 64, 2
+    texture = generated(*floor_cells([(i, 0) for i in range(32)]), resolution=resolution, padding=padding)
+    assert texture.stats["charts"] > 1 and texture.stats["claimed_twice"] == 0
+    assert texture.stats["texels_per_unit"] > 2 * (resolution - 2 * padding - 1) / 32
 
 
 def test_duplicated_triangles_and_folds_get_charts_of_their_own():

@@ -1,72 +1,238 @@
 #include "bake/chart_packing.h"
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
+#include <cstdint>
 
 namespace mbao {
 namespace {
 
-// The texels a chart's triangles touch at a density, per column of its box:
-// every texel whose square meets a triangle, so that two charts whose touched
-// texels differ claim no texel centre in common whatever their edges' rounding.
-struct Outline {
-  int width = 0, height = 0;      // its box, in texels
-  std::vector<int> top, bottom;   // per column: the first and last row touched; top > bottom where none
+// A grid of bits, a row of 64-bit words per row of texels, with a spare zero
+// word at each row's end so that reading 64 bits from any column is one shift.
+class BitGrid {
+ public:
+  BitGrid(int width, int height)
+      : width_(width), height_(height), words_(std::size_t(width + 63) / 64 + 1),
+        bits_(words_ * std::size_t(height), 0) {}
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  std::size_t words() const { return words_; }
+  const std::uint64_t* row(int y) const { return &bits_[std::size_t(y) * words_]; }
+  bool test(int x, int y) const { return (row(y)[std::size_t(x) / 64] >> (x % 64)) & 1u; }
+  // The first column of row y from x on whose bit is clear (set); the width where none.
+  int next_clear(int x, int y) const { return next(x, y, ~std::uint64_t(0)); }
+  int next_set(int x, int y) const { return next(x, y, 0); }
+  void set(int x, int y) { bits_[std::size_t(y) * words_ + std::size_t(x) / 64] |= std::uint64_t(1) << (x % 64); }
+  // Sets in row y the bits set in `source`'s row, moved `x` columns on.
+  void set_row(const BitGrid& source, int source_y, int x, int y) {
+    std::uint64_t* to = &bits_[std::size_t(y) * words_];
+    const std::uint64_t* from = source.row(source_y);
+    const std::size_t word = std::size_t(x) / 64;
+    const int shift = x % 64;
+    for (std::size_t k = 0; k + 1 < source.words(); ++k) {  // the spare word is zero
+      if (!from[k]) continue;
+      to[word + k] |= from[k] << shift;
+      if (shift) to[word + k + 1] |= from[k] >> (64 - shift);
+    }
+  }
+  // The 64 bits of row y from column x on.
+  std::uint64_t bits_from(int x, int y) const {
+    const std::uint64_t* r = row(y) + std::size_t(x) / 64;
+    const int shift = x % 64;
+    return shift == 0 ? r[0] : (r[0] >> shift) | (r[1] << (64 - shift));
+  }
+
+ private:
+  int next(int x, int y, std::uint64_t flip) const {
+    const std::uint64_t* r = row(y);
+    for (std::size_t k = std::size_t(x) / 64; k < words_ && x < width_; ++k, x = int(64 * k)) {
+      const std::uint64_t bits = (r[k] ^ flip) >> (x % 64);
+      if (bits) return std::min(width_, x + __builtin_ctzll(bits));
+    }
+    return width_;
+  }
+
+  int width_, height_;
+  std::size_t words_;
+  std::vector<std::uint64_t> bits_;
 };
 
-// The rows of column [x, x + 1] that triangle (a, b, c) meets: the y extent of
-// its part in the column, which is convex, so each row in between meets it.
-void touch_column(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, int x, Outline* outline) {
-  double lo = INFINITY, hi = -INFINITY;
-  const glm::dvec2 corners[3] = {a, b, c};
-  for (int k = 0; k < 3; ++k) {
-    const glm::dvec2 p = corners[k], q = corners[(k + 1) % 3];
-    if (p.x >= x && p.x <= x + 1) {
-      lo = std::min(lo, p.y);
-      hi = std::max(hi, p.y);
-    }
-    for (const double side : {double(x), double(x + 1)})  // where the edge crosses the column's sides
-      if ((p.x - side) * (q.x - side) < 0.0) {
-        const double y = p.y + (q.y - p.y) * (side - p.x) / (q.x - p.x);
-        lo = std::min(lo, y);
-        hi = std::max(hi, y);
-      }
-  }
-  if (!(lo <= hi)) return;
-  const int first = std::clamp(int(std::floor(lo)), 0, outline->height - 1);
-  const int last = std::clamp(std::max(first, int(std::ceil(hi)) - 1), 0, outline->height - 1);
-  outline->top[std::size_t(x)] = std::min(outline->top[std::size_t(x)], first);
-  outline->bottom[std::size_t(x)] = std::max(outline->bottom[std::size_t(x)], last);
-}
-
-Outline outline_of(const FlatChart& chart, double density) {
-  Outline outline;
-  outline.width = int(std::ceil(chart.size.x * density)) + 1;
-  outline.height = int(std::ceil(chart.size.y * density)) + 1;
-  outline.top.assign(std::size_t(outline.width), INT_MAX);
-  outline.bottom.assign(std::size_t(outline.width), INT_MIN);
+// The texels a chart's triangles touch at a density, in its box: every texel
+// whose square meets a triangle, so that two charts whose touched texels
+// differ claim no texel centre in common whatever their edges' rounding.
+// Column by column: a triangle's part in a column is convex, so each row
+// between its lowest and highest meets it.
+BitGrid touched_texels(const FlatChart& chart, double density) {
+  BitGrid grid(int(std::ceil(chart.size.x * density)) + 1, int(std::ceil(chart.size.y * density)) + 1);
   for (std::size_t i = 0; i + 2 < chart.corners.size(); i += 3) {
-    const glm::dvec2 a = chart.corners[i] * density + 0.5, b = chart.corners[i + 1] * density + 0.5,
-                     c = chart.corners[i + 2] * density + 0.5;
-    const int first = std::clamp(int(std::floor(std::min({a.x, b.x, c.x}))), 0, outline.width - 1);
-    const int last = std::clamp(int(std::ceil(std::max({a.x, b.x, c.x}))) - 1, first, outline.width - 1);
-    for (int x = first; x <= last; ++x) touch_column(a, b, c, x, &outline);
+    const glm::dvec2 corners[3] = {chart.corners[i] * density + 0.5, chart.corners[i + 1] * density + 0.5,
+                                   chart.corners[i + 2] * density + 0.5};
+    const double left = std::min({corners[0].x, corners[1].x, corners[2].x});
+    const double right = std::max({corners[0].x, corners[1].x, corners[2].x});
+    const int first = std::clamp(int(std::floor(left)), 0, grid.width() - 1);
+    const int last = std::clamp(int(std::ceil(right)) - 1, first, grid.width() - 1);
+    for (int x = first; x <= last; ++x) {
+      double lo = INFINITY, hi = -INFINITY;
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec2 p = corners[k], q = corners[(k + 1) % 3];
+        if (p.x >= x && p.x <= x + 1) {
+          lo = std::min(lo, p.y);
+          hi = std::max(hi, p.y);
+        }
+        for (const double side : {double(x), double(x + 1)})  // where the edge crosses the column's sides
+          if ((p.x - side) * (q.x - side) < 0.0) {
+            const double y = p.y + (q.y - p.y) * (side - p.x) / (q.x - p.x);
+            lo = std::min(lo, y);
+            hi = std::max(hi, y);
+          }
+      }
+      if (!(lo <= hi)) continue;
+      const int top = std::clamp(int(std::floor(lo)), 0, grid.height() - 1);
+      const int bottom = std::clamp(std::max(top, int(std::ceil(hi)) - 1), 0, grid.height() - 1);
+      for (int y = top; y <= bottom; ++y) grid.set(x, y);
+    }
   }
-  return outline;
+  return grid;
 }
 
-// Per column of the box widened by `padding` each side: the first row (of
-// the box) within `padding` texels of a touched texel; INT_MAX where none is.
-std::vector<int> kept_clear_from(const Outline& outline, int padding) {
-  std::vector<int> top(std::size_t(outline.width + 2 * padding), INT_MAX);
-  for (int x = 0; x < outline.width; ++x) {
-    if (outline.top[std::size_t(x)] > outline.bottom[std::size_t(x)]) continue;
-    for (int j = x; j <= x + 2 * padding; ++j)
-      top[std::size_t(j)] = std::min(top[std::size_t(j)], outline.top[std::size_t(x)] - padding);
-  }
-  return top;
+// The texels within `padding` of a set one in x and in y: the grid grown by `padding` each side.
+BitGrid grown(const BitGrid& touched, int padding) {
+  const int w = touched.width() + 2 * padding, h = touched.height() + 2 * padding;
+  BitGrid across(w, touched.height());  // within `padding` in x
+  for (int y = 0; y < touched.height(); ++y)
+    for (int d = 0; d <= 2 * padding; ++d) across.set_row(touched, y, d, y);
+  BitGrid clear(w, h);
+  for (int y = 0; y < touched.height(); ++y)
+    for (int d = 0; d <= 2 * padding; ++d) clear.set_row(across, y, 0, y + d);
+  return clear;
 }
+
+// A chart at one density: the texels it touches, and those kept clear around them.
+struct ChartTexels {
+  // Two charts' touched texels lie more than `padding` apart in x or y where
+  // those within padding / 2 of one's meet none within the rest of the other's.
+  BitGrid touched, claimed, clear;
+  std::vector<int> run_start;   // per texel of `clear`, row by row: where its run of set bits starts
+  std::vector<int> clear_runs;  // per row of `clear`: its longest run of set bits
+  int key_row = 0, key_start = 0;  // the row of the longest of those runs, and where it starts
+};
+
+ChartTexels chart_texels(const FlatChart& chart, double density, int padding) {
+  ChartTexels texels{touched_texels(chart, density), BitGrid(0, 0), BitGrid(0, 0), {}, {}};
+  texels.claimed = grown(texels.touched, padding / 2);
+  texels.clear = grown(texels.touched, padding - padding / 2);
+  const BitGrid& clear = texels.clear;
+  texels.run_start.assign(std::size_t(clear.width()) * std::size_t(clear.height()), 0);
+  texels.clear_runs.assign(std::size_t(clear.height()), 0);
+  for (int y = 0; y < clear.height(); ++y)
+    for (int x = 0, start = 0; x < clear.width(); ++x) {
+      if (!clear.test(x, y)) {
+        start = x + 1;
+        continue;
+      }
+      texels.run_start[std::size_t(y) * std::size_t(clear.width()) + std::size_t(x)] = start;
+      const int run = x + 1 - start;
+      int& longest = texels.clear_runs[std::size_t(y)];
+      longest = std::max(longest, run);
+      if (longest > texels.clear_runs[std::size_t(texels.key_row)] || (y == texels.key_row && longest == run)) {
+        texels.key_row = y;
+        texels.key_start = start;
+      }
+    }
+  return texels;
+}
+
+// Unclaimed texels [start, end) of a row.
+struct FreeRun {
+  int start, end;
+};
+
+// The texture: the texels placed charts claim, and per row its runs of free ones.
+class Atlas {
+ public:
+  Atlas(int width, int height)
+      : claimed_(width, height), free_runs_(std::size_t(height), {FreeRun{0, width}}),
+        longest_free_(std::size_t(height), width) {}
+
+  // Where `chart`'s box's corner goes: the highest row, then the leftmost
+  // column, `padding` from the border, at which its kept-clear texels meet no
+  // claimed texel; none where it fits nowhere. Only rows where each of its
+  // rows' runs could lie in a free run, and there only columns where its
+  // longest run does, are tried.
+  std::optional<glm::ivec2> first_fit(const ChartTexels& chart, int padding) const {
+    const int w = chart.touched.width(), h = chart.touched.height();
+    const int reach = padding - padding / 2;  // of the kept-clear texels beyond the touched
+    const int key_length = chart.clear_runs[std::size_t(chart.key_row)];
+    const int last_x = claimed_.width() - padding - w;  // the last corner column in the texture
+    for (int y = padding; y + h + padding <= claimed_.height(); ++y) {
+      if (!rows_can_hold(chart, y - reach)) continue;
+      for (const FreeRun& run : free_runs_[std::size_t(y - reach + chart.key_row)]) {
+        if (run.end - run.start < key_length) continue;
+        // Corners at which the key run lies in the free run.
+        const int last = std::min(last_x, run.end - key_length - chart.key_start + reach);
+        for (int x = std::max(padding, run.start - chart.key_start + reach); x <= last;) {
+          const int next = first_clear_of_meetings(chart, x - reach, y - reach) + reach;
+          if (next == x) return glm::ivec2(x, y);
+          x = next;
+        }
+      }
+    }
+    return std::nullopt;
+  }
+
+  void place(const ChartTexels& chart, glm::ivec2 corner, int padding) {
+    const glm::ivec2 from = corner - padding / 2;
+    for (int y = 0; y < chart.claimed.height(); ++y) {
+      claimed_.set_row(chart.claimed, y, from.x, from.y + y);
+      update_free_runs(from.y + y);
+    }
+  }
+
+
+ private:
+  // Whether each row of the atlas from `top` has a free run as long as the
+  // longest run of the chart's kept-clear texels in its row there.
+  bool rows_can_hold(const ChartTexels& chart, int top) const {
+    for (int r = 0; r < chart.clear.height(); ++r)
+      if (longest_free_[std::size_t(top + r)] < chart.clear_runs[std::size_t(r)]) return false;
+    return true;
+  }
+
+  // For the chart's kept-clear texels with their corner at x, y: x where
+  // they meet no claimed texel, else the least x beyond it that might: past
+  // the rightmost claimed texel met in the first row that meets one, by the
+  // run of kept-clear texels that met it.
+  int first_clear_of_meetings(const ChartTexels& chart, int x, int y) const {
+    for (int r = 0; r < chart.clear.height(); ++r) {
+      const std::uint64_t* wanted = chart.clear.row(r);
+      for (std::size_t k = chart.clear.words(); k-- > 0;) {
+        const std::uint64_t met = wanted[k] ? claimed_.bits_from(x + int(64 * k), y + r) & wanted[k] : 0;
+        if (!met) continue;
+        const int column = int(64 * k) + 63 - __builtin_clzll(met);
+        const std::size_t texel = std::size_t(r) * std::size_t(chart.clear.width()) + std::size_t(column);
+        return x + column - chart.run_start[texel] + 1;
+      }
+    }
+    return x;
+  }
+
+  void update_free_runs(int y) {
+    std::vector<FreeRun>& runs = free_runs_[std::size_t(y)];
+    runs.clear();
+    longest_free_[std::size_t(y)] = 0;
+    for (int start = claimed_.next_clear(0, y); start < claimed_.width();) {
+      const int end = claimed_.next_set(start, y);
+      runs.push_back({start, end});
+      longest_free_[std::size_t(y)] = std::max(longest_free_[std::size_t(y)], end - start);
+      start = claimed_.next_clear(end, y);
+    }
+  }
+
+  BitGrid claimed_;  // the texels placed charts claim
+  std::vector<std::vector<FreeRun>> free_runs_;  // per row: its runs of unclaimed texels, left to right
+  std::vector<int> longest_free_;                // per row: the longest of those
+};
 
 }  // namespace
 
@@ -74,25 +240,13 @@ std::optional<std::vector<glm::ivec2>> packed_charts(const std::vector<FlatChart
                                                      const std::vector<std::size_t>& order, double density,
                                                      int width, int height, int padding) {
   std::vector<glm::ivec2> placed(charts.size(), glm::ivec2(0));
-  std::vector<int> skyline(std::size_t(width), 0);  // per column: the row below the lowest touched texel placed
+  Atlas atlas(width, height);
   for (std::size_t c : order) {
-    const Outline outline = outline_of(charts[c], density);
-    const std::vector<int> clear = kept_clear_from(outline, padding);
-    std::optional<glm::ivec2> best;
-    for (int x = padding; x + outline.width + padding <= width; ++x) {
-      const int* below = &skyline[std::size_t(x - padding)];
-      int y = padding;
-      for (std::size_t j = 0; j < clear.size() && (!best || y < best->y); ++j)  // no further once no higher
-        if (clear[j] != INT_MAX) y = std::max(y, below[j] - clear[j]);
-      if (!best || y < best->y) best = glm::ivec2(x, y);
-    }
-    if (!best || best->y + outline.height + padding > height) return std::nullopt;
-    placed[c] = *best;
-    for (int i = 0; i < outline.width; ++i)
-      if (outline.top[std::size_t(i)] <= outline.bottom[std::size_t(i)]) {
-        int& below = skyline[std::size_t(best->x + i)];
-        below = std::max(below, best->y + outline.bottom[std::size_t(i)] + 1);
-      }
+    const ChartTexels texels = chart_texels(charts[c], density, padding);
+    const std::optional<glm::ivec2> corner = atlas.first_fit(texels, padding);
+    if (!corner) return std::nullopt;
+    atlas.place(texels, *corner, padding);
+    placed[c] = *corner;
   }
   return placed;
 }

@@ -22,9 +22,8 @@ struct FlatChart {
 // texel's low corner. Each box (ceil(size * density) + 1 texels each way) lies
 // `padding` texels from the border, and the texels each chart's triangles
 // touch lie more than `padding` texels (in x or y) from those of every other.
-// Charts go in `order`, each as high up and then as far left as it fits below
-// the lowest texel placed in each column (a skyline of the charts' outlines,
-// which leaves no chart in a gap under another). None where they do not fit.
+// Charts go in `order`, each as high up and then as far left as it fits (first
+// fit, into any gap the charts before it left). None where they do not fit.
 std::optional<std::vector<glm::ivec2>> packed_charts(const std::vector<FlatChart>& charts,
                                                      const std::vector<std::size_t>& order, double density,
                                                      int width, int height, int padding);

@@ -221,27 +221,82 @@ FlatChart laid_flat(const TriangleMesh& mesh, const std::vector<std::uint32_t>& 
   return FlatChart{std::move(corners), hi - lo};
 }
 
-// The charts of a round, each laid flat in the plane perpendicular to its cone's axis.
-Charts grow_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
-                   const std::vector<int>& round, double* worst_stretch) {
-  std::vector<Cone> cones;
-  Charts charts;
-  charts.members = grown_charts(surface, round, &cones);
-  *worst_stretch = 1.0;
-  for (std::size_t c = 0; c < charts.members.size(); ++c) {
-    const glm::dvec3 axis = glm::normalize(cones[c].axis);
-    for (std::uint32_t i : charts.members[c])
-      *worst_stretch = std::max(*worst_stretch, 1.0 / glm::dot(surface.normals[i], axis));
-    charts.flat.push_back(laid_flat(mesh, triangles, charts.members[c], axis));
+double area(const FlatChart& chart) { return chart.size.x * chart.size.y; }
+
+// The density at which the charts' boxes' area alone would fill the texture; 1 where they have none.
+double filling_density(const std::vector<FlatChart>& charts, int width, int height) {
+  double boxes = 0.0;
+  for (const FlatChart& chart : charts) boxes += area(chart);
+  return boxes > 0.0 ? std::sqrt(double(width) * double(height) / boxes) : 1.0;
+}
+
+// A chart's triangles cut across its long side (its box's x) into `pieces`
+// of equal length, each triangle going with its centroid.
+std::vector<std::vector<std::uint32_t>> cut_across(const std::vector<std::uint32_t>& members, const FlatChart& flat,
+                                                   std::size_t pieces) {
+  std::vector<std::vector<std::uint32_t>> cut(pieces);
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    const double centroid = (flat.corners[3 * m].x + flat.corners[3 * m + 1].x + flat.corners[3 * m + 2].x) / 3.0;
+    const auto piece = std::size_t(std::clamp(centroid / flat.size.x * double(pieces), 0.0, double(pieces - 1)));
+    cut[piece].push_back(members[m]);
   }
+  cut.erase(std::remove_if(cut.begin(), cut.end(), [](const auto& piece) { return piece.empty(); }), cut.end());
+  return cut;
+}
+
+// A chart longer than this share of the texture's shorter side, at the
+// density at which the charts' boxes would fill the texture, and more than
+// twice as long as it is wide, is cut across into pieces no longer: a long
+// strip (a moulding, a rim) would otherwise set the density for every chart.
+constexpr double kLongestShare = 0.25;
+
+// `members`, laid flat in the plane perpendicular to `axis` as `flat`, as
+// charts: cut across, each piece laid flat anew (it may turn), while longer
+// than `longest` and twice as long as wide.
+void add_cut_where_long(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
+                        std::vector<std::uint32_t> members, FlatChart flat, const glm::dvec3& axis, double longest,
+                        Charts* charts) {
+  std::vector<std::vector<std::uint32_t>> pieces;
+  if (flat.size.x > longest && flat.size.x > 2.0 * flat.size.y)
+    pieces = cut_across(members, flat, std::size_t(std::ceil(flat.size.x / longest)));
+  if (pieces.size() < 2) {  // not long, or one triangle spans its length
+    charts->members.push_back(std::move(members));
+    charts->flat.push_back(std::move(flat));
+    return;
+  }
+  for (std::vector<std::uint32_t>& piece : pieces) {
+    FlatChart laid = laid_flat(mesh, triangles, piece, axis);
+    add_cut_where_long(mesh, triangles, std::move(piece), std::move(laid), axis, longest, charts);
+  }
+}
+
+// The charts of a round, each laid flat in the plane perpendicular to its
+// cone's axis, long ones cut across.
+Charts grow_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
+                   const std::vector<int>& round, int width, int height, double* worst_stretch) {
+  std::vector<Cone> cones;
+  std::vector<std::vector<std::uint32_t>> grown = grown_charts(surface, round, &cones);
+  std::vector<FlatChart> flat;
+  *worst_stretch = 1.0;
+  for (std::size_t c = 0; c < grown.size(); ++c) {
+    cones[c].axis = glm::normalize(cones[c].axis);
+    for (std::uint32_t i : grown[c])
+      *worst_stretch = std::max(*worst_stretch, 1.0 / glm::dot(surface.normals[i], cones[c].axis));
+    flat.push_back(laid_flat(mesh, triangles, grown[c], cones[c].axis));
+  }
+  const double longest = kLongestShare * std::min(width, height) / filling_density(flat, width, height);
+  Charts charts;
+  for (std::size_t c = 0; c < grown.size(); ++c)
+    add_cut_where_long(mesh, triangles, std::move(grown[c]), std::move(flat[c]), cones[c].axis, longest, &charts);
   return charts;
 }
 
-std::vector<std::size_t> tallest_first(const std::vector<FlatChart>& charts) {
+// Charts by their boxes' area, largest first, so that small ones fill the gaps large ones leave.
+std::vector<std::size_t> largest_first(const std::vector<FlatChart>& charts) {
   std::vector<std::size_t> order(charts.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
   std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return charts[a].size.y > charts[b].size.y; });
+                   [&](std::size_t a, std::size_t b) { return area(charts[a]) > area(charts[b]); });
   return order;
 }
 
@@ -252,7 +307,7 @@ constexpr double kLeastDensity = 1e-30;
 // texel in a box of 2 x 2 (1 x 1 where it has no extent). At density 0 itself
 // every chart would shrink to a point, which covers no texel.
 bool fit_at_all(const std::vector<FlatChart>& charts, int width, int height, int padding) {
-  return packed_charts(charts, tallest_first(charts), kLeastDensity, width, height, padding).has_value();
+  return packed_charts(charts, largest_first(charts), kLeastDensity, width, height, padding).has_value();
 }
 
 // The largest padding up to `padding` at which the charts fit at all.
@@ -282,10 +337,8 @@ constexpr int kDensitySteps = 10;
 // bisection in ratio.
 double densest_packing(const std::vector<FlatChart>& charts, int width, int height, int padding,
                        std::vector<glm::ivec2>* placed) {
-  const std::vector<std::size_t> order = tallest_first(charts);
-  double box_area = 0.0;
-  for (const FlatChart& c : charts) box_area += c.size.x * c.size.y;
-  double hi = box_area > 0.0 ? 2.0 * std::sqrt(double(width) * double(height) / box_area) : 1.0, lo = 0.5 * hi;
+  const std::vector<std::size_t> order = largest_first(charts);
+  double hi = 2.0 * filling_density(charts, width, height), lo = 0.5 * hi;
   std::optional<std::vector<glm::ivec2>> fits;
   for (; lo > kLeastDensity && !(fits = packed_charts(charts, order, lo, width, height, padding)); lo *= 0.5) hi = lo;
   if (!fits) {
@@ -333,7 +386,7 @@ LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<st
   std::vector<int> round(triangles.size(), 0);
   for (int r = 0; r < kMaxRounds; ++r) {
     LightmapUvs result;
-    const Charts charts = grow_charts(mesh, triangles, surface, round, &result.worst_stretch);
+    const Charts charts = grow_charts(mesh, triangles, surface, round, width, height, &result.worst_stretch);
     std::vector<glm::ivec2> placed;
     result.padding = fitting_padding(charts.flat, width, height, padding);
     if (result.padding < padding) result.size_keeping_padding = size_keeping(charts.flat, width, height, padding);

@@ -1,7 +1,7 @@
 // A new UV set for a bake (texcoord="generate", SPEC 6.3): charts of connected
 // triangles whose normals fit a narrow cone, each projected onto the plane
-// perpendicular to its axis, packed into the texture by their outlines
-// (bake/chart_packing.h) at one texel density.
+// perpendicular to its axis (long strips cut across), packed into the texture
+// by their outlines (bake/chart_packing.h) at one texel density.
 #pragma once
 
 #include <cstdint>
