@@ -189,7 +189,6 @@ class Atlas {
     }
   }
 
-
  private:
   // Whether each row of the atlas from `top` has a free run as long as the
   // longest run of the chart's kept-clear texels in its row there.
