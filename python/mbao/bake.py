@@ -1,5 +1,6 @@
 """Baking multi-bounce AO into assets: a value per vertex or per texel (SPEC 6)."""
 
+import concurrent.futures
 import dataclasses
 import math
 import os
@@ -401,9 +402,12 @@ def _generated_materials(scene, width, height, padding):
         groups = {index: np.flatnonzero(triangle_materials == index).astype(np.uint32)
                   for index in np.unique(triangle_materials).tolist()}
         names = {index: f"{scene.name}: material {index}" for index in groups}
+    # The materials' UV sets are independent: generated on all cores at once (the core releases the GIL).
+    with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count()) as pool:
+        generated = list(pool.map(lambda triangles: _core.lightmap_uvs(scene, triangles, width, height, padding),
+                                  groups.values()))
     materials = []
-    for index, triangles in groups.items():
-        corners, stats, layout = _core.lightmap_uvs(scene, triangles, width, height, padding)
+    for (index, triangles), (corners, stats, layout) in zip(groups.items(), generated):
         _warn_if_packed_closer(names[index], stats, (width, height), padding)
         materials.append(_Material(index, names[index], triangles, corners, "generated", ("repeat", "repeat"), stats,
                                    layout))
