@@ -7,12 +7,12 @@ import copy
 import json
 import os
 import struct
-import warnings
 from urllib.parse import quote, unquote
 
 import numpy as np
 
 from . import _core
+from ._warnings import warn
 
 _GLB_MAGIC, _JSON_CHUNK, _BIN_CHUNK = 0x46546C67, 0x4E4F534A, 0x004E4942
 _COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
@@ -253,9 +253,8 @@ def _add_base_colors(doc, materials, primitives, binary, views, path):
         uv_set = f"TEXCOORD_{color['texcoord']}"
         lacking = [p for p in primitives if p.get("material") == index and uv_set not in p["attributes"]]
         if lacking:
-            warnings.warn(f"{path}: material '{material['name']}''s base colour image is looked up in {uv_set}, "
-                          f"which {len(lacking)} of its primitives lack; the file is written without the image",
-                          stacklevel=4)
+            warn(f"{path}: material '{material['name']}''s base colour image is looked up in {uv_set}, "
+                 f"which {len(lacking)} of its primitives lack; the file is written without the image")
             continue
         views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(color["image"])})
         binary.extend(color["image"])

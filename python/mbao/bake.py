@@ -5,7 +5,6 @@ import dataclasses
 import math
 import os
 import threading
-import warnings
 import weakref
 from typing import Any, Optional, Tuple, Union
 
@@ -14,6 +13,7 @@ import numpy as np
 from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
 from ._types import CameraLike, DeviceLike, Progress, SceneLike
+from ._warnings import warn
 from .devices import resolve
 from .render import warn_if_closed
 from .scene import FRAME, Mesh, as_camera, as_scene, load
@@ -167,7 +167,7 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
                 mean, second_moment, stats = _traced_on(client, scene, None, positions, values, samples, on_tile)
                 ao, standard_error = _core.finish_vertex_bake(scene, samples, mean, second_moment)
         stats = dict(stats, max_distance_source=radius_source)
-        warn_if_closed(scene, ao, np.ones(ao.shape, bool), stats, "vertices", stacklevel=3)
+        warn_if_closed(scene, ao, np.ones(ao.shape, bool), stats, "vertices")
         return Bake(target, ao, standard_error, settings, stats)
 
     width, height = _resolution(resolution)
@@ -183,7 +183,7 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
     stats = dict(stats, max_distance_source=radius_source)
     for texture in textures.values():
-        warn_if_closed(scene, texture.image, texture.coverage, stats, "covered texels", stacklevel=3)
+        warn_if_closed(scene, texture.image, texture.coverage, stats, "covered texels")
     return Bake(target, None, None, settings, stats, textures)
 
 
@@ -382,9 +382,8 @@ def _warn_if_packed_closer(name, stats, resolution, padding):
     keeping = ("no resolution up to 16384 keeps them that far apart" if keeping is None
                else f"resolution={_resolution_text(keeping)} keeps them {padding} apart")
     apart = f"{stats['chart_padding']} texel{'s' if stats['chart_padding'] != 1 else ''} apart"
-    warnings.warn(f"{name}: its {stats['charts']} generated charts fit {resolution[0]} x {resolution[1]} texels only "
-                  f"{apart}, not padding={padding}, at {stats['texels_per_unit']:.3g} texels per unit; {keeping}",
-                  stacklevel=4)
+    warn(f"{name}: its {stats['charts']} generated charts fit {resolution[0]} x {resolution[1]} texels only "
+                  f"{apart}, not padding={padding}, at {stats['texels_per_unit']:.3g} texels per unit; {keeping}")
 
 
 def _resolution_text(size):
@@ -429,8 +428,8 @@ def _refuse_or_warn_of_unmapped(scene, material):
                          f"no area (each on a line or a point), so nothing can be baked into them; bake into a new "
                          f"UV set of mbao's (texcoord=\"generate\"), or per vertex (target=\"vertices\")")
     if unmapped:
-        warnings.warn(f"{material.name}, {_uv_set_name(material)}: {unmapped} of its {int(surface.sum())} triangles "
-                      f"have UVs without area and are left out of the bake", stacklevel=4)
+        warn(f"{material.name}, {_uv_set_name(material)}: {unmapped} of its {int(surface.sum())} triangles "
+             f"have UVs without area and are left out of the bake")
 
 
 def _areas(corners):

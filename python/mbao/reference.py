@@ -5,7 +5,6 @@ import json
 import math
 import os
 import time
-import warnings
 from typing import Any, Optional
 
 import numpy as np
@@ -13,6 +12,7 @@ import numpy as np
 from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
 from ._types import CameraLike, DeviceLike, Progress, SceneLike
+from ._warnings import warn
 from .render import render
 from .scene import as_camera, as_scene
 
@@ -143,8 +143,8 @@ def reference(scene: SceneLike, *, camera: CameraLike = None, width: int = 256, 
         rendered.close()  # with a client: cancels the chunks not needed
     converged = worst <= target_error
     if not converged:
-        warnings.warn(f"reference: after {max_passes} passes the largest standard error is {worst:.3g}, "
-                      f"above target_error={target_error}", stacklevel=2)
+        warn(f"reference: after {max_passes} passes the largest standard error is {worst:.3g}, "
+             f"above target_error={target_error}")
     settings.update(scene=scene.name, camera=_camera_dict(camera), max_distance=chunk.max_distance,
                     passes=passes, target_error=target_error,
                     converged=converged, seconds=time.perf_counter() - started)

@@ -3,7 +3,6 @@
 import dataclasses
 import inspect
 import math
-import warnings
 from typing import Any, Iterable, Iterator, Optional, Tuple, Union
 
 import numpy as np
@@ -12,6 +11,7 @@ from numpy.typing import ArrayLike
 from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
 from ._types import CameraLike, DeviceLike, Progress, SceneLike
+from ._warnings import warn
 from .devices import resolve
 from .scene import as_camera, as_scene
 from .settings import ENGINE, RENDER, Engine, checked, describe, engine_values
@@ -124,23 +124,22 @@ def _render(scene, camera, values, device, *, progress=None, hbao=None, denoise=
         ao, coverage, variance, history_length, stats = _core.render(
             scene, camera, device, values, on_tile, _hbao_settings(hbao), _denoise_settings(denoise), history)
     mask = coverage > 0
-    warn_if_closed(scene, ao, mask, stats, "covered pixels", stacklevel=4)
+    warn_if_closed(scene, ao, mask, stats, "covered pixels")
     return Result(ao, mask, stats, coverage.astype(np.float32) / 255, variance, history_length)
 
 
-def warn_if_closed(scene, ao, mask, stats, values, stacklevel):
+def warn_if_closed(scene, ao, mask, stats, values):
     """Warns where an unlimited radius left 99% of the masked `values` (covered
     pixels, vertices, texels) below 0.01: in a closed scene every AO ray hits
     something. Only with 100 of them or more, where 99% leaves room for an open
     one. Python's default filter shows it once per scene (the message names
-    it); stacklevel points it at the caller of mbao's public function."""
+    it), at the user's line that called mbao."""
     covered = ao[mask]
     if not math.isinf(stats["max_distance"]) or covered.size < 100 or np.mean(covered < 0.01) < 0.99:
         return
-    warnings.warn(f"{scene.name}: {np.mean(covered < 0.01):.0%} of the {values} are below 0.01 with "
+    warn(f"{scene.name}: {np.mean(covered < 0.01):.0%} of the {values} are below 0.01 with "
                   f"max_distance=inf: the scene looks closed, so every AO ray hits something. Give a radius in "
-                  f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)",
-                  stacklevel=stacklevel)
+                  f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)")
 
 
 render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
@@ -192,9 +191,8 @@ def _engine(engine, settings):
         return engine or Engine()
     if engine is not None:
         raise TypeError(f"{', '.join(old)} given beside engine=: give engine settings in mbao.Engine(...) only")
-    warnings.warn(f"render({', '.join(f'{name}=...' for name in old)}) is deprecated and will go in the next "
-                  f"release: pass engine=mbao.Engine({', '.join(f'{name}=...' for name in old)})",
-                  DeprecationWarning, stacklevel=3)
+    warn(f"render({', '.join(f'{name}=...' for name in old)}) is deprecated and will go in the next "
+         f"release: pass engine=mbao.Engine({', '.join(f'{name}=...' for name in old)})", DeprecationWarning)
     return Engine(**old)
 
 

@@ -1,7 +1,6 @@
 """Scenes from files and from arrays (SPEC 3.2)."""
 
 import os
-import warnings
 from typing import Optional
 
 import numpy as np
@@ -9,6 +8,7 @@ from numpy.typing import ArrayLike
 
 from . import _checks, _core
 from ._types import PathLike
+from ._warnings import warn
 
 
 class Mesh(_core._Mesh):
@@ -42,7 +42,7 @@ class Mesh(_core._Mesh):
         super().__init__(vertices, indices.astype(np.uint32), normals)
         self.texcoords = texcoords
         for message in self.warnings:
-            warnings.warn(message, stacklevel=2)
+            warn(message)
 
     # Its own __init__'s signature, not the one mbao gives Scene's constructor.
     __signature__ = None
@@ -90,20 +90,20 @@ def load(path: PathLike, *, normals: bool = True, texcoords: bool = False) -> _c
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
     normals, texcoords = _checks.boolean("normals", normals), _checks.boolean("texcoords", texcoords)
-    return _warned(_core.load(os.fspath(path), normals, texcoords), stacklevel=3)
+    return _warned(_core.load(os.fspath(path), normals, texcoords))
 
 
 def load_with_base_colors(path):
     """load(path, texcoords=True) that also reads the base colour (factor and image) of each material of a file of
     another format than glTF, into scene.uv_sets["materials"][i]["base_color"]: what bake_file writes them as. An
     image that cannot be read is named in a warning."""
-    return _warned(_core.load(os.fspath(path), True, True, True), stacklevel=3)
+    return _warned(_core.load(os.fspath(path), True, True, True))
 
 
-def _warned(scene, stacklevel):
-    """`scene`, its warnings issued as Python warnings pointing `stacklevel` frames up."""
+def _warned(scene):
+    """`scene`, its warnings issued as Python warnings at the user's line."""
     for message in scene.warnings:
-        warnings.warn(message, stacklevel=stacklevel)
+        warn(message)
     return scene
 
 
