@@ -383,7 +383,7 @@ def _warn_if_packed_closer(name, stats, resolution, padding):
                else f"resolution={_resolution_text(keeping)} keeps them {padding} apart")
     apart = f"{stats['chart_padding']} texel{'s' if stats['chart_padding'] != 1 else ''} apart"
     warn(f"{name}: its {stats['charts']} generated charts fit {resolution[0]} x {resolution[1]} texels only "
-                  f"{apart}, not padding={padding}, at {stats['texels_per_unit']:.3g} texels per unit; {keeping}")
+         f"{apart}, not padding={padding}, at {stats['texels_per_unit']:.3g} texels per unit; {keeping}")
 
 
 def _resolution_text(size):

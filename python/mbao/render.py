@@ -138,8 +138,8 @@ def warn_if_closed(scene, ao, mask, stats, values):
     if not math.isinf(stats["max_distance"]) or covered.size < 100 or np.mean(covered < 0.01) < 0.99:
         return
     warn(f"{scene.name}: {np.mean(covered < 0.01):.0%} of the {values} are below 0.01 with "
-                  f"max_distance=inf: the scene looks closed, so every AO ray hits something. Give a radius in "
-                  f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)")
+         f"max_distance=inf: the scene looks closed, so every AO ray hits something. Give a radius in "
+         f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)")
 
 
 render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
