@@ -2,17 +2,9 @@
 // work item per pixel that runs the chosen estimator for each of its camera
 // samples (the megakernel) or, for the branching estimator, one launch per
 // bounce over the surfaces still bouncing (the wavefront, at the end).
+#include "mbao/param_groups.h"
 #include "mbao/limits.h"
 #include "kd_packet.h"
-
-#ifndef MBAO_UNLIMITED_DISTANCE
-#define MBAO_UNLIMITED_DISTANCE 0
-#endif
-// Whether the estimators keep the moments of the values of the r directions
-// drawn at the primary hit, for a pixel's variance at spp = 1 (SPEC 7.1).
-#ifndef MBAO_DIRECTION_MOMENTS
-#define MBAO_DIRECTION_MOMENTS 0
-#endif
 #include "surface.h"
 #include "sampling.h"
 #include "camera.h"
@@ -80,11 +72,12 @@ static inline float3 camera_sample_direction(float4 forward, float4 right, float
 // given (at spp = 1: the rays through the pixel centres) the pass also writes
 // the planes of its texels that `gbuffer_planes` names: one G-buffer pass for
 // every screen-space pass and the AO's primary hits.
-__kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
-                                float4 up, float2 film_scale, uint width, uint height, uint spp,
-                                uint2 seed, uint first_position, uint pixel_count,
-                                __global uint4* camera_hits, __global ulong* traversal_totals,
-                                __global float* gbuffer, uint gbuffer_planes) {
+// The parameters of either kernel of camera rays, one per sample or in packets.
+#define MBAO_CAMERA_RAY_PARAMS                                                                              \
+  MBAO_SCENE_PARAMS, MBAO_CAMERA_PARAMS uint spp, uint2 seed, uint first_position, uint pixel_count,        \
+      __global uint4 *camera_hits, __global ulong *traversal_totals, __global float *gbuffer, uint gbuffer_planes
+
+__kernel void trace_camera_rays(MBAO_CAMERA_RAY_PARAMS) {
   const uint sample_index = get_global_id(0);
   if (sample_index >= pixel_count * spp) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -106,11 +99,7 @@ __kernel void trace_camera_rays(MBAO_SCENE_PARAMS, float4 eye, float4 forward, f
 // trace_camera_rays in packets (kd_packet.h): work item j takes camera samples
 // [16 j, 16 j + 16), where spp is 1 a 4 x 4 square of pixels (but in the blocks
 // that the image's edges cut), and stores the same hits, counts and texels.
-__kernel void trace_camera_packets(MBAO_SCENE_PARAMS, float4 eye, float4 forward, float4 right,
-                                   float4 up, float2 film_scale, uint width, uint height, uint spp,
-                                   uint2 seed, uint first_position, uint pixel_count,
-                                   __global uint4* camera_hits, __global ulong* traversal_totals,
-                                   __global float* gbuffer, uint gbuffer_planes) {
+__kernel void trace_camera_packets(MBAO_CAMERA_RAY_PARAMS) {
   const uint first_sample = get_global_id(0) * MBAO_LANES, samples = pixel_count * spp;
   if (first_sample >= samples) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -141,32 +130,20 @@ __kernel void trace_camera_packets(MBAO_SCENE_PARAMS, float4 eye, float4 forward
 }
 #endif
 
+// The settings of a frame that the estimators read: those of MBAO_AO_PARAMS
+// but the eye and spp, which the kernels read themselves.
 typedef struct AoSettings {
-  uint2 image_size;  // (width, height)
+  uint2 image_size;
   uint bounces;
-  uint samples;  // r: directions per hit
+  uint samples;
   float rho;
   float max_distance;
   uint2 seed;
+  uint direction_moments;
 } AoSettings;
 
-// The settings of a frame. Programs built for max_distance = inf have it as a
-// constant (MBAO_UNLIMITED_DISTANCE) and ignore the argument.
-static inline AoSettings ao_settings(uint2 image_size, uint bounces, uint samples, float rho,
-                                     float max_distance, uint2 seed) {
-  AoSettings s;
-  s.image_size = image_size;
-  s.bounces = bounces;
-  s.samples = samples;
-  s.rho = rho;
-#if MBAO_UNLIMITED_DISTANCE
-  s.max_distance = INFINITY;
-#else
-  s.max_distance = max_distance;
-#endif
-  s.seed = seed;
-  return s;
-}
+// A kernel's AoSettings from its MBAO_AO_PARAMS.
+#define MBAO_AO_SETTINGS() ((AoSettings){image_size, bounces, samples, rho, max_distance, seed, direction_moments})
 
 // The pixel at `index` of the tile that starts at `first_position` of the pixel order.
 static inline uint tile_pixel(const AoSettings* s, uint first_position, uint index) {
@@ -276,7 +253,6 @@ static inline float direction_value(const uint* escapes, const AoSettings* s) {
   return value;
 }
 
-#if MBAO_DIRECTION_MOMENTS
 // Adds the value of the subtree walked since `before` was taken, and takes it anew.
 static inline void end_direction(const uint* escapes, uint* before, const AoSettings* s, DirectionMoments* m) {
   uint subtree[MBAO_MAX_BRANCHING_BOUNCES];
@@ -286,7 +262,6 @@ static inline void end_direction(const uint* escapes, uint* before, const AoSett
   }
   add_direction_value(direction_value(subtree, s), m);
 }
-#endif
 
 // The paper's estimator: r new directions at every hit of every bounce but the
 // last, r + r^2 + ... + r^b rays, walked depth first with one surface per level.
@@ -302,10 +277,8 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
   uint node[MBAO_MAX_BRANCHING_BOUNCES];
   uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
   for (uint k = 0; k < s->bounces; ++k) escapes[k] = 0;
-#if MBAO_DIRECTION_MOMENTS
-  uint before[MBAO_MAX_BRANCHING_BOUNCES];
+  uint before[MBAO_MAX_BRANCHING_BOUNCES];  // direction moments only
   for (uint k = 0; k < s->bounces; ++k) before[k] = 0;
-#endif
   surface[0] = *primary;
   origin_of_rays(scene, primary, s->samples, &origin[0]);
   next_child[0] = 0;
@@ -317,9 +290,7 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
       --level;
       continue;
     }
-#if MBAO_DIRECTION_MOMENTS
-    if (level == 0 && next_child[0] > 0) end_direction(escapes, before, s, moments);
-#endif
+    if (s->direction_moments && level == 0 && next_child[0] > 0) end_direction(escapes, before, s, moments);
     const uint child = node[level] * s->samples + next_child[level]++;
     const uint bounce = (uint)level + 1;
     const int bounce_on = bounces_on(s, bounce);
@@ -337,9 +308,7 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
       node[level] = child;
     }
   }
-#if MBAO_DIRECTION_MOMENTS
-  end_direction(escapes, before, s, moments);
-#endif
+  if (s->direction_moments) end_direction(escapes, before, s, moments);
   return branching_value(escapes, s);
 }
 
@@ -363,9 +332,8 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
                                       bounce_on, &dir, &hit, rays, counts);
       if (outcome == MBAO_RAY_ESCAPED) {
         sum += weight;
-#if MBAO_DIRECTION_MOMENTS
-        add_direction_value(weight, moments);  // a path escapes once, where it ends; one that does not adds 0
-#endif
+        // A path escapes once, where it ends; one that does not adds 0.
+        if (s->direction_moments) add_direction_value(weight, moments);
       }
       if (outcome != MBAO_RAY_HIT || !bounce_on) break;
       surface = make_surface(scene, hit, dir);
@@ -439,14 +407,9 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
 #endif
 }
 
-// The settings every AO kernel takes (after the scene, where it takes one), in this order.
-#define MBAO_AO_PARAMS                                                                             \
-  float4 eye, uint2 image_size, uint spp, uint bounces, uint samples, float rho, float max_distance, \
-      uint2 seed
-
 // The megakernel: one work item per pixel runs the whole estimator.
 #define MBAO_AO_KERNEL(name, estimator)                                                            \
-  __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position, uint pixel_count,     \
+  __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint pixel_count,      \
                      __global const uint4 *camera_hits, __global float *ao,                        \
                      __global float *ao_second_moment, __global float *ao_variance,                \
                      __global uchar *coverage, __global uint *secondary_rays,                      \
@@ -454,7 +417,7 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
     const uint pixel_index = get_global_id(0);                                                     \
     if (pixel_index >= pixel_count) return;                                                        \
     const SceneView scene = MBAO_SCENE_VIEW();                                                     \
-    const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);       \
+    const AoSettings s = MBAO_AO_SETTINGS();                                                       \
     shade_pixel(&scene, estimator, eye, spp, &s, first_position, pixel_index, camera_hits, ao,     \
                 ao_second_moment, ao_variance, coverage, secondary_rays, traversal_totals);        \
   }
@@ -509,11 +472,8 @@ static inline void tally_ray(int outcome, int bounce_on, Hit hit, float3 dir, ui
 // count per camera sample, or, keeping direction moments, one per direction
 // drawn at its primary hit, which the ray descends from.
 static inline uint escape_slot(uint sample, uint direction, uint bounce, const AoSettings* s) {
-#if MBAO_DIRECTION_MOMENTS
-  return (sample * s->samples + direction) * s->bounces + bounce - 1;
-#else
-  return sample * s->bounces + bounce - 1;
-#endif
+  return s->direction_moments ? (sample * s->samples + direction) * s->bounces + bounce - 1
+                              : sample * s->bounces + bounce - 1;
 }
 
 // The direction drawn at the primary hit that `node` of bounce `bounce` descends from.
@@ -526,10 +486,9 @@ static inline uint first_direction(uint node, uint bounce, uint r) {
 // moments only; without them count_source starts the camera sample's).
 static inline void start_direction_counts(uint sample, uint direction, int outcome, const AoSettings* s,
                                           __global uint* escape_counts) {
-#if MBAO_DIRECTION_MOMENTS
+  if (!s->direction_moments) return;
   escape_counts[escape_slot(sample, direction, 1, s)] = outcome == MBAO_RAY_ESCAPED;
   for (uint k = 2; k <= s->bounces; ++k) escape_counts[escape_slot(sample, direction, k, s)] = 0;
-#endif
 }
 
 // A source's escapes and rays into its camera sample's counts. Bounce 1 has
@@ -538,10 +497,10 @@ static inline void start_direction_counts(uint sample, uint direction, int outco
 static inline void count_source(uint bounce, uint sample, uint node, uint escapes, uint rays, const AoSettings* s,
                                 __global uint* escape_counts, __global uint* sample_rays) {
   if (bounce == 1) {
-#if !MBAO_DIRECTION_MOMENTS
-    escape_counts[escape_slot(sample, 0, 1, s)] = escapes;
-    for (uint k = 2; k <= s->bounces; ++k) escape_counts[escape_slot(sample, 0, k, s)] = 0;
-#endif
+    if (!s->direction_moments) {
+      escape_counts[escape_slot(sample, 0, 1, s)] = escapes;
+      for (uint k = 2; k <= s->bounces; ++k) escape_counts[escape_slot(sample, 0, k, s)] = 0;
+    }
     sample_rays[sample] = rays;
     return;
   }
@@ -572,7 +531,7 @@ static void cast_children(const SceneView* scene, const Surface* from, const AoS
 }
 
 // Bounce 1, one work item per camera sample of the tile.
-__kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position,
+__kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position,
                                      uint sample_count, __global const uint4* camera_hits,
                                      __global uint* escape_counts, __global uint* sample_rays,
                                      __global QueuedSurface* next, __global uint* queue_lengths,
@@ -580,7 +539,7 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint fir
   const uint sample = get_global_id(0);
   if (sample >= sample_count) return;
   const SceneView scene = MBAO_SCENE_VIEW();
-  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
+  const AoSettings s = MBAO_AO_SETTINGS();
   uint escapes = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
   const Hit hit = stored_hit(camera_hits, sample);
@@ -597,14 +556,14 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint fir
 
 // Bounce 2 and on, one work item per surface in queue bounce - 1 (the launch
 // has at least that many).
-__kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position, uint bounce,
+__kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint bounce,
                                __global const QueuedSurface* queue, __global uint* escape_counts,
                                __global uint* sample_rays, __global QueuedSurface* next,
                                __global uint* queue_lengths, __global ulong* traversal_totals) {
   const uint index = get_global_id(0);
   if (index >= queue_lengths[bounce - 1]) return;
   const SceneView scene = MBAO_SCENE_VIEW();
-  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
+  const AoSettings s = MBAO_AO_SETTINGS();
   const QueuedSurface entry = queue[index];
   const Surface from = dequeued_surface(&scene, entry);
   uint escapes = 0, rays = 0;
@@ -623,7 +582,10 @@ static inline float branching_value_of_counts(__global const uint* escape_counts
                                               DirectionMoments* directions) {
   uint escapes[MBAO_MAX_BRANCHING_BOUNCES];
   for (uint k = 0; k < s->bounces; ++k) escapes[k] = 0;
-#if MBAO_DIRECTION_MOMENTS
+  if (!s->direction_moments) {
+    for (uint k = 0; k < s->bounces; ++k) escapes[k] = escape_counts[escape_slot(sample, 0, k + 1, s)];
+    return branching_value(escapes, s);
+  }
   for (uint direction = 0; direction < s->samples; ++direction) {
     uint subtree[MBAO_MAX_BRANCHING_BOUNCES];
     for (uint k = 0; k < s->bounces; ++k) {
@@ -632,15 +594,12 @@ static inline float branching_value_of_counts(__global const uint* escape_counts
     }
     add_direction_value(direction_value(subtree, s), directions);
   }
-#else
-  for (uint k = 0; k < s->bounces; ++k) escapes[k] = escape_counts[escape_slot(sample, 0, k + 1, s)];
-#endif
   return branching_value(escapes, s);
 }
 
 // One work item per pixel of the tile: its camera samples' values, summed in
 // the megakernel's order.
-__kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_position, uint pixel_count,
+__kernel void wavefront_finish(MBAO_AO_PARAMS uint first_position, uint pixel_count,
                                __global const uint4* camera_hits,
                                __global const uint* escape_counts,
                                __global const uint* sample_rays, __global float* ao,
@@ -648,7 +607,7 @@ __kernel void wavefront_finish(MBAO_AO_PARAMS, uint first_position, uint pixel_c
                                __global uchar* coverage, __global uint* secondary_rays) {
   const uint pixel_index = get_global_id(0);
   if (pixel_index >= pixel_count) return;
-  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
+  const AoSettings s = MBAO_AO_SETTINGS();
   float sum = 0.0f, sum_of_squares = 0.0f;
   DirectionMoments directions = {0.0f, 0.0f};
   uint covered = 0, rays = 0;
@@ -690,14 +649,14 @@ static inline void stream_source(uint bounce, uint index, __global const QueuedS
 
 // The r rays of each source; a blocked ray, or any ray of a camera sample
 // that hit nothing, gets t_max -1 (no ray).
-__kernel void stream_bounce_rays(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_position, uint bounce,
+__kernel void stream_bounce_rays(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint bounce,
                                  uint first_source, uint source_count, __global const uint4* camera_hits,
                                  __global const QueuedSurface* queue, __global float4* ray_origins,
                                  __global float4* ray_directions) {
   const uint slot = get_global_id(0);
   if (slot >= source_count) return;
   const SceneView scene = MBAO_SCENE_VIEW();
-  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
+  const AoSettings s = MBAO_AO_SETTINGS();
   const uint index = first_source + slot;
   uint sample, node;
   stream_source(bounce, index, queue, &sample, &node);
@@ -737,14 +696,14 @@ __kernel void stream_bounce_rays(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS, uint first_p
 }
 
 // Each source's rays' outcomes (tally_ray), counted to its camera sample (count_source).
-__kernel void stream_bounce_hits(MBAO_AO_PARAMS, uint bounce, uint first_source, uint source_count,
+__kernel void stream_bounce_hits(MBAO_AO_PARAMS uint bounce, uint first_source, uint source_count,
                                  __global const QueuedSurface* queue, __global const float4* ray_directions,
                                  __global const uint4* ray_hits, __global uint* escape_counts,
                                  __global uint* sample_rays, __global QueuedSurface* next,
                                  __global uint* queue_lengths) {
   const uint slot = get_global_id(0);
   if (slot >= source_count) return;
-  const AoSettings s = ao_settings(image_size, bounces, samples, rho, max_distance, seed);
+  const AoSettings s = MBAO_AO_SETTINGS();
   uint sample, node;
   stream_source(bounce, first_source + slot, queue, &sample, &node);
   const int bounce_on = bounces_on(&s, bounce);

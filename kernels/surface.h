@@ -6,11 +6,6 @@
 #include "mbao/float_steps.h"
 #include "scene.h"
 
-// Compiled in only when the render uses shading normals and the scene has them.
-#ifndef MBAO_SHADING_NORMALS
-#define MBAO_SHADING_NORMALS 0
-#endif
-
 // How far a ray leaving a surface starts off it, in float steps of the
 // triangle's largest coordinate: far more than the rounding error with which a
 // ray/triangle test can place the ray's origin on the wrong side of that
@@ -83,8 +78,8 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
   s.geometric_normal = ng;
 
   s.shading_normal = ng;
-#if MBAO_SHADING_NORMALS
-  {
+  // The host uploads vertex normals only where the render shades with them.
+  if (scene->vertex_normals) {
     const uint v = 3 * hit.triangle;
     const float3 ns = interpolated_normal(scene->vertex_normals[scene->triangle_vertices[v]].xyz,
                                           scene->vertex_normals[scene->triangle_vertices[v + 1]].xyz,
@@ -93,7 +88,6 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
     // A zero interpolated normal means "no normal here": keep the geometric one.
     if (any(ns != 0.0f)) s.shading_normal = dot(ns, ng) < 0.0f ? -ns : ns;
   }
-#endif
   return s;
 }
 

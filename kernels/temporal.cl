@@ -3,6 +3,7 @@
 // camera through the G-buffers. One work item per pixel.
 #include "camera.h"
 #include "mbao/gbuffer.h"
+#include "mbao/param_groups.h"
 
 // One pixel's G-buffer entry: its point, its normal and its footprint; t > 0 where it hit.
 typedef struct Surfel {
@@ -77,12 +78,12 @@ static inline Reprojected reproject(const PreviousFrame* previous, Surfel p) {
 
 // ao and variance: the frame's render and its variance in, the accumulated
 // value and its variance out; next_*: the same for the history, with each
-// pixel's history length (0 where it missed).
+// pixel's history length (0 where it missed). The camera is the last frame's,
+// which previous_gbuffer was seen from (both frames are width x height).
 __kernel void temporal_accumulate(__global const float* gbuffer, __global float* ao, __global float* variance,
                                   uint has_history, __global const float* previous_gbuffer,
                                   __global const float* previous_ao, __global const float* previous_variance,
-                                  __global const uint* previous_length, float4 eye, float4 forward, float4 right,
-                                  float4 up, float2 film_scale, uint width, uint height, uint max_length,
+                                  __global const uint* previous_length, MBAO_CAMERA_PARAMS uint max_length,
                                   __global float* next_ao, __global float* next_variance,
                                   __global uint* next_length) {
   const uint pixel = get_global_id(0), pixels = width * height;

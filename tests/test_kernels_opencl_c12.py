@@ -52,6 +52,13 @@ def test_the_plan_lists_every_program():
         assert walks == {f"-DMBAO_TRAVERSAL={w}" for w in range(5)}
 
 
+
+def test_docs_count_the_variants_listed():
+    text = (REPO / "docs" / "kernel-variants.md").read_text()
+    for program in ("render.cl", "trace.cl"):
+        assert f"{len(VARIANTS[program])} of `{program}`" in " ".join(text.split())
+
+
 @pytest.mark.parametrize("program", ["render.cl", "trace.cl", "hbao.cl", "denoise.cl", "temporal.cl"])
 def test_every_variant_compiles_as_opencl_c_1_2(program):
     jobs = [(options, fp64) for options in VARIANTS[program] for fp64 in (0, 1)]

@@ -18,15 +18,7 @@ CameraArgs::CameraArgs(const Camera& camera, const RenderSettings& s) {
   height = cl_uint(s.height);
 }
 
-void CameraArgs::append_to(KernelArgs& args) const {
-  args.append(eye);
-  args.append(forward);
-  args.append(right);
-  args.append(up);
-  args.append(film_scale);
-  args.append(width);
-  args.append(height);
-}
+void CameraArgs::append_to(KernelArgs& args) const { MBAO_CAMERA_PARAM_LIST(MBAO_APPEND_PARAM) }
 
 AoArgs::AoArgs(const Camera& camera, const RenderSettings& s, PrimarySurfaces primaries)
     : eye(to_float4(camera.eye)),
@@ -36,19 +28,11 @@ AoArgs::AoArgs(const Camera& camera, const RenderSettings& s, PrimarySurfaces pr
       samples(cl_uint(s.samples)),
       rho(s.rho),
       max_distance(s.radius()),
-      seed(seed_words(s.seed)) {
+      seed(seed_words(s.seed)),
+      direction_moments(s.direction_moments()) {
   eye.s[3] = primaries == PrimarySurfaces::GivenPoints ? 1.0f : 0.0f;
 }
 
-void AoArgs::append_to(KernelArgs& args) const {
-  args.append(eye);
-  args.append(image_size);
-  args.append(spp);
-  args.append(bounces);
-  args.append(samples);
-  args.append(rho);
-  args.append(max_distance);
-  args.append(seed);
-}
+void AoArgs::append_to(KernelArgs& args) const { MBAO_AO_PARAM_LIST(MBAO_APPEND_PARAM) }
 
 }  // namespace mbao

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 
+#include "mbao/param_groups.h"
 #include "opencl/kernel_args.h"
 #include "opencl/opencl.h"
 #include "render/render_settings.h"
@@ -33,27 +34,20 @@ enum class FrameOutput { AmbientOcclusion, HbaoGBuffer, GBuffer };
 cl_float4 to_float4(const glm::vec3& v);
 cl_uint2 seed_words(std::uint64_t seed);
 
-// The camera parameters of trace_camera_rays and trace_camera_packets, in their order; the screen-space
-// passes take some of them.
+// The kernels' MBAO_CAMERA_PARAMS (kernels/mbao/param_groups.h); HBAO's pass takes some of them.
 struct CameraArgs {
   CameraArgs(const Camera& camera, const RenderSettings& s);
   void append_to(KernelArgs& args) const;
 
-  cl_float4 eye, forward, right, up;
-  cl_float2 film_scale;  // tan of half the field of view, horizontally and vertically
-  cl_uint width, height;
+  MBAO_CAMERA_PARAM_LIST(MBAO_PARAM_FIELD)
 };
 
-// render.cl's MBAO_AO_PARAMS, in their order. eye.w tells the kernels which primary surfaces they shade.
+// render.cl's MBAO_AO_PARAMS (kernels/mbao/param_groups.h).
 struct AoArgs {
   AoArgs(const Camera& camera, const RenderSettings& s, PrimarySurfaces primaries = PrimarySurfaces::CameraHits);
   void append_to(KernelArgs& args) const;
 
-  cl_float4 eye;
-  cl_uint2 image_size;
-  cl_uint spp, bounces, samples;
-  cl_float rho, max_distance;
-  cl_uint2 seed;
+  MBAO_AO_PARAM_LIST(MBAO_PARAM_FIELD)
 };
 
 }  // namespace mbao

@@ -1,7 +1,5 @@
 #include "render/render_plan.h"
 
-#include <cmath>
-
 namespace mbao {
 namespace {
 
@@ -149,11 +147,8 @@ std::string ProgramVariant::options() const {
   std::string o = define("MBAO_TRAVERSAL", int(walk)).substr(1);
   o += define("MBAO_COUNT_TRAVERSAL", count_traversal);
   o += define("MBAO_ALPHA_MASKS", alpha_masks);
-  if (program == Program::Render) o += define("MBAO_SHADING_NORMALS", shading_normals);
-  if (program == Program::Render) o += define("MBAO_UNLIMITED_DISTANCE", unlimited_distance);
   o += define("MBAO_LOAD_BOTH_CHILDREN", load_both_children);
   if (program == Program::Render) o += define("MBAO_ORIGIN_PATHS", origin_paths);
-  if (program == Program::Render) o += define("MBAO_DIRECTION_MOMENTS", direction_moments);
   o += define("MBAO_INDEXED_TRIANGLES", indexed_triangles);
   return o;
 }
@@ -165,22 +160,18 @@ std::vector<ProgramVariant> all_program_variants() {
   for (Program program : {Program::Render, Program::Trace}) {
     const bool render = program == Program::Render;
     for (Traversal walk : walks) {
-      for (int bits = 0; bits < 256; ++bits) {
+      for (int bits = 0; bits < 32; ++bits) {
         ProgramVariant v;
         v.program = program;
         v.walk = walk;
         v.count_traversal = bits & 1;
         v.alpha_masks = bits & 2;
-        v.shading_normals = bits & 4;
-        v.unlimited_distance = bits & 8;
-        v.load_both_children = bits & 16;
-        v.origin_paths = bits & 32;
-        v.direction_moments = bits & 64;
-        v.indexed_triangles = bits & 128;
+        v.load_both_children = bits & 4;
+        v.origin_paths = bits & 8;
+        v.indexed_triangles = bits & 16;
         // Only the bits that the program reads, and only where the plan can set them.
-        if ((!render && v.shading_normals) ||
-            (!render && !v.unlimited_distance) || (v.load_both_children && !walks_full_stack(walk)) ||
-            (v.origin_paths && (!render || walk == Traversal::Lanes)) || (v.direction_moments && !render))
+        if ((v.load_both_children && !walks_full_stack(walk)) ||
+            (v.origin_paths && (!render || walk == Traversal::Lanes)))
           continue;
         variants.push_back(v);
       }
@@ -206,16 +197,14 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
                         : plan_traversal(s, profile, scene, plan.reasons);
   plan.organisation = plan_organisation(s, plan.traversal, profile, plan.reasons);
 
+  plan.shading_normals = s.normals == NormalMode::Shading && scene.vertex_normals;
   ProgramVariant& p = plan.program;
   p.program = Program::Render;
   p.walk = plan.traversal;
   p.count_traversal = s.traversal_stats;
   p.alpha_masks = scene.alpha_masks;
-  p.shading_normals = s.normals == NormalMode::Shading && scene.vertex_normals;
-  p.unlimited_distance = hbao || std::isinf(s.radius());
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
   p.origin_paths = plan_origin_paths(s, p.walk, profile, scene, plan.reasons);
-  p.direction_moments = s.direction_moments();
   p.indexed_triangles = indexed_triangles(profile, scene.triangles);
   if (profile.min_indexed_triangles > 0)
     plan.reasons.push_back(std::string("triangles ") + (p.indexed_triangles ? "from the mesh's vertices" : "as coordinates") +

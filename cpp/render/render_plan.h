@@ -60,11 +60,8 @@ struct ProgramVariant {
                                       // denoise.cl, temporal.cl) walk no tree and read no define
   bool count_traversal = false;      // render.cl, trace.cl
   bool alpha_masks = false;
-  bool shading_normals = false;      // render.cl
-  bool unlimited_distance = true;    // render.cl
   bool load_both_children = false;   // full-stack walks only (Stack, Lanes)
   bool origin_paths = false;         // render.cl, walks of one ray only
-  bool direction_moments = false;    // render.cl
   bool indexed_triangles = false;    // render.cl, trace.cl
 
   const char* file() const;
@@ -79,6 +76,9 @@ struct RenderPlan {
   Traversal traversal;              // never Auto; for HBAO the G-buffer's walk
   KernelOrganisation organisation;  // never Auto for the ray-traced method; Megakernel for HBAO
   ProgramVariant program;           // render.cl; for HBAO its G-buffer's, and hbao.cl follows
+  // The scene goes to the device with its vertex normals, which the kernels
+  // then shade with: the render asks for shading normals and the scene has them.
+  bool shading_normals = false;
   std::vector<std::string> reasons;  // one line per choice made for "auto"
 };
 

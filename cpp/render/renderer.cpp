@@ -139,7 +139,7 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   stats.plan = plan.reasons;
   Stopwatch upload_clock;
   const std::shared_ptr<const DeviceScene> device_scene =
-      scenes_.get(compute_, scene, plan.program.shading_normals, plan.program.indexed_triangles);
+      scenes_.get(compute_, scene, plan.shading_normals, plan.program.indexed_triangles);
   stats.upload_ms = upload_clock.elapsed_ms();
 
   const BuiltProgram built = compute_.programs().get(plan.program.file(), plan.program.options());

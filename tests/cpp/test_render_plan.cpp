@@ -133,30 +133,29 @@ TEST(RenderPlan, EachProgramIsBuiltWithTheDefinesItReads) {
   scene.alpha_masks = scene.vertex_normals = true;
   RenderSettings s = two_bounces();
   s.traversal_stats = true;
-  s.max_distance = 2.0f;
   EXPECT_EQ(plan_render(s, kCpu, scene).program.options(),
-            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 "
-            "-DMBAO_UNLIMITED_DISTANCE=0 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0 "
-            "-DMBAO_DIRECTION_MOMENTS=0 -DMBAO_INDEXED_TRIANGLES=0");
+            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_LOAD_BOTH_CHILDREN=1 "
+            "-DMBAO_ORIGIN_PATHS=0 -DMBAO_INDEXED_TRIANGLES=0");
   EXPECT_EQ(plan_trace(Traversal::Auto, true, kCpu, scene).options(),
             "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_LOAD_BOTH_CHILDREN=1 "
             "-DMBAO_INDEXED_TRIANGLES=0");
-  // HBAO's G-buffer is render.cl's camera rays: its counts, but none of the AO's distance limit or origin
-  // paths; the screen-space pass reads no define.
+  // HBAO's G-buffer is render.cl's camera rays: its counts, but none of the AO's origin paths; the
+  // screen-space pass reads no define.
   s.method = Method::Hbao;
   s.bounces = 1;
   const RenderPlan hbao = plan_render(s, kCpu, scene);
   EXPECT_STREQ(hbao.program.file(), "render.cl");
   EXPECT_EQ(hbao.program.options(),
-            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_SHADING_NORMALS=1 "
-            "-DMBAO_UNLIMITED_DISTANCE=1 -DMBAO_LOAD_BOTH_CHILDREN=1 -DMBAO_ORIGIN_PATHS=0 "
-            "-DMBAO_DIRECTION_MOMENTS=0 -DMBAO_INDEXED_TRIANGLES=0");
+            "-DMBAO_TRAVERSAL=4 -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ALPHA_MASKS=1 -DMBAO_LOAD_BOTH_CHILDREN=1 "
+            "-DMBAO_ORIGIN_PATHS=0 -DMBAO_INDEXED_TRIANGLES=0");
   ProgramVariant screen_space;
   screen_space.program = Program::Hbao;
   EXPECT_STREQ(screen_space.file(), "hbao.cl");
   EXPECT_EQ(screen_space.options(), "");
+  // Shading normals are no define: the scene goes to the device with its normals, or without.
+  EXPECT_TRUE(hbao.shading_normals);
   s.normals = NormalMode::Geometric;
-  EXPECT_FALSE(plan_render(s, kCpu, scene).program.shading_normals);
+  EXPECT_FALSE(plan_render(s, kCpu, scene).shading_normals);
 }
 
 // HBAO's G-buffer traces only camera rays, coherent whatever the tree: in
