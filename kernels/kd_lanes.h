@@ -296,9 +296,7 @@ __kernel void trace_rays_in_lanes(MBAO_SCENE_PARAMS, __global const float4* orig
   const RayStream stream = {origins, directions, hits, ray_counts};
   TraversalCounts totals = no_traversal_counts();
   trace_in_lanes(&scene, &stream, first, min(first + rays_per_item, count), any_hit, &totals);
-#if MBAO_COUNT_TRAVERSAL
   if (traversal_totals) add_traversal_counts(traversal_totals, &totals);
-#endif
 }
 
 #endif

@@ -143,15 +143,16 @@ typedef struct PacketCounts {
 #if MBAO_COUNT_TRAVERSAL
 #define MBAO_PACKET_COUNT(counts, field, lanes, n) \
   ((counts)->field += select((uint16)(0u), (uint16)(n), lane_mask(lanes)))
+#else
+#define MBAO_PACKET_COUNT(counts, field, lanes, n) ((void)0)
+#endif
+
 static inline uint sum_of_lanes(uint16 v) {
   const uint8 v8 = v.lo + v.hi;
   const uint4 v4 = v8.lo + v8.hi;
   const uint2 v2 = v4.lo + v4.hi;
   return v2.x + v2.y;
 }
-#else
-#define MBAO_PACKET_COUNT(counts, field, lanes, n) ((void)0)
-#endif
 
 // Where the walk of each lane stands: the interval it walks in the current
 // node and what its descent compares planes with (Descent, per lane).

@@ -74,16 +74,20 @@ typedef struct TraversalCounts {
 #if MBAO_COUNT_TRAVERSAL
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #define MBAO_COUNT(counts, field, n) ((counts)->field += (n))
-// Adds a work item's counts to the frame's four totals.
+#else
+#define MBAO_COUNT(counts, field, n) ((void)0)
+#endif
+
+// Adds a work item's counts to the frame's four totals; nothing in programs
+// that do not count, which need no 64-bit atomics.
 static inline void add_traversal_counts(__global ulong* totals, const TraversalCounts* counts) {
+#if MBAO_COUNT_TRAVERSAL
   atom_add(&totals[0], (ulong)counts->nodes);
   atom_add(&totals[1], (ulong)counts->leaves);
   atom_add(&totals[2], (ulong)counts->triangles);
   atom_add(&totals[3], (ulong)counts->restarts);
-}
-#else
-#define MBAO_COUNT(counts, field, n) ((void)0)
 #endif
+}
 
 static inline TraversalCounts no_traversal_counts(void) {
   TraversalCounts counts = {0, 0, 0, 0};

@@ -90,9 +90,7 @@ __kernel void trace_camera_rays(MBAO_CAMERA_RAY_PARAMS) {
   if (gbuffer)
     store_gbuffer_texel(&scene, hit, eye, forward, (uint2)(width, height), film_scale.y,
                         pixel_at_position(first_position + sample_index, width, height), gbuffer, gbuffer_planes);
-#if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
-#endif
 }
 
 #if MBAO_TRAVERSAL == MBAO_TRAVERSAL_LANES
@@ -122,11 +120,9 @@ __kernel void trace_camera_packets(MBAO_CAMERA_RAY_PARAMS) {
       store_gbuffer_texel(&scene, hit_of_bits(hits[k]), eye, forward, (uint2)(width, height), film_scale.y,
                           pixel_at_position(first_position + first_sample + k, width, height), gbuffer,
                           gbuffer_planes);
-#if MBAO_COUNT_TRAVERSAL
   const TraversalCounts sums = {sum_of_lanes(counts.nodes), sum_of_lanes(counts.leaves),
                                 sum_of_lanes(counts.triangles), 0u};
   add_traversal_counts(traversal_totals, &sums);
-#endif
 }
 #endif
 
@@ -402,9 +398,7 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
   }
   store_pixel(pixel, sum, sum_of_squares, directions, spp, s->samples, covered, rays, ao, ao_second_moment,
               ao_variance, coverage, secondary_rays);
-#if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
-#endif
 }
 
 // The megakernel: one work item per pixel runs the whole estimator.
@@ -549,9 +543,7 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint firs
                   &escapes, &rays, &counts);
   }
   count_source(1, sample, 0, escapes, rays, &s, escape_counts, sample_rays);
-#if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
-#endif
 }
 
 // Bounce 2 and on, one work item per surface in queue bounce - 1 (the launch
@@ -571,9 +563,7 @@ __kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_posi
   cast_children(&scene, &from, &s, spp, first_position, entry.sample, bounce, entry.node, next,
                 queue_lengths, escape_counts, &escapes, &rays, &counts);
   count_source(bounce, entry.sample, entry.node, escapes, rays, &s, escape_counts, sample_rays);
-#if MBAO_COUNT_TRAVERSAL
   add_traversal_counts(traversal_totals, &counts);
-#endif
 }
 
 // A camera sample's value from its escape counts, as the megakernel's; with

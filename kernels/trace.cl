@@ -15,8 +15,6 @@ __kernel void trace_rays(MBAO_SCENE_PARAMS, __global const float4* origins,
   TraversalCounts counts = no_traversal_counts();
   trace_ray(&scene, origins[i].xyz, directions[i].xyz, directions[i].w, any_hit, &hit, &counts);
   hits[i] = bits_of_hit(hit);
-#if MBAO_COUNT_TRAVERSAL
-  ray_counts[i] = (uint4)(counts.nodes, counts.leaves, counts.triangles, counts.restarts);
-#endif
+  if (MBAO_COUNT_TRAVERSAL) ray_counts[i] = (uint4)(counts.nodes, counts.leaves, counts.triangles, counts.restarts);
 }
 
