@@ -166,6 +166,19 @@ def test_auto_organisation_is_the_wavefront_on_gpus_and_the_megakernel_elsewhere
     assert mbao.render(cornell, engine=wavefront, **settings).stats["organisation"] == "wavefront"
 
 
+def test_stats_name_the_kernels_the_frame_launched(cornell):
+    """In launch order: the camera rays, then the organisation's AO kernels."""
+    settings = dict(width=8, height=8, bounces=2, engine=mbao.Engine(traversal="stack", organisation="megakernel"))
+    assert mbao.render(cornell, **settings).stats["kernels"] == ["trace_camera_rays", "ao_branching"]
+    assert mbao.render(cornell, estimator="path", **settings).stats["kernels"] == ["trace_camera_rays", "ao_path"]
+    wavefront = dict(settings, engine=mbao.Engine(traversal="stack", organisation="wavefront"))
+    assert mbao.render(cornell, **wavefront).stats["kernels"] == [
+        "trace_camera_rays", "wavefront_first_bounce", "wavefront_bounce", "wavefront_finish"]
+    lanes = dict(settings, engine=mbao.Engine(traversal="lanes", organisation="wavefront"))
+    assert mbao.render(cornell, **lanes).stats["kernels"] == [
+        "trace_camera_packets", "stream_bounce_rays", "trace_rays_in_lanes", "stream_bounce_hits", "wavefront_finish"]
+
+
 def test_camera_samples_average_over_the_pixel():
     """spp > 1 jitters the camera rays uniformly over the pixel and averages
     (a box filter). Seen from straight above, a half-plane x <= 0 under a far

@@ -68,6 +68,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["traversal_mode"] = s.traversal_mode;
   d["organisation"] = s.organisation.empty() ? py::object(py::none()) : py::str(s.organisation);
   d["plan"] = s.plan;
+  d["kernels"] = s.kernels;
   d["max_distance"] = s.max_distance;
   d["max_distance_source"] = s.max_distance_source;
   d["upload_ms"] = s.upload_ms;

@@ -26,11 +26,6 @@ struct FrameBuffers {
 // surface points a bake gives tile by tile, shaded on their front sides (SPEC 6.1).
 enum class PrimarySurfaces { CameraHits, GivenPoints };
 
-// What a frame's tiles make: the AO from their camera hits, with the G-buffer
-// planes that the screen-space passes after it read (where
-// RenderSettings::filtered); the planes HBAO reads, alone; or the whole G-buffer.
-enum class FrameOutput { AmbientOcclusion, HbaoGBuffer, GBuffer };
-
 cl_float4 to_float4(const glm::vec3& v);
 cl_uint2 seed_words(std::uint64_t seed);
 

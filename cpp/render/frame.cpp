@@ -14,32 +14,18 @@ std::size_t camera_hit_bytes(const RenderSettings& s, std::size_t tile_pixels) {
   return tile_pixels * std::size_t(s.spp) * sizeof(cl_uint4);
 }
 
-// Programs built for traversal "lanes" walk the camera rays in packets
-// (kernels/kd_packet.h), one packet per work item.
-std::size_t camera_rays_per_item(const RenderSettings& s) {
-  return s.traversal == Traversal::Lanes ? MBAO_LANES : 1;
-}
-
-// The G-buffer planes the frame's camera rays write (kernels/mbao/gbuffer.h's masks).
-cl_uint gbuffer_planes(const RenderSettings& s, FrameOutput output) {
-  switch (output) {
-    case FrameOutput::GBuffer:
-      return MBAO_GBUFFER_ALL_PLANES;
-    case FrameOutput::HbaoGBuffer:
-      return MBAO_GBUFFER_HBAO_PLANES;
-    case FrameOutput::AmbientOcclusion:
-      break;
-  }
-  return s.filtered() ? MBAO_GBUFFER_FILTER_PLANES : 0u;
+// trace_camera_packets takes a packet of camera samples per work item (kernels/kd_packet.h).
+std::size_t camera_rays_per_item(const FrameKernels& kernels) {
+  return kernels.camera_rays == "trace_camera_packets" ? MBAO_LANES : 1;
 }
 
 }  // namespace
 
-Frame::BufferSizes Frame::buffer_sizes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries,
-                                       FrameOutput output) {
+Frame::BufferSizes Frame::buffer_sizes(const RenderSettings& s, const RenderPlan& plan, std::size_t tile_pixels,
+                                       PrimarySurfaces primaries) {
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
-  const bool ao = output == FrameOutput::AmbientOcclusion;
-  const bool image = output != FrameOutput::GBuffer;  // a G-buffer frame's image is its planes
+  const bool ao = plan.output == FrameOutput::AmbientOcclusion;
+  const bool image = plan.output != FrameOutput::GBuffer;  // a G-buffer frame's image is its planes
   BufferSizes sizes;
   sizes.camera_hits = ao ? camera_hit_bytes(s, tile_pixels) : 0;
   sizes.ao = image ? pixels * sizeof(cl_float) : 0;
@@ -47,21 +33,21 @@ Frame::BufferSizes Frame::buffer_sizes(const RenderSettings& s, std::size_t tile
   sizes.secondary_rays = ao ? pixels * sizeof(cl_uint) : 0;
   sizes.ao_second_moment = primaries == PrimarySurfaces::GivenPoints ? pixels * sizeof(cl_float) : 0;
   sizes.ao_variance = ao && (s.variance || s.filtered()) ? pixels * sizeof(cl_float) : 0;
-  sizes.gbuffer = pixels * gbuffer_plane_count(gbuffer_planes(s, output)) * sizeof(cl_float);
+  sizes.gbuffer = pixels * gbuffer_plane_count(plan.gbuffer_planes) * sizeof(cl_float);
   sizes.traversal_totals = s.traversal_stats ? 4 * sizeof(cl_ulong) : 0;
-  const bool wavefront = ao && s.organisation == KernelOrganisation::Wavefront;
-  sizes.wavefront = wavefront ? Wavefront::device_bytes(s, tile_pixels) : 0;
+  const bool wavefront = !plan.kernels.finish.empty();
+  sizes.wavefront = wavefront ? Wavefront::device_bytes(s, plan.kernels, tile_pixels) : 0;
   return sizes;
 }
 
-std::size_t Frame::device_bytes(const RenderSettings& s, std::size_t tile_pixels, PrimarySurfaces primaries,
-                                FrameOutput output) {
-  return buffer_sizes(s, tile_pixels, primaries, output).total();
+std::size_t Frame::device_bytes(const RenderSettings& s, const RenderPlan& plan, std::size_t tile_pixels,
+                                PrimarySurfaces primaries) {
+  return buffer_sizes(s, plan, tile_pixels, primaries).total();
 }
 
 Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-             const DeviceScene& scene, const Camera& camera, const RenderSettings& s, std::size_t tile_pixels,
-             PrimarySurfaces primaries, FrameOutput output)
+             const DeviceScene& scene, const Camera& camera, const RenderSettings& s, const RenderPlan& plan,
+             std::size_t tile_pixels, PrimarySurfaces primaries)
     : scene_(scene),
       camera_args_(camera, s),
       ao_args_(camera, s, primaries),
@@ -69,9 +55,9 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
       pixels_(std::size_t(s.width) * std::size_t(s.height)),
       tile_pixels_(tile_pixels),
       spp_(std::size_t(s.spp)),
-      camera_rays_per_item_(camera_rays_per_item(s)),
-      gbuffer_planes_(gbuffer_planes(s, output)) {
-  const BufferSizes sizes = buffer_sizes(s, tile_pixels, primaries, output);
+      camera_rays_per_item_(camera_rays_per_item(plan.kernels)),
+      gbuffer_planes_(plan.gbuffer_planes) {
+  const BufferSizes sizes = buffer_sizes(s, plan, tile_pixels, primaries);
   const auto allocate = [&](cl_mem_flags flags, std::size_t bytes) {
     return bytes ? cl::Buffer(context, flags, bytes) : cl::Buffer();
   };
@@ -89,20 +75,16 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   }
   bytes_ = sizes.total();
 
-  camera_rays_ = cl::Kernel(program, camera_rays_per_item_ > 1 ? "trace_camera_packets" : "trace_camera_rays");
+  camera_rays_ = cl::Kernel(program, plan.kernels.camera_rays.c_str());
   camera_group_ = work_group_size_for(camera_rays_, device, s.work_group_size);
 
-  if (output != FrameOutput::AmbientOcclusion) return;
-  if (s.organisation == KernelOrganisation::Wavefront) {
-    wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, ao_args_, s, tile_pixels, buffers_);
-  } else {
-    set_up_megakernel(device, program, s);
+  if (!plan.kernels.megakernel.empty()) {
+    ao_kernel_ = cl::Kernel(program, plan.kernels.megakernel.c_str());
+    ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
+  } else if (!plan.kernels.finish.empty()) {
+    wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, ao_args_, s, plan.kernels, tile_pixels,
+                                             buffers_);
   }
-}
-
-void Frame::set_up_megakernel(const cl::Device& device, const cl::Program& program, const RenderSettings& s) {
-  ao_kernel_ = cl::Kernel(program, s.estimator == Estimator::Branching ? "ao_branching" : "ao_path");
-  ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
 }
 
 void Frame::set_tile(std::size_t first, std::size_t count) {

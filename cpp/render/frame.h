@@ -9,6 +9,7 @@
 #include "opencl/opencl.h"
 #include "render/ao_kernel_args.h"
 #include "render/device_scene.h"
+#include "render/render_plan.h"
 #include "render/render_settings.h"
 #include "render/render_stats.h"
 #include "render/wavefront.h"
@@ -23,9 +24,10 @@ namespace mbao {
 // (kernels/mbao/pixel_order.h: blocks of 16 x 16 in Z order).
 class Frame {
  public:
+  // `program` is the plan's; the frame launches the plan's kernels and writes its G-buffer planes.
   Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
-        const Camera& camera, const RenderSettings& settings, std::size_t tile_pixels,
-        PrimarySurfaces primaries = PrimarySurfaces::CameraHits, FrameOutput output = FrameOutput::AmbientOcclusion);
+        const Camera& camera, const RenderSettings& settings, const RenderPlan& plan, std::size_t tile_pixels,
+        PrimarySurfaces primaries = PrimarySurfaces::CameraHits);
 
   // Camera rays, the G-buffer and the AO, as the frame's output asks, for the pixels at positions
   // [first, first + count) of that order, count <= the tile size.
@@ -51,10 +53,9 @@ class Frame {
 
   // Device memory of the frame's own buffers.
   std::size_t bytes() const { return bytes_; }
-  // What a frame with these settings and tile size allocates: known before it does.
-  static std::size_t device_bytes(const RenderSettings& settings, std::size_t tile_pixels,
-                                  PrimarySurfaces primaries = PrimarySurfaces::CameraHits,
-                                  FrameOutput output = FrameOutput::AmbientOcclusion);
+  // What a frame with these settings, plan and tile size allocates: known before it does.
+  static std::size_t device_bytes(const RenderSettings& settings, const RenderPlan& plan, std::size_t tile_pixels,
+                                  PrimarySurfaces primaries = PrimarySurfaces::CameraHits);
   // What decides whether the kernels have been launched before: program, AO kernels, work-group sizes
   // and the tile size (the largest grid).
   std::string launch_signature() const;
@@ -69,9 +70,8 @@ class Frame {
              traversal_totals + wavefront;
     }
   };
-  static BufferSizes buffer_sizes(const RenderSettings& settings, std::size_t tile_pixels, PrimarySurfaces primaries,
-                                  FrameOutput output);
-  void set_up_megakernel(const cl::Device& device, const cl::Program& program, const RenderSettings& s);
+  static BufferSizes buffer_sizes(const RenderSettings& settings, const RenderPlan& plan, std::size_t tile_pixels,
+                                  PrimarySurfaces primaries);
   void set_tile(std::size_t first, std::size_t count);
   void enqueue_ao(cl::CommandQueue& queue, std::size_t first, std::size_t count);
   // The camera kernel's work items for `pixels` pixels.

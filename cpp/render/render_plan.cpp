@@ -1,5 +1,7 @@
 #include "render/render_plan.h"
 
+#include "mbao/gbuffer.h"
+
 namespace mbao {
 namespace {
 
@@ -78,9 +80,9 @@ Traversal plan_gbuffer_traversal(const RenderSettings& s, const DeviceProfile& p
   return walk;
 }
 
-KernelOrganisation plan_organisation(const RenderSettings& s, Traversal traversal, const DeviceProfile& profile,
-                                     std::vector<std::string>& reasons) {
-  if (s.method == Method::Hbao) return KernelOrganisation::Megakernel;
+KernelOrganisation plan_organisation(const RenderSettings& s, FrameOutput output, Traversal traversal,
+                                     const DeviceProfile& profile, std::vector<std::string>& reasons) {
+  if (output != FrameOutput::AmbientOcclusion) return KernelOrganisation::Megakernel;  // camera rays alone
   if (s.organisation != KernelOrganisation::Auto) return s.organisation;
   KernelOrganisation organisation = KernelOrganisation::Megakernel;
   std::string why;
@@ -103,9 +105,9 @@ bool indexed_triangles(const DeviceProfile& profile, std::size_t triangles) {
   return profile.shares_host_memory && profile.min_indexed_triangles > 0 && triangles >= profile.min_indexed_triangles;
 }
 
-bool plan_origin_paths(const RenderSettings& s, Traversal walk, const DeviceProfile& profile,
+bool plan_origin_paths(const RenderSettings& s, FrameOutput output, Traversal walk, const DeviceProfile& profile,
                        const SceneTraits& scene, std::vector<std::string>& reasons) {
-  if (walk == Traversal::Lanes || s.method == Method::Hbao) return false;
+  if (walk == Traversal::Lanes || output != FrameOutput::AmbientOcclusion) return false;
   if (s.origin_paths) return *s.origin_paths;
   const bool paths = deep_enough(scene.tree_depth, profile.min_origin_path_depth);
   if (profile.min_origin_path_depth > 0)
@@ -114,7 +116,54 @@ bool plan_origin_paths(const RenderSettings& s, Traversal walk, const DeviceProf
   return paths;
 }
 
+FrameOutput frame_output(const RenderSettings& s, RenderProduct product) {
+  if (product == RenderProduct::GBuffer) return FrameOutput::GBuffer;
+  return s.method == Method::Hbao ? FrameOutput::HbaoGBuffer : FrameOutput::AmbientOcclusion;
+}
+
+// The G-buffer planes the frame's camera rays write: those its readers read.
+std::uint32_t gbuffer_planes(const RenderSettings& s, FrameOutput output) {
+  switch (output) {
+    case FrameOutput::GBuffer:
+      return MBAO_GBUFFER_ALL_PLANES;
+    case FrameOutput::HbaoGBuffer:
+      return MBAO_GBUFFER_HBAO_PLANES;
+    case FrameOutput::AmbientOcclusion:
+      break;
+  }
+  return s.filtered() ? MBAO_GBUFFER_FILTER_PLANES : 0u;
+}
+
+FrameKernels frame_kernels(const RenderSettings& s, const RenderPlan& plan) {
+  FrameKernels k;
+  // Lanes take the camera rays in packets (kernels/kd_packet.h), one packet per work item.
+  k.camera_rays = plan.traversal == Traversal::Lanes ? "trace_camera_packets" : "trace_camera_rays";
+  if (plan.output != FrameOutput::AmbientOcclusion) return k;
+  if (plan.organisation == KernelOrganisation::Megakernel) {
+    k.megakernel = s.estimator == Estimator::Branching ? "ao_branching" : "ao_path";
+    return k;
+  }
+  if (plan.traversal == Traversal::Lanes) {
+    k.stream_rays = "stream_bounce_rays";
+    k.stream_trace = "trace_rays_in_lanes";
+    k.stream_hits = "stream_bounce_hits";
+  } else {
+    k.first_bounce = "wavefront_first_bounce";
+    k.bounce = "wavefront_bounce";
+  }
+  k.finish = "wavefront_finish";
+  return k;
+}
+
 }  // namespace
+
+std::vector<std::string> FrameKernels::in_launch_order() const {
+  std::vector<std::string> names;
+  for (const std::string* name :
+       {&camera_rays, &megakernel, &first_bounce, &bounce, &stream_rays, &stream_trace, &stream_hits, &finish})
+    if (!name->empty()) names.push_back(*name);
+  return names;
+}
 
 const DeviceProfile& device_profile(const DeviceInfo& device) {
   if (device.type == "CPU") return kCpu;
@@ -189,13 +238,17 @@ bool plans_indexed_triangles(const DeviceInfo& device, std::size_t triangles) {
   return indexed_triangles(device_profile(device), triangles);
 }
 
-RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const SceneTraits& scene) {
+RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const SceneTraits& scene,
+                       RenderProduct product) {
   const DeviceProfile& profile = device_profile(device);
   RenderPlan plan;
-  const bool hbao = s.method == Method::Hbao;
-  plan.traversal = hbao ? plan_gbuffer_traversal(s, profile, plan.reasons)
-                        : plan_traversal(s, profile, scene, plan.reasons);
-  plan.organisation = plan_organisation(s, plan.traversal, profile, plan.reasons);
+  plan.output = frame_output(s, product);
+  const bool camera_rays_only = plan.output != FrameOutput::AmbientOcclusion;
+  plan.traversal = camera_rays_only ? plan_gbuffer_traversal(s, profile, plan.reasons)
+                                    : plan_traversal(s, profile, scene, plan.reasons);
+  plan.organisation = plan_organisation(s, plan.output, plan.traversal, profile, plan.reasons);
+  plan.gbuffer_planes = gbuffer_planes(s, plan.output);
+  plan.kernels = frame_kernels(s, plan);
 
   plan.shading_normals = s.normals == NormalMode::Shading && scene.vertex_normals;
   ProgramVariant& p = plan.program;
@@ -204,7 +257,7 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   p.count_traversal = s.traversal_stats;
   p.alpha_masks = scene.alpha_masks;
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
-  p.origin_paths = plan_origin_paths(s, p.walk, profile, scene, plan.reasons);
+  p.origin_paths = plan_origin_paths(s, plan.output, p.walk, profile, scene, plan.reasons);
   p.indexed_triangles = indexed_triangles(profile, scene.triangles);
   if (profile.min_indexed_triangles > 0)
     plan.reasons.push_back(std::string("triangles ") + (p.indexed_triangles ? "from the mesh's vertices" : "as coordinates") +

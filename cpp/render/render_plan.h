@@ -10,6 +10,7 @@
 // docs/kernel-variants.md has the device table with the measurement behind
 // each entry.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -72,10 +73,37 @@ struct ProgramVariant {
 // Every variant a plan can ask for: the programs a build of mbao may compile.
 std::vector<ProgramVariant> all_program_variants();
 
+// What a render is asked for: the image its settings' method makes, or its
+// G-buffer alone (Renderer::gbuffer).
+enum class RenderProduct { Image, GBuffer };
+
+// What a frame's tiles make: the AO from their camera hits, with the G-buffer
+// planes that the screen-space passes after it read (where
+// RenderSettings::filtered); the planes HBAO reads, alone; or the whole G-buffer.
+enum class FrameOutput { AmbientOcclusion, HbaoGBuffer, GBuffer };
+
+// The entry points of render.cl that a frame launches, by their part in it;
+// empty where the frame has no such part.
+struct FrameKernels {
+  std::string camera_rays;  // trace_camera_rays, or trace_camera_packets: every frame
+  std::string megakernel;   // ao_branching or ao_path: the megakernel organisation
+  // The wavefront: its first bounce and the bounces after, each over a queue,
+  // then the pixels' values from the counts.
+  std::string first_bounce, bounce, finish;
+  // The wavefront with lanes: each bounce as its rays, their walk sixteen to a
+  // work item, and their outcomes (render/streamed_bounces.h), then `finish`.
+  std::string stream_rays, stream_trace, stream_hits;
+
+  std::vector<std::string> in_launch_order() const;  // the names, the empty ones left out
+};
+
 struct RenderPlan {
   Traversal traversal;              // never Auto; for HBAO the G-buffer's walk
-  KernelOrganisation organisation;  // never Auto for the ray-traced method; Megakernel for HBAO
+  KernelOrganisation organisation;  // never Auto for the ray-traced method; Megakernel for camera rays alone
   ProgramVariant program;           // render.cl; for HBAO its G-buffer's, and hbao.cl follows
+  FrameOutput output = FrameOutput::AmbientOcclusion;
+  std::uint32_t gbuffer_planes = 0;  // what the camera rays write of the G-buffer (kernels/mbao/gbuffer.h's masks)
+  FrameKernels kernels;
   // The scene goes to the device with its vertex normals, which the kernels
   // then shade with: the render asks for shading normals and the scene has them.
   bool shading_normals = false;
@@ -87,7 +115,8 @@ struct RenderPlan {
 bool plans_indexed_triangles(const DeviceInfo& device, std::size_t triangles);
 
 // Throws nothing: `settings` is validated before (RenderSettings::validate).
-RenderPlan plan_render(const RenderSettings& settings, const DeviceInfo& device, const SceneTraits& scene);
+RenderPlan plan_render(const RenderSettings& settings, const DeviceInfo& device, const SceneTraits& scene,
+                       RenderProduct product = RenderProduct::Image);
 
 // A ray query (Renderer::trace): trace.cl with the walk `requested` resolves to.
 ProgramVariant plan_trace(Traversal requested, bool count_traversal, const DeviceInfo& device,

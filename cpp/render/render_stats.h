@@ -23,6 +23,7 @@ struct RenderStats {
   std::string traversal_mode;    // the kd traversal the kernels ran ("auto" resolved for the device)
   std::string organisation;      // the ray-traced method's kernel organisation ("auto" resolved); empty for HBAO
   std::vector<std::string> plan; // why "auto" chose as it did, a line per choice (RenderPlan::reasons)
+  std::vector<std::string> kernels;  // render.cl's entry points the frame launched, in their order
   float max_distance = 0.0f;     // the AO radius the render used (SPEC 1)
   // Where it came from: "settings", "camera" (its suggestion), "scene" (HBAO's quarter diagonal) or
   // "none" (inf, for want of any).

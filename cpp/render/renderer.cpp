@@ -28,15 +28,15 @@ constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 24;
 
 // The most pixels whose wavefront queues fit kMaxWavefrontQueueEntries (>= 1:
 // validate() refuses more per pixel); no limit for the megakernel.
-std::size_t queue_limited_pixels(const RenderSettings& s, std::size_t pixels) {
-  if (s.organisation != KernelOrganisation::Wavefront) return pixels;
+std::size_t queue_limited_pixels(const RenderSettings& s, KernelOrganisation organisation, std::size_t pixels) {
+  if (organisation != KernelOrganisation::Wavefront) return pixels;
   const std::uint64_t per_pixel = std::max<std::uint64_t>(1, s.max_queue_entries_per_camera_sample()) * std::uint64_t(s.spp);
   return std::min(pixels, std::size_t(kMaxWavefrontQueueEntries / per_pixel));
 }
 
 // A tile asked for is cut down only where the wavefront's queues would not fit.
-std::size_t tile_pixels_for(const RenderSettings& s, std::size_t pixels) {
-  const std::size_t limit = queue_limited_pixels(s, pixels);
+std::size_t tile_pixels_for(const RenderSettings& s, KernelOrganisation organisation, std::size_t pixels) {
+  const std::size_t limit = queue_limited_pixels(s, organisation, pixels);
   if (s.tile_pixels) return std::min(s.tile_pixels, limit);
   const std::uint64_t rays_per_pixel = std::max<std::uint64_t>(1, s.max_rays_per_camera_sample()) * std::uint64_t(s.spp);
   const std::size_t by_memory = kMaxTileCameraSamples / std::size_t(s.spp);
@@ -108,12 +108,12 @@ RenderResult Renderer::bake(const std::shared_ptr<const Scene>& scene, const Ren
 
 RenderResult Renderer::gbuffer(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                                const RenderSettings& settings) {
-  return run(scene, camera, settings, {}, nullptr, nullptr, FrameOutput::GBuffer);
+  return run(scene, camera, settings, {}, nullptr, nullptr, RenderProduct::GBuffer);
 }
 
 RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                            const RenderSettings& requested, const TileCallback& between_tiles,
-                           const BakeTiles* bake_tiles, TemporalHistory* history, FrameOutput output) {
+                           const BakeTiles* bake_tiles, TemporalHistory* history, RenderProduct product) {
   RenderResult result;
   RenderStats& stats = result.stats;
   const AoRadius radius = radius_for(requested, camera, *scene);
@@ -131,12 +131,11 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   stats.tree_reused = scene->has_kd_tree();
   stats.tree = DeviceScene::tree_within(*scene, device().device)->stats;
   stats.build_ms = stats.tree.build_ms;
-  const bool gbuffer_only = output == FrameOutput::GBuffer;
-  RenderSettings planned_as = settings;
-  if (gbuffer_only) planned_as.method = Method::Hbao;  // its G-buffer, which this frame is
-  const RenderPlan plan = plan_render(planned_as, device(), SceneTraits::of(*scene));
+  const bool gbuffer_only = product == RenderProduct::GBuffer;
+  const RenderPlan plan = plan_render(settings, device(), SceneTraits::of(*scene), product);
   stats.traversal_mode = to_string(plan.traversal);
   stats.plan = plan.reasons;
+  stats.kernels = plan.kernels.in_launch_order();
   Stopwatch upload_clock;
   const std::shared_ptr<const DeviceScene> device_scene =
       scenes_.get(compute_, scene, plan.shading_normals, plan.program.indexed_triangles);
@@ -156,16 +155,14 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   }
   const Camera local_camera = camera.relative_to(scene->render_origin());
   try {
-    RenderSettings planned = settings;
-    planned.traversal = plan.traversal;
-    planned.organisation = plan.organisation;
-    if (gbuffer_only) {
-      run_gbuffer(*device_scene, built.program, local_camera, planned, nullptr, result);
-    } else if (settings.method == Method::Hbao) {
+    if (plan.output == FrameOutput::GBuffer) {
+      run_gbuffer(*device_scene, built.program, local_camera, settings, plan, nullptr, result);
+    } else if (plan.output == FrameOutput::HbaoGBuffer) {
       const cl::Program hbao_program = screen_space_program(Program::Hbao, stats);
-      run_gbuffer(*device_scene, built.program, local_camera, planned, &hbao_program, result);
+      run_gbuffer(*device_scene, built.program, local_camera, settings, plan, &hbao_program, result);
     } else {
-      run_traced(*device_scene, built.program, local_camera, planned, between_tiles, bake_tiles, history, result);
+      run_traced(*device_scene, built.program, local_camera, settings, plan, between_tiles, bake_tiles, history,
+                 result);
     }
   } catch (const cl::Error& e) {
     throw_device_error((bake_tiles ? "baking " : "rendering ") + scene->name() + " on " + device().description(),
@@ -176,19 +173,20 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
 }
 
 void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                          const RenderSettings& settings, const TileCallback& between_tiles,
+                          const RenderSettings& settings, const RenderPlan& plan, const TileCallback& between_tiles,
                           const BakeTiles* bake_tiles, TemporalHistory* history, RenderResult& result) {
   RenderStats& stats = result.stats;
-  stats.organisation = to_string(settings.organisation);
+  stats.organisation = to_string(plan.organisation);
   const std::size_t pixels = result.ao.size();
-  const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
+  const std::size_t tile_pixels = tile_pixels_for(settings, plan.organisation, pixels);
   std::vector<cl_uint> secondary_rays(pixels);
   cl::CommandQueue& queue = compute_.queue();
   const PrimarySurfaces primaries = bake_tiles ? PrimarySurfaces::GivenPoints : PrimarySurfaces::CameraHits;
   const std::size_t filter_bytes = (settings.denoise ? Denoiser::device_bytes(pixels) : 0) +
                                    (history ? TemporalHistory::device_bytes(pixels) : 0);
-  check_device_memory(device(), scene, Frame::device_bytes(settings, tile_pixels, primaries) + filter_bytes, settings);
-  Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels, primaries);
+  check_device_memory(device(), scene, Frame::device_bytes(settings, plan, tile_pixels, primaries) + filter_bytes,
+                      settings);
+  Frame frame(compute_.context(), device().device, program, scene, camera, settings, plan, tile_pixels, primaries);
   stats.memory_bytes = scene.bytes() + frame.bytes() + filter_bytes;
   // Some drivers (PoCL) build a kernel at its first launch, for its work-group
   // size and its grid's size: launched empty first, counted as kernel build time.
@@ -272,16 +270,14 @@ cl::Program Renderer::screen_space_program(Program program, RenderStats& stats) 
 }
 
 void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                           const RenderSettings& settings, const cl::Program* hbao_program, RenderResult& result) {
+                           const RenderSettings& settings, const RenderPlan& plan, const cl::Program* hbao_program,
+                           RenderResult& result) {
   RenderStats& stats = result.stats;
   cl::CommandQueue& queue = compute_.queue();
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
-  const std::size_t tile_pixels = tile_pixels_for(settings, pixels);
-  const FrameOutput output = hbao_program ? FrameOutput::HbaoGBuffer : FrameOutput::GBuffer;
-  const std::size_t frame_bytes = Frame::device_bytes(settings, tile_pixels, PrimarySurfaces::CameraHits, output);
-  check_device_memory(device(), scene, frame_bytes, settings);
-  Frame frame(compute_.context(), device().device, program, scene, camera, settings, tile_pixels,
-              PrimarySurfaces::CameraHits, output);
+  const std::size_t tile_pixels = tile_pixels_for(settings, plan.organisation, pixels);
+  check_device_memory(device(), scene, Frame::device_bytes(settings, plan, tile_pixels), settings);
+  Frame frame(compute_.context(), device().device, program, scene, camera, settings, plan, tile_pixels);
   std::optional<HbaoPass> hbao;
   if (hbao_program) hbao.emplace(device().device, *hbao_program, camera, settings);
   stats.memory_bytes = scene.bytes() + frame.bytes();

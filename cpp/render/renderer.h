@@ -105,14 +105,14 @@ class Renderer {
     std::size_t first_position, end_position;
   };
   // render, bake and gbuffer: a bake's points, where given, stand for the camera rays; a G-buffer
-  // output is planned as HBAO's G-buffer and runs no pass after it.
+  // alone runs no pass after it.
   RenderResult run(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& requested,
                    const TileCallback& between_tiles, const BakeTiles* bake_tiles,
-                   TemporalHistory* history = nullptr, FrameOutput output = FrameOutput::AmbientOcclusion);
-  // The kinds of frame, given the scene on the device and the camera in its frame; their settings
-  // carry the plan's traversal and organisation.
+                   TemporalHistory* history = nullptr, RenderProduct product = RenderProduct::Image);
+  // The kinds of frame, given the scene on the device, the camera in its frame and the plan
+  // (whose program `program` is).
   void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                  const RenderSettings& settings, const TileCallback& between_tiles,
+                  const RenderSettings& settings, const RenderPlan& plan, const TileCallback& between_tiles,
                   const BakeTiles* bake_tiles, TemporalHistory* history, RenderResult& result);
   // The temporal accumulation and the spatial filter, in that order, where the settings ask for them.
   void run_screen_space_passes(Frame& frame, const Camera& camera, const RenderSettings& settings,
@@ -120,9 +120,10 @@ class Renderer {
   // A program that walks no tree (hbao.cl, denoise.cl, temporal.cl), its build time added to stats.
   cl::Program screen_space_program(Program program, RenderStats& stats);
   // A G-buffer frame (the camera rays and their G-buffer), then HBAO's pass where `hbao_program` is given
-  // (the camera rays writing the planes it reads), else the whole G-buffer read back into result.gbuffer.
+  // (the plan's output: the planes it reads), else the whole G-buffer read back into result.gbuffer.
   void run_gbuffer(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                   const RenderSettings& settings, const cl::Program* hbao_program, RenderResult& result);
+                   const RenderSettings& settings, const RenderPlan& plan, const cl::Program* hbao_program,
+                   RenderResult& result);
 
   ComputeContext compute_;
   DeviceSceneCache scenes_;

@@ -37,7 +37,7 @@ std::size_t StreamedBounces::device_bytes(const RenderSettings& s, std::size_t m
 
 StreamedBounces::StreamedBounces(const cl::Context& context, const cl::Device& device, const cl::Program& program,
                                  const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& s,
-                                 std::size_t max_sources, const WavefrontCounts& counts)
+                                 const FrameKernels& kernels, std::size_t max_sources, const WavefrontCounts& counts)
     : scene_(scene),
       ao_args_(ao_args),
       counts_(counts),
@@ -52,9 +52,9 @@ StreamedBounces::StreamedBounces(const cl::Context& context, const cl::Device& d
   ray_hits_ = cl::Buffer(context, CL_MEM_READ_WRITE, capacity * sizeof(cl_uint4));
   bytes_ = device_bytes(s, max_sources);
 
-  rays_ = cl::Kernel(program, "stream_bounce_rays");
-  trace_ = cl::Kernel(program, "trace_rays_in_lanes");
-  hits_ = cl::Kernel(program, "stream_bounce_hits");
+  rays_ = cl::Kernel(program, kernels.stream_rays.c_str());
+  trace_ = cl::Kernel(program, kernels.stream_trace.c_str());
+  hits_ = cl::Kernel(program, kernels.stream_hits.c_str());
   rays_group_ = work_group_size_for(rays_, device, s.work_group_size);
   trace_group_ = lanes_work_group(trace_, device, s.work_group_size);
   hits_group_ = work_group_size_for(hits_, device, s.work_group_size);

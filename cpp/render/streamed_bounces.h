@@ -6,6 +6,7 @@
 #include "opencl/opencl.h"
 #include "render/ao_kernel_args.h"
 #include "render/device_scene.h"
+#include "render/render_plan.h"
 #include "render/render_settings.h"
 
 namespace mbao {
@@ -23,10 +24,11 @@ struct WavefrontCounts {
 // launches of at most sources_per_launch().
 class StreamedBounces {
  public:
-  // max_sources: the most sources a bounce of a tile has (camera samples or queue entries).
+  // kernels: the plan's stream_* kernels. max_sources: the most sources a bounce of a tile has
+  // (camera samples or queue entries).
   StreamedBounces(const cl::Context& context, const cl::Device& device, const cl::Program& program,
                   const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& settings,
-                  std::size_t max_sources, const WavefrontCounts& counts);
+                  const FrameKernels& kernels, std::size_t max_sources, const WavefrontCounts& counts);
 
   void set_tile(std::size_t first_position);
   // Bounce `bounce` from `sources` sources: the tile's camera samples for bounce

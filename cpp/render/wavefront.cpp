@@ -20,9 +20,13 @@ std::size_t queue_entries_per_camera_sample(const RenderSettings& s, std::int64_
   return deepest;
 }
 
+// Lanes run each bounce as a stream of rays (StreamedBounces).
+bool streamed(const FrameKernels& kernels) { return !kernels.stream_trace.empty(); }
+
 }  // namespace
 
-Wavefront::BufferSizes Wavefront::buffer_sizes(const RenderSettings& s, std::size_t tile_pixels) {
+Wavefront::BufferSizes Wavefront::buffer_sizes(const RenderSettings& s, const FrameKernels& kernels,
+                                               std::size_t tile_pixels) {
   const std::size_t tile_samples = tile_pixels * std::size_t(s.spp);
   BufferSizes sizes;
   // Per camera sample, or per direction at its primary hit (SPEC 7.1), and bounce.
@@ -34,19 +38,19 @@ Wavefront::BufferSizes Wavefront::buffer_sizes(const RenderSettings& s, std::siz
     sizes.queues[parity] = tile_samples * queue_entries_per_camera_sample(s, parity) * sizeof(QueuedSurface);
   sizes.longest_queue = std::max(sizes.queues[0], sizes.queues[1]) / sizeof(QueuedSurface);
   sizes.max_sources = std::max(tile_samples, sizes.longest_queue);
-  sizes.streams = s.traversal == Traversal::Lanes ? StreamedBounces::device_bytes(s, sizes.max_sources) : 0;
+  sizes.streams = streamed(kernels) ? StreamedBounces::device_bytes(s, sizes.max_sources) : 0;
   return sizes;
 }
 
-std::size_t Wavefront::device_bytes(const RenderSettings& s, std::size_t tile_pixels) {
-  return buffer_sizes(s, tile_pixels).total();
+std::size_t Wavefront::device_bytes(const RenderSettings& s, const FrameKernels& kernels, std::size_t tile_pixels) {
+  return buffer_sizes(s, kernels, tile_pixels).total();
 }
 
 Wavefront::Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program,
                      const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& s,
-                     std::size_t tile_pixels, const FrameBuffers& frame)
+                     const FrameKernels& kernels, std::size_t tile_pixels, const FrameBuffers& frame)
     : scene_(scene), ao_args_(ao_args), frame_(frame), spp_(std::size_t(s.spp)), bounces_(std::size_t(s.bounces)) {
-  const BufferSizes sizes = buffer_sizes(s, tile_pixels);
+  const BufferSizes sizes = buffer_sizes(s, kernels, tile_pixels);
   const auto allocate = [&](std::size_t bytes) {
     return bytes ? cl::Buffer(context, CL_MEM_READ_WRITE, bytes) : cl::Buffer();
   };
@@ -57,23 +61,19 @@ Wavefront::Wavefront(const cl::Context& context, const cl::Device& device, const
   longest_queue_ = sizes.longest_queue;
   bytes_ = sizes.total();
 
-  if (s.traversal == Traversal::Lanes) {
+  if (streamed(kernels)) {
     const WavefrontCounts counts{frame.camera_hits, escape_counts_, sample_rays_, queue_lengths_,
                                  frame.traversal_totals};
-    streams_ =
-        std::make_unique<StreamedBounces>(context, device, program, scene, ao_args, s, sizes.max_sources, counts);
+    streams_ = std::make_unique<StreamedBounces>(context, device, program, scene, ao_args, s, kernels,
+                                                 sizes.max_sources, counts);
   } else {
-    set_up_bounce_kernels(device, program, s);
+    first_bounce_ = cl::Kernel(program, kernels.first_bounce.c_str());
+    bounce_ = cl::Kernel(program, kernels.bounce.c_str());
+    first_bounce_group_ = work_group_size_for(first_bounce_, device, s.work_group_size);
+    bounce_group_ = work_group_size_for(bounce_, device, s.work_group_size);
   }
-  finish_ = cl::Kernel(program, "wavefront_finish");
+  finish_ = cl::Kernel(program, kernels.finish.c_str());
   finish_group_ = work_group_size_for(finish_, device, s.work_group_size);
-}
-
-void Wavefront::set_up_bounce_kernels(const cl::Device& device, const cl::Program& program, const RenderSettings& s) {
-  first_bounce_ = cl::Kernel(program, "wavefront_first_bounce");
-  bounce_ = cl::Kernel(program, "wavefront_bounce");
-  first_bounce_group_ = work_group_size_for(first_bounce_, device, s.work_group_size);
-  bounce_group_ = work_group_size_for(bounce_, device, s.work_group_size);
 }
 
 void Wavefront::start_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count) {

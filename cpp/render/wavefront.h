@@ -7,6 +7,7 @@
 #include "opencl/opencl.h"
 #include "render/ao_kernel_args.h"
 #include "render/device_scene.h"
+#include "render/render_plan.h"
 #include "render/render_settings.h"
 #include "render/streamed_bounces.h"
 
@@ -21,9 +22,10 @@ namespace mbao {
 // counts and queues.
 class Wavefront {
  public:
+  // kernels: the plan's wavefront kernels (first_bounce, bounce, finish), or its streamed ones.
   Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-            const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& settings, std::size_t tile_pixels,
-            const FrameBuffers& frame);
+            const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& settings,
+            const FrameKernels& kernels, std::size_t tile_pixels, const FrameBuffers& frame);
 
   // AO for pixels [first, first + count), whose camera hits the frame holds.
   // Blocks until each queue is filled: its length sizes the launch that reads it.
@@ -34,7 +36,8 @@ class Wavefront {
 
   std::size_t bytes() const { return bytes_; }
   // What the constructor will allocate for these settings and tile size.
-  static std::size_t device_bytes(const RenderSettings& settings, std::size_t tile_pixels);
+  static std::size_t device_bytes(const RenderSettings& settings, const FrameKernels& kernels,
+                                  std::size_t tile_pixels);
   // The kernels and their work-group sizes, for Frame::launch_signature().
   std::string launch_signature() const;
 
@@ -48,8 +51,8 @@ class Wavefront {
       return escape_counts + sample_rays + queue_lengths + queues[0] + queues[1] + streams;
     }
   };
-  static BufferSizes buffer_sizes(const RenderSettings& settings, std::size_t tile_pixels);
-  void set_up_bounce_kernels(const cl::Device& device, const cl::Program& program, const RenderSettings& s);
+  static BufferSizes buffer_sizes(const RenderSettings& settings, const FrameKernels& kernels,
+                                  std::size_t tile_pixels);
   void enqueue_bounces(cl::CommandQueue& queue, std::size_t tile_samples);
   void enqueue_streamed_bounces(cl::CommandQueue& queue, std::size_t tile_samples);
 

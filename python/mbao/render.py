@@ -29,7 +29,8 @@ class Result:
         alpha that tells the background apart (SPEC 2; save_image(..., alpha=)).
     stats: build_ms, tree_reused, kernel_build_ms, kernel_cache ("memory", "disk"
         or "compiled"), kernel_options, traversal_mode, organisation, plan (why
-        "auto" chose the kernel variant it did, a line per choice), max_distance
+        "auto" chose the kernel variant it did, a line per choice), kernels (the
+        program's entry points the frame launched, in order), max_distance
         (the radius used) and max_distance_source ("settings", "camera", "scene":
         HBAO's quarter diagonal, or "none": inf), upload_ms, frame_ms (gbuffer_ms,
         HBAO's G-buffer's part of it, denoise_ms, the spatial filter's, and

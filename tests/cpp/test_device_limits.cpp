@@ -29,13 +29,16 @@ TEST(FrameMemory, IsKnownExactlyBeforeAllocation) {
   const std::shared_ptr<const Scene> scene = cornell_box();
   Renderer& renderer = Renderer::for_device(default_device());
   const Camera camera = *scene->camera();
+  const auto frame_bytes = [&](const RenderSettings& s) {
+    return Frame::device_bytes(s, plan_render(s, renderer.device(), SceneTraits::of(*scene)), 64);
+  };
   const RenderSettings base = small(KernelOrganisation::Megakernel, 1, false);
   const std::size_t base_bytes = renderer.render(scene, camera, base).stats.memory_bytes;
   for (const RenderSettings& settings : {small(KernelOrganisation::Megakernel, 3, true),
                                          small(KernelOrganisation::Wavefront, 2, false),
                                          small(KernelOrganisation::Wavefront, 4, true)}) {
     const std::size_t bytes = renderer.render(scene, camera, settings).stats.memory_bytes;
-    EXPECT_EQ(bytes - base_bytes, Frame::device_bytes(settings, 64) - Frame::device_bytes(base, 64));
+    EXPECT_EQ(bytes - base_bytes, frame_bytes(settings) - frame_bytes(base));
   }
 }
 

@@ -96,7 +96,9 @@ TEST(FirstLaunch, EmptyTilesBuildWhatTheFramesTilesLaunch) {
     cl::CommandQueue& queue = compute.queue();
     const Camera camera = scene->camera()->relative_to(scene->render_origin());
     const cl::Program& program = programs[traversal == Traversal::Lanes];
-    Frame frame(compute.context(), compute.device().device, program, *device_scene, camera, settings, kTilePixels);
+    const RenderPlan plan = plan_render(settings, compute.device(), SceneTraits::of(*scene));
+    Frame frame(compute.context(), compute.device().device, program, *device_scene, camera, settings, plan,
+                kTilePixels);
     const std::set<std::string> before = files_under(caches / "pocl");
     frame.enqueue_empty_tiles(queue);
     queue.finish();

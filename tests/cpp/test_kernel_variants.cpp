@@ -32,12 +32,14 @@ struct Image {
   TraversalTotals counts;
 };
 
-Image render(ComputeContext& compute, const ProgramVariant& variant, const DeviceScene& scene, const Camera& camera,
-             RenderSettings s) {
+// `variant`'s frame, in the organisation `s` names.
+Image render(ComputeContext& compute, const ProgramVariant& variant, const DeviceScene& scene,
+             const SceneTraits& traits, const Camera& camera, RenderSettings s) {
   s.traversal = variant.walk;
   const cl::Program& program = compute.programs().get(variant.file(), variant.options()).program;
   const std::size_t pixels = std::size_t(s.width * s.height);
-  Frame frame(compute.context(), compute.device().device, program, scene, camera, s, pixels);
+  const RenderPlan plan = plan_render(s, compute.device(), traits);
+  Frame frame(compute.context(), compute.device().device, program, scene, camera, s, plan, pixels);
   Image image;
   image.result.ao.resize(pixels);
   image.result.coverage.resize(pixels);
@@ -93,7 +95,7 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
         s.organisation = organisation;
         s.variance = direction_moments;
         ASSERT_EQ(s.direction_moments(), direction_moments);
-        const Image image = render(compute, v, v.indexed_triangles ? indexed : coordinates, camera, s);
+        const Image image = render(compute, v, v.indexed_triangles ? indexed : coordinates, traits, camera, s);
         ++rendered;
         const std::vector<float>& ao = image.result.ao;
         if (!first) {
@@ -145,7 +147,8 @@ TEST(KernelVariants, SponzaIsTheSameImageFromEitherTriangleLayout) {
   s.samples = 2;
   s.max_distance = *camera.max_distance;
   s.traversal_stats = true;
-  RenderPlan plan = plan_render(s, compute.device(), SceneTraits::of(*sponza));
+  const SceneTraits traits = SceneTraits::of(*sponza);
+  RenderPlan plan = plan_render(s, compute.device(), traits);
   ASSERT_TRUE(plan.program.alpha_masks && plan.shading_normals);
   const bool shares_host_memory = device_profile(compute.device()).shares_host_memory;
   const DeviceScene coordinates(compute.context(), compute.queue(), *sponza, sponza->kd_tree(), true,
@@ -153,9 +156,9 @@ TEST(KernelVariants, SponzaIsTheSameImageFromEitherTriangleLayout) {
   const DeviceScene indexed(compute.context(), compute.queue(), *sponza, sponza->kd_tree(), true, true, true);
   s.organisation = plan.organisation;
   plan.program.indexed_triangles = false;
-  const Image from_coordinates = render(compute, plan.program, coordinates, camera, s);
+  const Image from_coordinates = render(compute, plan.program, coordinates, traits, camera, s);
   plan.program.indexed_triangles = true;
-  const Image from_vertices = render(compute, plan.program, indexed, camera, s);
+  const Image from_vertices = render(compute, plan.program, indexed, traits, camera, s);
   const std::vector<float>& ao = from_coordinates.result.ao;
   ASSERT_LT(*std::min_element(ao.begin(), ao.end()), 0.5f);  // not vacuous: corners occlude
   EXPECT_EQ(std::memcmp(ao.data(), from_vertices.result.ao.data(), ao.size() * sizeof(float)), 0);

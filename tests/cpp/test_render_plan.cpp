@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <set>
 
+#include "mbao/gbuffer.h"
 #include "render/render_plan.h"
 #include "render/renderer.h"
 #include "scene/cornell_box.h"
@@ -203,6 +204,49 @@ TEST(RenderPlan, EveryPlannedProgramIsAListedVariant) {
         }
       }
     }
+}
+
+using Kernels = std::vector<std::string>;
+
+// The entry points a frame launches follow from the walk, the organisation,
+// the estimator and what the frame makes; the frame reads them from the plan.
+TEST(RenderPlan, NamesTheKernelsEachFrameLaunches) {
+  RenderSettings s = two_bounces();
+  EXPECT_EQ(plan_render(s, kCpu, kShallow).kernels.in_launch_order(), (Kernels{"trace_camera_rays", "ao_branching"}));
+  s.estimator = Estimator::Path;
+  EXPECT_EQ(plan_render(s, kCpu, kShallow).kernels.in_launch_order(), (Kernels{"trace_camera_rays", "ao_path"}));
+  s = two_bounces();
+  EXPECT_EQ(plan_render(s, kGpu, kShallow).kernels.in_launch_order(),
+            (Kernels{"trace_camera_rays", "wavefront_first_bounce", "wavefront_bounce", "wavefront_finish"}));
+  EXPECT_EQ(plan_render(s, kCpu, kDeep).kernels.in_launch_order(),
+            (Kernels{"trace_camera_packets", "stream_bounce_rays", "trace_rays_in_lanes", "stream_bounce_hits",
+                     "wavefront_finish"}));
+}
+
+// HBAO's frame and a G-buffer alone trace camera rays and nothing after them:
+// each writes the planes its reader reads, a filtered image those of the filter.
+TEST(RenderPlan, FramesOfCameraRaysAloneWriteThePlanesTheirReadersRead) {
+  RenderSettings s = two_bounces();
+  const RenderPlan image = plan_render(s, kCpu, kDeep);
+  EXPECT_EQ(image.output, FrameOutput::AmbientOcclusion);
+  EXPECT_EQ(image.gbuffer_planes, 0u);
+  s.denoise = DenoiseSettings{};
+  EXPECT_EQ(plan_render(s, kCpu, kDeep).gbuffer_planes, std::uint32_t(MBAO_GBUFFER_FILTER_PLANES));
+
+  const RenderPlan gbuffer = plan_render(two_bounces(), kGpu, kDeep, RenderProduct::GBuffer);
+  EXPECT_EQ(gbuffer.output, FrameOutput::GBuffer);
+  EXPECT_EQ(gbuffer.gbuffer_planes, std::uint32_t(MBAO_GBUFFER_ALL_PLANES));
+  EXPECT_EQ(gbuffer.organisation, KernelOrganisation::Megakernel);
+  EXPECT_EQ(gbuffer.kernels.in_launch_order(), Kernels{"trace_camera_rays"});
+
+  s = two_bounces();
+  s.method = Method::Hbao;
+  s.bounces = 1;
+  const RenderPlan hbao = plan_render(s, kCpu, kShallow);
+  EXPECT_EQ(hbao.output, FrameOutput::HbaoGBuffer);
+  EXPECT_EQ(hbao.gbuffer_planes, std::uint32_t(MBAO_GBUFFER_HBAO_PLANES));
+  EXPECT_EQ(hbao.kernels.in_launch_order(), Kernels{"trace_camera_packets"});  // the CPU's packets
+  EXPECT_FALSE(hbao.program.origin_paths);
 }
 
 TEST(RenderPlan, ReasonsNameEachAutomaticChoice) {
