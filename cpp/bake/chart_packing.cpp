@@ -165,6 +165,7 @@ class Atlas {
     const int reach = padding - padding / 2;  // of the kept-clear texels beyond the touched
     const int key_length = chart.clear_runs[std::size_t(chart.key_row)];
     const int last_x = claimed_.width() - padding - w;  // the last corner column in the texture
+    int meeting_row = 0;
     for (int y = padding; y + h + padding <= claimed_.height(); ++y) {
       if (!rows_can_hold(chart, y - reach)) continue;
       for (const FreeRun& run : free_runs_[std::size_t(y - reach + chart.key_row)]) {
@@ -172,7 +173,7 @@ class Atlas {
         // Corners at which the key run lies in the free run.
         const int last = std::min(last_x, run.end - key_length - chart.key_start + reach);
         for (int x = std::max(padding, run.start - chart.key_start + reach); x <= last;) {
-          const int next = first_clear_of_meetings(chart, x - reach, y - reach) + reach;
+          const int next = first_clear_of_meetings(chart, x - reach, y - reach, meeting_row) + reach;
           if (next == x) return glm::ivec2(x, y);
           x = next;
         }
@@ -200,18 +201,30 @@ class Atlas {
 
   // For the chart's kept-clear texels with their corner at x, y: x where
   // they meet no claimed texel, else the least x beyond it that might: past
-  // the rightmost claimed texel met in the first row that meets one, by the
-  // run of kept-clear texels that met it.
-  int first_clear_of_meetings(const ChartTexels& chart, int x, int y) const {
-    for (int r = 0; r < chart.clear.height(); ++r) {
-      const std::uint64_t* wanted = chart.clear.row(r);
-      for (std::size_t k = chart.clear.words(); k-- > 0;) {
-        const std::uint64_t met = wanted[k] ? claimed_.bits_from(x + int(64 * k), y + r) & wanted[k] : 0;
-        if (!met) continue;
-        const int column = int(64 * k) + 63 - __builtin_clzll(met);
-        const std::size_t texel = std::size_t(r) * std::size_t(chart.clear.width()) + std::size_t(column);
-        return x + column - chart.run_start[texel] + 1;
+  // the rightmost claimed texel met in a row that meets one, by the run of
+  // kept-clear texels that met it. `meeting_row`, the row that met last, is
+  // tried first: sliding along a row of the atlas, the same row of the chart
+  // tends to meet again, and any row's meeting bounds the skip.
+  int first_clear_of_meetings(const ChartTexels& chart, int x, int y, int& meeting_row) const {
+    if (const int past = past_meeting(chart, x, y, meeting_row); past > x) return past;
+    for (int r = 0; r < chart.clear.height(); ++r)
+      if (const int past = past_meeting(chart, x, y, r); past > x) {
+        meeting_row = r;
+        return past;
       }
+    return x;
+  }
+
+  // x where row r of the chart's kept-clear texels, with their corner at x, y,
+  // meets no claimed texel; else past the rightmost one it meets, as above.
+  int past_meeting(const ChartTexels& chart, int x, int y, int r) const {
+    const std::uint64_t* wanted = chart.clear.row(r);
+    for (std::size_t k = chart.clear.words(); k-- > 0;) {
+      const std::uint64_t met = wanted[k] ? claimed_.bits_from(x + int(64 * k), y + r) & wanted[k] : 0;
+      if (!met) continue;
+      const int column = int(64 * k) + 63 - __builtin_clzll(met);
+      const std::size_t texel = std::size_t(r) * std::size_t(chart.clear.width()) + std::size_t(column);
+      return x + column - chart.run_start[texel] + 1;
     }
     return x;
   }
