@@ -36,6 +36,16 @@ class BitGrid {
       if (shift) to[word + k + 1] |= from[k] >> (64 - shift);
     }
   }
+  // The first column of the run of set bits in row y that holds column x (set).
+  int run_start(int x, int y) const {
+    const std::uint64_t* r = row(y);
+    std::size_t k = std::size_t(x) / 64;
+    const int bit = x % 64;
+    std::uint64_t clear = ~r[k] & (bit == 63 ? ~std::uint64_t(0) : (std::uint64_t(2) << bit) - 1);
+    for (; !clear; clear = ~r[k])
+      if (k-- == 0) return 0;
+    return int(64 * k) + 64 - __builtin_clzll(clear);
+  }
   // The 64 bits of row y from column x on.
   std::uint64_t bits_from(int x, int y) const {
     const std::uint64_t* r = row(y) + std::size_t(x) / 64;
@@ -113,32 +123,29 @@ struct ChartTexels {
   // Two charts' touched texels lie more than `padding` apart in x or y where
   // those within padding / 2 of one's meet none within the rest of the other's.
   BitGrid touched, claimed, clear;
-  std::vector<int> run_start;   // per texel of `clear`, row by row: where its run of set bits starts
   std::vector<int> clear_runs;  // per row of `clear`: its longest run of set bits
-  int key_row = 0, key_start = 0;  // the row of the longest of those runs, and where it starts
+  // The longest of those runs, the last of its length in the first row that has one: its row and start.
+  int key_row = 0, key_start = 0;
 };
 
 ChartTexels chart_texels(const FlatChart& chart, double density, int padding) {
-  ChartTexels texels{touched_texels(chart, density), BitGrid(0, 0), BitGrid(0, 0), {}, {}};
+  ChartTexels texels{touched_texels(chart, density), BitGrid(0, 0), BitGrid(0, 0), {}};
   texels.claimed = grown(texels.touched, padding / 2);
   texels.clear = grown(texels.touched, padding - padding / 2);
   const BitGrid& clear = texels.clear;
-  texels.run_start.assign(std::size_t(clear.width()) * std::size_t(clear.height()), 0);
   texels.clear_runs.assign(std::size_t(clear.height()), 0);
+  int key_length = 0;
   for (int y = 0; y < clear.height(); ++y)
-    for (int x = 0, start = 0; x < clear.width(); ++x) {
-      if (!clear.test(x, y)) {
-        start = x + 1;
-        continue;
-      }
-      texels.run_start[std::size_t(y) * std::size_t(clear.width()) + std::size_t(x)] = start;
-      const int run = x + 1 - start;
+    for (int start = clear.next_set(0, y); start < clear.width();) {
+      const int end = clear.next_clear(start, y);
       int& longest = texels.clear_runs[std::size_t(y)];
-      longest = std::max(longest, run);
-      if (longest > texels.clear_runs[std::size_t(texels.key_row)] || (y == texels.key_row && longest == run)) {
+      longest = std::max(longest, end - start);
+      if (end - start > key_length || (end - start == key_length && y == texels.key_row)) {
+        key_length = end - start;
         texels.key_row = y;
         texels.key_start = start;
       }
+      start = clear.next_set(end, y);
     }
   return texels;
 }
@@ -223,8 +230,7 @@ class Atlas {
       const std::uint64_t met = wanted[k] ? claimed_.bits_from(x + int(64 * k), y + r) & wanted[k] : 0;
       if (!met) continue;
       const int column = int(64 * k) + 63 - __builtin_clzll(met);
-      const std::size_t texel = std::size_t(r) * std::size_t(chart.clear.width()) + std::size_t(column);
-      return x + column - chart.run_start[texel] + 1;
+      return x + column - chart.clear.run_start(column, r) + 1;
     }
     return x;
   }
