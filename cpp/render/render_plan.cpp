@@ -1,5 +1,7 @@
 #include "render/render_plan.h"
 
+#include <algorithm>
+
 #include "mbao/gbuffer.h"
 
 namespace mbao {
@@ -114,6 +116,33 @@ bool plan_origin_paths(const RenderSettings& s, FrameOutput output, Traversal wa
     reasons.push_back(std::string("origin paths ") + (paths ? "on" : "off") + ": " +
                       depth_reason(scene, profile.min_origin_path_depth));
   return paths;
+}
+
+// Tiles are sized so one launch holds at most this many camera samples (16 MiB
+// of hit records) and traces at most this many rays, whatever r^b is; the
+// wavefront's queues hold at most kMaxWavefrontQueueEntries. 2^24 rays are
+// enough to fill a GPU and take a second or two on a CPU, which is how long
+// Ctrl-C may wait for the tile in flight.
+constexpr std::size_t kMaxTileCameraSamples = std::size_t(1) << 20;
+constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 24;
+
+// The most pixels whose wavefront queues fit kMaxWavefrontQueueEntries (>= 1:
+// validate() refuses more per pixel); no limit for the megakernel.
+std::size_t queue_limited_pixels(const RenderSettings& s, KernelOrganisation organisation, std::size_t pixels) {
+  if (organisation != KernelOrganisation::Wavefront) return pixels;
+  const std::uint64_t per_pixel = std::max<std::uint64_t>(1, s.max_queue_entries_per_camera_sample()) * std::uint64_t(s.spp);
+  return std::min(pixels, std::size_t(kMaxWavefrontQueueEntries / per_pixel));
+}
+
+// A tile asked for is cut down only where the wavefront's queues would not fit.
+std::size_t tile_pixels_for(const RenderSettings& s, KernelOrganisation organisation) {
+  const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
+  const std::size_t limit = queue_limited_pixels(s, organisation, pixels);
+  if (s.tile_pixels) return std::min(s.tile_pixels, limit);
+  const std::uint64_t rays_per_pixel = std::max<std::uint64_t>(1, s.max_rays_per_camera_sample()) * std::uint64_t(s.spp);
+  const std::size_t by_memory = kMaxTileCameraSamples / std::size_t(s.spp);
+  const std::size_t by_rays = std::size_t(std::max<std::uint64_t>(1, kMaxTileRays / rays_per_pixel));
+  return std::max<std::size_t>(1, std::min({limit, by_memory, by_rays}));
 }
 
 FrameOutput frame_output(const RenderSettings& s, RenderProduct product) {
@@ -248,6 +277,7 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
                                     : plan_traversal(s, profile, scene, plan.reasons);
   plan.organisation = plan_organisation(s, plan.output, plan.traversal, profile, plan.reasons);
   plan.gbuffer_planes = gbuffer_planes(s, plan.output);
+  plan.tile_pixels = tile_pixels_for(s, plan.organisation);
   plan.kernels = frame_kernels(s, plan);
 
   plan.shading_normals = s.normals == NormalMode::Shading && scene.vertex_normals;

@@ -104,6 +104,10 @@ struct RenderPlan {
   FrameOutput output = FrameOutput::AmbientOcclusion;
   std::uint32_t gbuffer_planes = 0;  // what the camera rays write of the G-buffer (kernels/mbao/gbuffer.h's masks)
   FrameKernels kernels;
+  // Pixels per tile, each tile its own launches: what one launch's hit records
+  // and rays are bounded by and, in the wavefront, its queues; the settings'
+  // tile_pixels where that is less.
+  std::size_t tile_pixels = 0;
   // The scene goes to the device with its vertex normals, which the kernels
   // then shade with: the render asks for shading normals and the scene has them.
   bool shading_normals = false;

@@ -18,32 +18,6 @@
 namespace mbao {
 namespace {
 
-// Tiles are sized so one launch holds at most this many camera samples (16 MiB
-// of hit records) and traces at most this many rays, whatever r^b is; the
-// wavefront's queues hold at most kMaxWavefrontQueueEntries. 2^24 rays are
-// enough to fill a GPU and take a second or two on a CPU, which is how long
-// Ctrl-C may wait for the tile in flight.
-constexpr std::size_t kMaxTileCameraSamples = std::size_t(1) << 20;
-constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 24;
-
-// The most pixels whose wavefront queues fit kMaxWavefrontQueueEntries (>= 1:
-// validate() refuses more per pixel); no limit for the megakernel.
-std::size_t queue_limited_pixels(const RenderSettings& s, KernelOrganisation organisation, std::size_t pixels) {
-  if (organisation != KernelOrganisation::Wavefront) return pixels;
-  const std::uint64_t per_pixel = std::max<std::uint64_t>(1, s.max_queue_entries_per_camera_sample()) * std::uint64_t(s.spp);
-  return std::min(pixels, std::size_t(kMaxWavefrontQueueEntries / per_pixel));
-}
-
-// A tile asked for is cut down only where the wavefront's queues would not fit.
-std::size_t tile_pixels_for(const RenderSettings& s, KernelOrganisation organisation, std::size_t pixels) {
-  const std::size_t limit = queue_limited_pixels(s, organisation, pixels);
-  if (s.tile_pixels) return std::min(s.tile_pixels, limit);
-  const std::uint64_t rays_per_pixel = std::max<std::uint64_t>(1, s.max_rays_per_camera_sample()) * std::uint64_t(s.spp);
-  const std::size_t by_memory = kMaxTileCameraSamples / std::size_t(s.spp);
-  const std::size_t by_rays = std::size_t(std::max<std::uint64_t>(1, kMaxTileRays / rays_per_pixel));
-  return std::max<std::size_t>(1, std::min({limit, by_memory, by_rays}));
-}
-
 // Points moved into the scene's device frame (Scene::render_origin).
 std::vector<cl_float4> relative_to(const std::vector<cl_float4>& points, const glm::vec3& origin) {
   std::vector<cl_float4> moved(points);
@@ -178,7 +152,7 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   RenderStats& stats = result.stats;
   stats.organisation = to_string(plan.organisation);
   const std::size_t pixels = result.ao.size();
-  const std::size_t tile_pixels = tile_pixels_for(settings, plan.organisation, pixels);
+  const std::size_t tile_pixels = plan.tile_pixels;
   std::vector<cl_uint> secondary_rays(pixels);
   cl::CommandQueue& queue = compute_.queue();
   const PrimarySurfaces primaries = bake_tiles ? PrimarySurfaces::GivenPoints : PrimarySurfaces::CameraHits;
@@ -275,7 +249,7 @@ void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program,
   RenderStats& stats = result.stats;
   cl::CommandQueue& queue = compute_.queue();
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
-  const std::size_t tile_pixels = tile_pixels_for(settings, plan.organisation, pixels);
+  const std::size_t tile_pixels = plan.tile_pixels;
   check_device_memory(device(), scene, Frame::device_bytes(settings, plan, tile_pixels), settings);
   Frame frame(compute_.context(), device().device, program, scene, camera, settings, plan, tile_pixels);
   std::optional<HbaoPass> hbao;

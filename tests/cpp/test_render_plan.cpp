@@ -249,6 +249,26 @@ TEST(RenderPlan, FramesOfCameraRaysAloneWriteThePlanesTheirReadersRead) {
   EXPECT_FALSE(hbao.program.origin_paths);
 }
 
+// A tile is a launch's worth of pixels: its hit records, its rays and, in
+// the wavefront, its queue entries bounded, whatever r^b is.
+TEST(RenderPlan, TilesHoldWhatOneLaunchMayHold) {
+  RenderSettings s = two_bounces();
+  s.width = s.height = 4096;
+  s.samples = 16;
+  s.bounces = 3;
+  for (const DeviceInfo& device : {kCpu, kGpu}) {
+    const RenderPlan plan = plan_render(s, device, kShallow);
+    SCOPED_TRACE(to_string(plan.organisation));
+    ASSERT_GT(plan.tile_pixels, 0u);
+    EXPECT_LT(plan.tile_pixels, std::size_t(s.width * s.height));
+    EXPECT_LE(plan.tile_pixels * s.max_rays_per_camera_sample(), std::uint64_t(1) << 24);
+    if (plan.organisation == KernelOrganisation::Wavefront)
+      EXPECT_LE(plan.tile_pixels * s.max_queue_entries_per_camera_sample(), kMaxWavefrontQueueEntries);
+  }
+  s.tile_pixels = 100;
+  EXPECT_EQ(plan_render(s, kCpu, kShallow).tile_pixels, 100u);
+}
+
 TEST(RenderPlan, ReasonsNameEachAutomaticChoice) {
   const RenderPlan plan = plan_render(two_bounces(), kCpu, kDeep);
   // Traversal, organisation and the triangles' layout; lanes take no origin paths.
