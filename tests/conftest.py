@@ -32,8 +32,11 @@ def rng():
 
 @pytest.fixture(scope="session")
 def dask_client():
-    """A Dask client of two worker processes, one thread each, on this machine."""
+    """A Dask client of two worker processes, one thread each, on this machine.
+    Its scheduler's HTTP server (a dashboard_address of None is Dask's default,
+    port 8787 on every interface) listens on loopback, on a port of its own for
+    each pytest worker."""
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address="127.0.0.1:0") as cluster, distributed.Client(cluster) as client:
         yield client
