@@ -1,5 +1,6 @@
 // Image paths as model files write them, found as the tools that wrote them meant (SPEC 3.2).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,9 +15,9 @@ namespace fs = std::filesystem;
 
 class TextureFiles : public ::testing::Test {
  protected:
+  // A folder of its own: CTest runs the tests of this fixture at once, each in a process.
   void SetUp() override {
-    const auto seed = ::testing::UnitTest::GetInstance()->random_seed();
-    folder_ = fs::temp_directory_path() / ("mbao_texture_files_" + std::to_string(seed));
+    folder_ = fs::temp_directory_path() / ("mbao_texture_files_" + std::to_string(::getpid()));
     fs::create_directories(folder_ / "maps");
     std::ofstream(folder_ / "beside.png") << "x";
     std::ofstream(folder_ / "maps" / "in_maps.png") << "x";
