@@ -3,7 +3,6 @@
 #include <stdexcept>
 
 #include "mbao/gbuffer.h"
-#include "mbao/limits.h"
 #include "opencl/launch.h"
 
 namespace mbao {
@@ -12,11 +11,6 @@ namespace {
 
 std::size_t camera_hit_bytes(const RenderSettings& s, std::size_t tile_pixels) {
   return tile_pixels * std::size_t(s.spp) * sizeof(cl_uint4);
-}
-
-// trace_camera_packets takes a packet of camera samples per work item (kernels/kd_packet.h).
-std::size_t camera_rays_per_item(const FrameKernels& kernels) {
-  return kernels.camera_rays == "trace_camera_packets" ? MBAO_LANES : 1;
 }
 
 }  // namespace
@@ -55,7 +49,7 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
       pixels_(std::size_t(s.width) * std::size_t(s.height)),
       tile_pixels_(tile_pixels),
       spp_(std::size_t(s.spp)),
-      camera_rays_per_item_(camera_rays_per_item(plan.kernels)),
+      camera_rays_per_item_(plan.kernels.camera_samples_per_item),
       gbuffer_planes_(plan.gbuffer_planes) {
   const BufferSizes sizes = buffer_sizes(s, plan, tile_pixels, primaries);
   const auto allocate = [&](cl_mem_flags flags, std::size_t bytes) {

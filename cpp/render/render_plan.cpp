@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "mbao/gbuffer.h"
+#include "mbao/limits.h"
 
 namespace mbao {
 namespace {
@@ -166,7 +167,9 @@ std::uint32_t gbuffer_planes(const RenderSettings& s, FrameOutput output) {
 FrameKernels frame_kernels(const RenderSettings& s, const RenderPlan& plan) {
   FrameKernels k;
   // Lanes take the camera rays in packets (kernels/kd_packet.h), one packet per work item.
-  k.camera_rays = plan.traversal == Traversal::Lanes ? "trace_camera_packets" : "trace_camera_rays";
+  const bool packets = plan.traversal == Traversal::Lanes;
+  k.camera_rays = packets ? "trace_camera_packets" : "trace_camera_rays";
+  k.camera_samples_per_item = packets ? MBAO_LANES : 1;
   if (plan.output != FrameOutput::AmbientOcclusion) return k;
   if (plan.organisation == KernelOrganisation::Megakernel) {
     k.megakernel = s.estimator == Estimator::Branching ? "ao_branching" : "ao_path";

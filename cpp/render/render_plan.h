@@ -86,6 +86,7 @@ enum class FrameOutput { AmbientOcclusion, HbaoGBuffer, GBuffer };
 // empty where the frame has no such part.
 struct FrameKernels {
   std::string camera_rays;  // trace_camera_rays, or trace_camera_packets: every frame
+  std::size_t camera_samples_per_item = 1;  // MBAO_LANES for trace_camera_packets
   std::string megakernel;   // ao_branching or ao_path: the megakernel organisation
   // The wavefront: its first bounce and the bounces after, each over a queue,
   // then the pixels' values from the counts.

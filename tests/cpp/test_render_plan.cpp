@@ -8,6 +8,7 @@
 #include <set>
 
 #include "mbao/gbuffer.h"
+#include "mbao/limits.h"
 #include "render/render_plan.h"
 #include "render/renderer.h"
 #include "scene/cornell_box.h"
@@ -218,9 +219,12 @@ TEST(RenderPlan, NamesTheKernelsEachFrameLaunches) {
   s = two_bounces();
   EXPECT_EQ(plan_render(s, kGpu, kShallow).kernels.in_launch_order(),
             (Kernels{"trace_camera_rays", "wavefront_first_bounce", "wavefront_bounce", "wavefront_finish"}));
-  EXPECT_EQ(plan_render(s, kCpu, kDeep).kernels.in_launch_order(),
+  const RenderPlan lanes = plan_render(s, kCpu, kDeep);
+  EXPECT_EQ(lanes.kernels.in_launch_order(),
             (Kernels{"trace_camera_packets", "stream_bounce_rays", "trace_rays_in_lanes", "stream_bounce_hits",
                      "wavefront_finish"}));
+  EXPECT_EQ(lanes.kernels.camera_samples_per_item, std::size_t(MBAO_LANES));
+  EXPECT_EQ(plan_render(s, kGpu, kDeep).kernels.camera_samples_per_item, 1u);
 }
 
 // HBAO's frame and a G-buffer alone trace camera rays and nothing after them:
