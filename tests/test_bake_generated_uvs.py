@@ -145,3 +145,52 @@ def test_vertices_split_at_minus_zero_still_join_one_chart():
     quad = [[0, 2, 1], [0, 3, 2]]  # facing up
     texture = generated(*merge((left, quad), (right, quad)), resolution=32)
     assert texture.stats["charts"] == 1
+
+
+def ring(outer, inner, segments):
+    """A flat ring in the floor y = 0, facing up: `segments` quads around."""
+    angles = 2 * np.pi * np.arange(segments) / segments
+    circle = np.stack([np.cos(angles), np.zeros(segments), -np.sin(angles)], axis=1)
+    vertices = np.concatenate([outer * circle, inner * circle])
+    k = np.arange(segments)
+    following = (k + 1) % segments
+    quads = np.stack([k, following, segments + following, segments + k], axis=1)
+    return vertices, quads_to_triangles(quads)
+
+
+def test_a_ring_is_cut_into_arcs_that_pack_denser_than_its_box():
+    """A ring 2 units across, uncut, would fit 64 texels at no more than
+    (64 - 2 * padding - 1) / 2 texels per unit; its triangles fill a fifth of
+    its box, so it is cut into arcs, which pack denser."""
+    resolution, padding = 64, 2
+    texture = generated(*ring(1.0, 0.9, 64), resolution=resolution, padding=padding)
+    assert texture.stats["charts"] > 1 and texture.stats["claimed_twice"] == 0
+    assert texture.stats["texels_per_unit"] > 1.2 * (resolution - 2 * padding - 1) / 2
+
+
+def test_thin_triangles_nest_in_pairs_one_half_turned():
+    """16 equal obtuse triangles, apart, each 4 units long and 0.5 high. Two,
+    one half turned, make a parallelogram 5 units long and 0.5 high, and eight
+    of those fit a square 5 units a side. As they are, two leave a wedge empty
+    between them: their boxes need a square 8 units a side, and first fit
+    without turns (mbao before half turns) one of more than 7."""
+    resolution, padding = 128, 1
+    triangle = np.array([[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [1.0, 0.0, -0.5]])
+    vertices = np.concatenate([triangle + [0.0, 0.0, 2.0 * k] for k in range(16)])
+    indices = np.arange(48).reshape(16, 3)
+    texture = generated(vertices, indices, resolution=resolution, padding=padding)
+    assert texture.stats["charts"] == 16 and texture.stats["claimed_twice"] == 0
+    assert texture.stats["texels_per_unit"] > (resolution - 2 * padding - 1) / 6
+
+
+def test_a_few_large_charts_are_cut_where_that_packs_denser():
+    """Five equal square floors, 2 units a side, apart: no five squares of
+    side a fit a square of side less than (2 + 1 / sqrt(2)) a (Goebel, 1979),
+    so uncut they fit 256 texels at no more than (256 - 2 * padding) /
+    (2 * (2 + 1 / sqrt(2))) texels per unit. Cut, they pack denser. One floor
+    alone is not cut (the plane above)."""
+    resolution, padding = 256, 2
+    floors = floor_cells([(3 * k + i, j) for k in range(5) for i in range(2) for j in range(2)])
+    texture = generated(*floors, resolution=resolution, padding=padding)
+    assert texture.stats["charts"] > 5 and texture.stats["claimed_twice"] == 0
+    assert texture.stats["texels_per_unit"] > (resolution - 2 * padding) / (2 * (2 + 1 / np.sqrt(2)))

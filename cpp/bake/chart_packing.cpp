@@ -162,18 +162,18 @@ class Atlas {
       : claimed_(width, height), free_runs_(std::size_t(height), {FreeRun{0, width}}),
         longest_free_(std::size_t(height), width) {}
 
-  // Where `chart`'s box's corner goes: the highest row, then the leftmost
-  // column, `padding` from the border, at which its kept-clear texels meet no
-  // claimed texel; none where it fits nowhere. Only rows where each of its
+  // Where `chart`'s box's corner goes: the highest row up to `last_row`, then
+  // the leftmost column, `padding` from the border, at which its kept-clear
+  // texels meet no claimed texel; none where it fits nowhere. Only rows where each of its
   // rows' runs could lie in a free run, and there only columns where its
   // longest run does, are tried.
-  std::optional<glm::ivec2> first_fit(const ChartTexels& chart, int padding) const {
+  std::optional<glm::ivec2> first_fit(const ChartTexels& chart, int padding, int last_row) const {
     const int w = chart.touched.width(), h = chart.touched.height();
     const int reach = padding - padding / 2;  // of the kept-clear texels beyond the touched
     const int key_length = chart.clear_runs[std::size_t(chart.key_row)];
     const int last_x = claimed_.width() - padding - w;  // the last corner column in the texture
     int meeting_row = 0;
-    for (int y = padding; y + h + padding <= claimed_.height(); ++y) {
+    for (int y = padding; y + h + padding <= claimed_.height() && y <= last_row; ++y) {
       if (!rows_can_hold(chart, y - reach)) continue;
       for (const FreeRun& run : free_runs_[std::size_t(y - reach + chart.key_row)]) {
         if (run.end - run.start < key_length) continue;
@@ -254,17 +254,33 @@ class Atlas {
 
 }  // namespace
 
-std::optional<std::vector<glm::ivec2>> packed_charts(const std::vector<FlatChart>& charts,
-                                                     const std::vector<std::size_t>& order, double density,
-                                                     int width, int height, int padding) {
-  std::vector<glm::ivec2> placed(charts.size(), glm::ivec2(0));
+FlatChart half_turned(const FlatChart& chart) {
+  FlatChart turned = chart;
+  for (glm::dvec2& q : turned.corners) q = chart.size - q;
+  return turned;
+}
+
+// Whether corner a lies higher up than b, or as high and further left.
+bool before(glm::ivec2 a, glm::ivec2 b) { return a.y < b.y || (a.y == b.y && a.x < b.x); }
+
+std::optional<std::vector<Placement>> packed_charts(const std::vector<FlatChart>& charts,
+                                                    const std::vector<std::size_t>& order, double density,
+                                                    int width, int height, int padding) {
+  std::vector<Placement> placed(charts.size());
   Atlas atlas(width, height);
   for (std::size_t c : order) {
-    const ChartTexels texels = chart_texels(charts[c], density, padding);
-    const std::optional<glm::ivec2> corner = atlas.first_fit(texels, padding);
-    if (!corner) return std::nullopt;
-    atlas.place(texels, *corner, padding);
-    placed[c] = *corner;
+    std::optional<ChartTexels> best;
+    for (const bool half_turn : {false, true}) {
+      ChartTexels texels = chart_texels(half_turn ? half_turned(charts[c]) : charts[c], density, padding);
+      const int last_row = best ? placed[c].corner.y : height;  // the half turn is tried no lower
+      const std::optional<glm::ivec2> corner = atlas.first_fit(texels, padding, last_row);
+      if (corner && (!best || before(*corner, placed[c].corner))) {
+        best = std::move(texels);
+        placed[c] = Placement{*corner, half_turn};
+      }
+    }
+    if (!best) return std::nullopt;
+    atlas.place(*best, placed[c].corner, padding);
   }
   return placed;
 }

@@ -17,15 +17,26 @@ struct FlatChart {
   glm::dvec2 size{0.0};             // its box's
 };
 
-// Where each chart goes at `density` texels per world unit: the texel of its
-// box's low corner, where its corner (0, 0) lies half a texel in from that
-// texel's low corner. Each box (ceil(size * density) + 1 texels each way) lies
-// `padding` texels from the border, and the texels each chart's triangles
-// touch lie more than `padding` texels (in x or y) from those of every other.
-// Charts go in `order`, each as high up and then as far left as it fits (first
-// fit, into any gap the charts before it left). None where they do not fit.
-std::optional<std::vector<glm::ivec2>> packed_charts(const std::vector<FlatChart>& charts,
-                                                     const std::vector<std::size_t>& order, double density,
-                                                     int width, int height, int padding);
+// A chart turned by half a turn in its plane, its corners measured again from its box's low corner.
+FlatChart half_turned(const FlatChart& chart);
+
+// Where a chart goes: the texel of its box's low corner, and whether it is half turned first.
+struct Placement {
+  glm::ivec2 corner{0};
+  bool half_turned = false;
+};
+
+// Where each chart goes at `density` texels per world unit, as it is or half
+// turned: the texel of its box's low corner, where its corner (0, 0) lies
+// half a texel in from that texel's low corner. Each box (ceil(size *
+// density) + 1 texels each way) lies `padding` texels from the border, and the
+// texels each chart's triangles touch lie more than `padding` texels (in x or
+// y) from those of every other. Charts go in `order`, each as high up and then
+// as far left as it fits, as it is or half turned (first fit, into any gap
+// the charts before it left; as it is where both fit equally: two concave
+// charts, or two triangles, then nest). None where they do not fit.
+std::optional<std::vector<Placement>> packed_charts(const std::vector<FlatChart>& charts,
+                                                    const std::vector<std::size_t>& order, double density,
+                                                    int width, int height, int padding);
 
 }  // namespace mbao

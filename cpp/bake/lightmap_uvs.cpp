@@ -244,51 +244,136 @@ std::vector<std::vector<std::uint32_t>> cut_across(const std::vector<std::uint32
   return cut;
 }
 
-// A chart longer than this share of the texture's shorter side, at the
-// density at which the charts' boxes would fill the texture, and more than
-// twice as long as it is wide, is cut across into pieces no longer: a long
-// strip (a moulding, a rim) would otherwise set the density for every chart.
-constexpr double kLongestShare = 0.25;
+// Where a chart is cut across its length (SPEC 6.3), in shares of the
+// texture's shorter side at the density at which the charts' boxes would fill
+// the texture, or in texels per texel of padding:
+constexpr double kStripShare = 0.25;  // a strip more than twice as long as wide; also the pieces' length
+constexpr double kHollowPaddings = 16.0;  // a chart whose triangles fill less than kHollowFill of its box
+constexpr double kHollowFill = 0.6;
+constexpr double kLargeShare = 0.375;  // any chart, where that packs better
 
-// `members`, laid flat in the plane perpendicular to `axis` as `flat`, as
-// charts: cut across, each piece laid flat anew (it may turn), while longer
-// than `longest` and twice as long as wide.
-void add_cut_where_long(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-                        std::vector<std::uint32_t> members, FlatChart flat, const glm::dvec3& axis, double longest,
-                        Charts* charts) {
-  std::vector<std::vector<std::uint32_t>> pieces;
-  if (flat.size.x > longest && flat.size.x > 2.0 * flat.size.y)
-    pieces = cut_across(members, flat, std::size_t(std::ceil(flat.size.x / longest)));
-  if (pieces.size() < 2) {  // not long, or one triangle spans its length
-    charts->members.push_back(std::move(members));
-    charts->flat.push_back(std::move(flat));
-    return;
+// Those lengths in world units.
+struct CutLengths {
+  double strip = 0.0, hollow = 0.0, large = 0.0;
+};
+
+// The area of a chart's triangles.
+double flat_area(const FlatChart& chart) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i + 2 < chart.corners.size(); i += 3) {
+    const glm::dvec2 a = chart.corners[i + 1] - chart.corners[i], b = chart.corners[i + 2] - chart.corners[i];
+    sum += 0.5 * std::abs(a.x * b.y - a.y * b.x);
   }
-  for (std::vector<std::uint32_t>& piece : pieces) {
-    FlatChart laid = laid_flat(mesh, triangles, piece, axis);
-    add_cut_where_long(mesh, triangles, std::move(piece), std::move(laid), axis, longest, charts);
-  }
+  return sum;
 }
 
-// The charts of a round, each laid flat in the plane perpendicular to its
-// cone's axis, long ones cut across.
-Charts grow_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
-                   const std::vector<int>& round, int width, int height, double* worst_stretch) {
-  std::vector<Cone> cones;
-  std::vector<std::vector<std::uint32_t>> grown = grown_charts(surface, round, &cones);
+// Whether a chart packs better cut across its length: a long strip (a
+// moulding, a rim) would set the density for every chart, and a hollow one (a
+// rose window, a column's capital) holds its box's middle empty, where it is
+// long against the padding that cutting adds. A large one (a room's wall) is
+// cut where `cut_large`: a few of them tile a square badly, but one alone
+// tiles it well.
+bool worth_cutting(const FlatChart& flat, const CutLengths& lengths, bool cut_large) {
+  const double length = flat.size.x;
+  return (length > lengths.strip && length > 2.0 * flat.size.y) ||
+         (length > lengths.hollow && flat_area(flat) < kHollowFill * area(flat)) ||
+         (cut_large && length > lengths.large);
+}
+
+// Each piece split where its triangles do not join across edges: a ring cut
+// across leaves two arcs in a piece.
+std::vector<std::vector<std::uint32_t>> connected_parts(const std::vector<std::vector<std::uint32_t>>& pieces,
+                                                        const Surface& surface) {
+  std::vector<int> piece_of(surface.areas.size(), -1);
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    for (std::uint32_t i : pieces[p]) piece_of[i] = int(p);
+  std::vector<std::vector<std::uint32_t>> parts;
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    for (std::uint32_t seed : pieces[p]) {
+      if (piece_of[seed] != int(p)) continue;  // in a part already
+      std::vector<std::uint32_t> part{seed};
+      piece_of[seed] = -1;
+      for (std::size_t next = 0; next < part.size(); ++next)
+        for (std::uint32_t neighbour : surface.neighbours[part[next]])
+          if (piece_of[neighbour] == int(p)) {
+            piece_of[neighbour] = -1;
+            part.push_back(neighbour);
+          }
+      parts.push_back(std::move(part));
+    }
+  return parts;
+}
+
+// The charts of a round as grown, each laid flat in the plane perpendicular to its cone's axis.
+struct GrownCharts {
+  std::vector<std::vector<std::uint32_t>> members;
   std::vector<FlatChart> flat;
+  std::vector<glm::dvec3> axes;
+  CutLengths cut_lengths;
+};
+
+GrownCharts grow_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
+                        const std::vector<int>& round, int width, int height, int padding, double* worst_stretch) {
+  std::vector<Cone> cones;
+  GrownCharts grown;
+  grown.members = grown_charts(surface, round, &cones);
   *worst_stretch = 1.0;
-  for (std::size_t c = 0; c < grown.size(); ++c) {
-    cones[c].axis = glm::normalize(cones[c].axis);
-    for (std::uint32_t i : grown[c])
-      *worst_stretch = std::max(*worst_stretch, 1.0 / glm::dot(surface.normals[i], cones[c].axis));
-    flat.push_back(laid_flat(mesh, triangles, grown[c], cones[c].axis));
+  for (std::size_t c = 0; c < grown.members.size(); ++c) {
+    grown.axes.push_back(glm::normalize(cones[c].axis));
+    for (std::uint32_t i : grown.members[c])
+      *worst_stretch = std::max(*worst_stretch, 1.0 / glm::dot(surface.normals[i], grown.axes[c]));
+    grown.flat.push_back(laid_flat(mesh, triangles, grown.members[c], grown.axes[c]));
   }
-  const double longest = kLongestShare * std::min(width, height) / filling_density(flat, width, height);
+  const double texel = 1.0 / filling_density(grown.flat, width, height), side = std::min(width, height) * texel;
+  grown.cut_lengths = {kStripShare * side, kHollowPaddings * std::max(padding, 1) * texel, kLargeShare * side};
+  return grown;
+}
+
+// A chart's triangles and how they lie flat, as charts: while worth cutting,
+// cut across into pieces no longer than a strip may be (two at least) and
+// those into connected parts, each laid flat anew (it may turn).
+class Cutter {
+ public:
+  Cutter(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
+         const CutLengths& lengths, bool cut_large)
+      : mesh_(mesh), triangles_(triangles), surface_(surface), lengths_(lengths), cut_large_(cut_large) {}
+
+  void add(std::vector<std::uint32_t> members, FlatChart flat, const glm::dvec3& axis, Charts* charts) const {
+    std::vector<std::vector<std::uint32_t>> pieces;
+    if (worth_cutting(flat, lengths_, cut_large_)) {
+      const auto count = std::max<std::size_t>(2, std::size_t(std::ceil(flat.size.x / lengths_.strip)));
+      pieces = connected_parts(cut_across(members, flat, count), surface_);
+    }
+    if (pieces.size() < 2) {  // not worth it, or one triangle spans its length
+      charts->members.push_back(std::move(members));
+      charts->flat.push_back(std::move(flat));
+      return;
+    }
+    for (std::vector<std::uint32_t>& piece : pieces) {
+      FlatChart laid = laid_flat(mesh_, triangles_, piece, axis);
+      add(std::move(piece), std::move(laid), axis, charts);
+    }
+  }
+
+ private:
+  const TriangleMesh& mesh_;
+  const std::vector<std::uint32_t>& triangles_;
+  const Surface& surface_;
+  CutLengths lengths_;
+  bool cut_large_;
+};
+
+Charts cut_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
+                  const GrownCharts& grown, bool cut_large) {
+  const Cutter cutter(mesh, triangles, surface, grown.cut_lengths, cut_large);
   Charts charts;
-  for (std::size_t c = 0; c < grown.size(); ++c)
-    add_cut_where_long(mesh, triangles, std::move(grown[c]), std::move(flat[c]), cones[c].axis, longest, &charts);
+  for (std::size_t c = 0; c < grown.members.size(); ++c) cutter.add(grown.members[c], grown.flat[c], grown.axes[c], &charts);
   return charts;
+}
+
+bool has_large(const Charts& charts, const CutLengths& lengths) {
+  return std::any_of(charts.flat.begin(), charts.flat.end(),
+                     [&](const FlatChart& flat) { return flat.size.x > lengths.large; });
 }
 
 // Charts by their boxes' area, largest first, so that small ones fill the gaps large ones leave.
@@ -336,10 +421,10 @@ constexpr int kDensitySteps = 10;
 // their boxes' area alone would fill the texture until they fit, then by
 // bisection in ratio.
 double densest_packing(const std::vector<FlatChart>& charts, int width, int height, int padding,
-                       std::vector<glm::ivec2>* placed) {
+                       std::vector<Placement>* placed) {
   const std::vector<std::size_t> order = largest_first(charts);
   double hi = 2.0 * filling_density(charts, width, height), lo = 0.5 * hi;
-  std::optional<std::vector<glm::ivec2>> fits;
+  std::optional<std::vector<Placement>> fits;
   for (; lo > kLeastDensity && !(fits = packed_charts(charts, order, lo, width, height, padding)); lo *= 0.5) hi = lo;
   if (!fits) {
     lo = kLeastDensity;
@@ -358,19 +443,51 @@ double densest_packing(const std::vector<FlatChart>& charts, int width, int heig
   return lo;
 }
 
-std::vector<glm::vec2> chart_uvs(const Charts& charts, const std::vector<glm::ivec2>& placed, double density,
+std::vector<glm::vec2> chart_uvs(const Charts& charts, const std::vector<Placement>& placed, double density,
                                  std::size_t triangles, int width, int height) {
   std::vector<glm::vec2> uvs(3 * triangles, glm::vec2(0.0f));
   for (std::size_t c = 0; c < charts.members.size(); ++c) {
     // Half a texel in from the box's corner: the box is a texel larger than the chart.
-    const glm::dvec2 origin = glm::dvec2(placed[c]) + 0.5;
+    const glm::dvec2 origin = glm::dvec2(placed[c].corner) + 0.5;
+    const FlatChart flat = placed[c].half_turned ? half_turned(charts.flat[c]) : charts.flat[c];
     for (std::size_t m = 0; m < charts.members[c].size(); ++m)
       for (std::size_t k = 0; k < 3; ++k) {
-        const glm::dvec2 q = charts.flat[c].corners[3 * m + k] * density + origin;
+        const glm::dvec2 q = flat.corners[3 * m + k] * density + origin;
         uvs[3 * std::size_t(charts.members[c][m]) + k] = glm::vec2(q.x / width, q.y / height);
       }
   }
   return uvs;
+}
+
+// Charts packed into the texture at the largest padding up to the one asked for, and then the largest density.
+struct Packing {
+  Charts charts;
+  int padding = 0;
+  std::optional<glm::ivec2> size_keeping_padding;
+  double density = 0.0;
+  std::vector<Placement> placed;
+};
+
+Packing packing(Charts charts, int width, int height, int padding) {
+  Packing packing;
+  packing.padding = fitting_padding(charts.flat, width, height, padding);
+  if (packing.padding < padding) packing.size_keeping_padding = size_keeping(charts.flat, width, height, padding);
+  packing.density = densest_packing(charts.flat, width, height, packing.padding, &packing.placed);
+  packing.charts = std::move(charts);
+  return packing;
+}
+
+bool better(const Packing& a, const Packing& b) {
+  return a.padding > b.padding || (a.padding == b.padding && a.density > b.density);
+}
+
+// The round's charts packed, those with large charts cut or not, whichever packs better.
+Packing best_packing(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
+                     const GrownCharts& grown, int width, int height, int padding) {
+  Packing whole = packing(cut_charts(mesh, triangles, surface, grown, false), width, height, padding);
+  if (!has_large(whole.charts, grown.cut_lengths)) return whole;
+  Packing cut = packing(cut_charts(mesh, triangles, surface, grown, true), width, height, padding);
+  return better(cut, whole) ? cut : whole;
 }
 
 // Rounds of charts before giving up: each takes the triangles that overlapped
@@ -386,13 +503,13 @@ LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<st
   std::vector<int> round(triangles.size(), 0);
   for (int r = 0; r < kMaxRounds; ++r) {
     LightmapUvs result;
-    const Charts charts = grow_charts(mesh, triangles, surface, round, width, height, &result.worst_stretch);
-    std::vector<glm::ivec2> placed;
-    result.padding = fitting_padding(charts.flat, width, height, padding);
-    if (result.padding < padding) result.size_keeping_padding = size_keeping(charts.flat, width, height, padding);
-    result.texels_per_unit = densest_packing(charts.flat, width, height, result.padding, &placed);
-    result.charts = charts.flat.size();
-    result.corner_uvs = chart_uvs(charts, placed, result.texels_per_unit, triangles.size(), width, height);
+    const GrownCharts grown = grow_charts(mesh, triangles, surface, round, width, height, padding, &result.worst_stretch);
+    const Packing packed = best_packing(mesh, triangles, surface, grown, width, height, padding);
+    result.padding = packed.padding;
+    result.size_keeping_padding = packed.size_keeping_padding;
+    result.texels_per_unit = packed.density;
+    result.charts = packed.charts.flat.size();
+    result.corner_uvs = chart_uvs(packed.charts, packed.placed, packed.density, triangles.size(), width, height);
     result.layout.emplace(mesh, triangles, result.corner_uvs, width, height, WrapMode::Repeat, WrapMode::Repeat);
     if (result.layout->second_claimants().empty()) return result;
     for (std::size_t i : result.layout->second_claimants()) round[i] = r + 1;
