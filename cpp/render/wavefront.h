@@ -13,7 +13,7 @@
 
 namespace mbao {
 
-// The branching estimator as a wavefront (render.cl's wavefront_* kernels):
+// The branching estimator as a wavefront (render.cl's wavefront_* kernels, kernels/render/wavefront_bounces.h):
 // bounce 1 over the tile's camera samples, each further bounce over the queue
 // of surfaces the bounce before filled, then one work item per pixel weighs
 // the escapes. Two queues take turns, so a tile holds at most
