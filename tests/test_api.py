@@ -12,6 +12,7 @@ import json
 import math
 import os
 import pathlib
+import pickle
 import re
 import subprocess
 import sys
@@ -309,6 +310,23 @@ def test_the_cores_settings_classes_have_real_signatures_whose_defaults_they_tak
     parameters = inspect.signature(cls).parameters
     made = cls()
     assert parameters and all(getattr(made, name) == p.default for name, p in parameters.items())
+
+
+@pytest.mark.parametrize("cls, table", [(mbao.HBAO, "hbao"), (mbao.Denoise, "denoise"), (mbao.Temporal, "temporal")])
+def test_the_cores_settings_classes_are_their_tables(cls, table):
+    """One table per class (cpp/render/setting_specs.h) names its parameters in
+    order, gives their defaults, documents each, and makes its repr and pickle."""
+    specs = mbao._core.setting_specs(table)
+    parameters = inspect.signature(cls).parameters
+    assert list(parameters) == [spec["name"] for spec in specs]
+    assert [p.default for p in parameters.values()] == pytest.approx([spec["default"] for spec in specs])
+    for spec in specs:
+        assert f"{spec['name']}: {spec['doc']}" in cls.__doc__ and f"allowed {spec['range']}." in cls.__doc__
+    made = cls(**{spec["name"]: spec["hi"] if spec["kind"] == "integer" else spec["lo"] + 0.5 for spec in specs})
+    again = eval("mbao." + repr(made))
+    assert pickle.loads(pickle.dumps(made)) is not made
+    assert [getattr(again, s["name"]) for s in specs] == [getattr(made, s["name"]) for s in specs]
+    assert [getattr(pickle.loads(pickle.dumps(made)), s["name"]) for s in specs] == [getattr(made, s["name"]) for s in specs]
 
 
 def test_a_camera_has_a_real_signature_and_a_repr_that_makes_it_again():

@@ -288,13 +288,22 @@ def test_camera_frame_renders_from_the_framing_camera(tmp_path, gltf_scene, comm
 def test_hbao_from_the_command_line_equals_the_api(tmp_path, gltf_scene):
     scene, camera, _ = gltf_scene
     proc = run_mbao("render", scene, "--camera", camera, "--width", 12, "--height", 9, "--method", "hbao",
-                    "--max-distance", 0.8, "--hbao-directions", 4, "--hbao-steps", 3, "--hbao-angle-bias", 5,
+                    "--max-distance", 0.8, "--hbao-directions", 4, "--hbao-steps", 3, "--hbao-angle-bias-deg", 5,
                     "--hbao-falloff", 0.5, "-o", "hbao.exr", cwd=tmp_path)  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     assert "hbao radius=0.8 (--max-distance), directions=4, steps=3" in output_lines(proc.stdout)["settings"]
     expected = mbao.render(mbao.load(scene), camera=mbao.Camera.load(camera), width=12, height=9, method="hbao",
                            max_distance=0.8, hbao=mbao.HBAO(directions=4, steps=3, angle_bias_deg=5, falloff=0.5))
     np.testing.assert_array_equal(read_image(tmp_path / "hbao.exr")[1][..., 0], expected.ao)
+
+
+def test_the_render_commands_hbao_options_are_mbao_hbaos_settings(tmp_path):
+    """One --hbao-NAME option per setting of mbao.HBAO's table, with its default and range."""
+    help_text = " ".join(run_mbao("render", "--help", cwd=tmp_path).stdout.split())
+    for spec in mbao._core.setting_specs("hbao"):
+        flag = "--hbao-" + spec["name"].replace("_", "-")
+        assert re.search(re.escape(flag) + r" \S+ " + re.escape(spec["doc"]) + r" \(default: " +
+                         re.escape(str(spec["default"])) + ", allowed " + re.escape(spec["range"]), help_text), flag
 
 
 def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_scene):

@@ -15,7 +15,7 @@ namespace mbao::bindings {
 namespace {
 
 // A setting's value as Python holds it: None for one left unset and for an automatic count.
-py::object to_python(const SettingSpec& spec, const SettingValue& value) {
+py::object to_python(const SettingRange& spec, const SettingValue& value) {
   if (spec.kind == SettingKind::AutoCount && std::get<std::uint64_t>(value) == 0) return py::none();
   return std::visit(
       [](const auto& v) -> py::object {
@@ -25,7 +25,7 @@ py::object to_python(const SettingSpec& spec, const SettingValue& value) {
       value);
 }
 
-SettingValue from_python(const SettingSpec& spec, const py::handle& value) {
+SettingValue from_python(const SettingRange& spec, const py::handle& value) {
   switch (spec.kind) {
     case SettingKind::Integer: return value.cast<std::int64_t>();
     case SettingKind::Unsigned: return value.cast<std::uint64_t>();
@@ -96,10 +96,11 @@ py::dict stats_dict(const RenderStats& s) {
 
 namespace {
 
-py::list specs_list() {
+template <typename Settings>
+py::list specs_list(const std::vector<SettingSpecOf<Settings>>& table) {
   static const char* const kinds[] = {"integer", "unsigned", "auto count", "real", "choice", "flag"};
   py::list specs;
-  for (const SettingSpec& spec : setting_specs()) {
+  for (const SettingSpecOf<Settings>& spec : table) {
     py::dict d;
     d["name"] = spec.name;
     d["group"] = spec.group == SettingGroup::Render ? "render" : "engine";
@@ -116,6 +117,53 @@ py::list specs_list() {
     specs.append(d);
   }
   return specs;
+}
+
+py::list specs_of(const std::string& table) {
+  if (table == "render") return specs_list(setting_specs());
+  if (table == "hbao") return specs_list(hbao_setting_specs());
+  if (table == "denoise") return specs_list(denoise_setting_specs());
+  if (table == "temporal") return specs_list(temporal_setting_specs());
+  throw std::invalid_argument("no settings table \"" + table + "\"; the tables are render, hbao, denoise and temporal");
+}
+
+// A settings class's docstring: `intro`, then each setting with what it means, its default and its range.
+template <typename Settings>
+std::string documented(const std::string& intro, const std::vector<SettingSpecOf<Settings>>& specs) {
+  std::string doc = intro + "\n";
+  for (const SettingSpecOf<Settings>& spec : specs)
+    doc += "\n" + spec.name + ": " + spec.doc + " Default " +
+           py::repr(to_python(spec, spec.default_value())).template cast<std::string>() + ", allowed " +
+           spec.range() + ".";
+  return doc;
+}
+
+// A settings class's members from its table: a read-only property per
+// setting, pickling as the tuple of their values, and a repr naming each.
+template <typename Settings>
+void add_table_members(py::class_<Settings>& cls, const std::string& name,
+                       const std::vector<SettingSpecOf<Settings>>& specs) {
+  for (const SettingSpecOf<Settings>& spec : specs)
+    cls.def_property_readonly(spec.name.c_str(), [&spec](const Settings& s) { return to_python(spec, spec.get(s)); });
+  cls.def(py::pickle(
+      [&specs](const Settings& s) {
+        py::tuple values(specs.size());
+        for (std::size_t i = 0; i < specs.size(); ++i) values[i] = to_python(specs[i], specs[i].get(s));
+        return values;
+      },
+      [&specs](const py::tuple& values) {
+        if (values.size() != specs.size()) throw std::invalid_argument("a pickled settings tuple of the wrong size");
+        Settings s;
+        for (std::size_t i = 0; i < specs.size(); ++i) specs[i].set(s, from_python(specs[i], values[i]));
+        s.validate();
+        return s;
+      }));
+  cls.def("__repr__", [&specs, name](const Settings& s) {
+    std::string text = name + "(";
+    for (std::size_t i = 0; i < specs.size(); ++i)
+      text += (i ? ", " : "") + specs[i].name + "=" + py::repr(to_python(specs[i], specs[i].get(s))).template cast<std::string>();
+    return text + ")";
+  });
 }
 
 py::tuple render(const std::shared_ptr<Scene>& scene, const std::optional<Camera>& camera, const DeviceInfo& device,
@@ -199,87 +247,50 @@ py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py
 
 void bind_render(py::module_& m) {
   m.attr("DEFAULT_MAX_RAYS") = kDefaultMaxRays;
-  py::class_<HbaoSettings>(m, "HBAO", R"doc(HBAO's settings (SPEC 4; Bavoil et al. 2008) for render(method="hbao").
-
-directions: image directions marched from each pixel (1..64), rotated per pixel by the seed.
-steps: samples along each direction (1..64), the first one jittered per pixel.
-angle_bias_deg: horizons less than this above the tangent plane are ignored, in [0, 90).
-falloff: attenuation W(r) = 1 - falloff * (r / radius)^2 of each horizon rise, in [0, 1].
-The radius, in world units, is the render's max_distance.)doc")
-      .def(py::init([](std::int64_t directions, std::int64_t steps, float angle_bias_deg, float falloff) {
+  // The constructors restate each table's names and defaults as real signatures; a test holds them equal.
+  py::class_<HbaoSettings> hbao(
+      m, "HBAO",
+      documented("HBAO's settings (SPEC 4; Bavoil et al. 2008) for render(method=\"hbao\").", hbao_setting_specs())
+          .c_str());
+  hbao.def(py::init([](std::int64_t directions, std::int64_t steps, float angle_bias_deg, float falloff) {
              const HbaoSettings h{directions, steps, angle_bias_deg, falloff};
              h.validate();
              return h;
            }),
            py::arg("directions") = HbaoSettings{}.directions, py::arg("steps") = HbaoSettings{}.steps,
-           py::arg("angle_bias_deg") = HbaoSettings{}.angle_bias_deg, py::arg("falloff") = HbaoSettings{}.falloff)
-      .def_readonly("directions", &HbaoSettings::directions)
-      .def_readonly("steps", &HbaoSettings::steps)
-      .def_readonly("angle_bias_deg", &HbaoSettings::angle_bias_deg)
-      .def_readonly("falloff", &HbaoSettings::falloff)
-      .def(py::pickle([](const HbaoSettings& h) { return py::make_tuple(h.directions, h.steps, h.angle_bias_deg, h.falloff); },
-                      [](const py::tuple& t) {
-                        return HbaoSettings{t[0].cast<std::int64_t>(), t[1].cast<std::int64_t>(), t[2].cast<float>(),
-                                            t[3].cast<float>()};
-                      }))
-      .def("__repr__", [](const HbaoSettings& h) {
-        return "HBAO(directions=" + std::to_string(h.directions) + ", steps=" + std::to_string(h.steps) +
-               ", angle_bias_deg=" + std::to_string(h.angle_bias_deg) + ", falloff=" + std::to_string(h.falloff) + ")";
-      });
-  py::class_<DenoiseSettings>(m, "Denoise", R"doc(The spatial filter's settings (SPEC 7.3) for render(denoise=...):
-an edge-aware a-trous wavelet filter (Dammertz et al. 2010) guided by the camera
-hits' G-buffer and each pixel's variance, as in SVGF (Schied et al. 2017).
-
-iterations: K, 1..14; iteration i takes taps 2^i pixels apart.
-sigma_plane: how far, in pixel footprints, a tap may lie off the pixel's tangent plane.
-sigma_normal: the exponent on the cosine between the normals, an integer in 0..1024 (0 ignores them).
-sigma_value: how far a tap's value may differ, in standard deviations of the pixel's
-    blurred variance.)doc")
-      .def(py::init([](std::int64_t iterations, float sigma_plane, std::int64_t sigma_normal, float sigma_value) {
-             const DenoiseSettings d{iterations, sigma_plane, sigma_normal, sigma_value};
-             d.validate();
-             return d;
-           }),
-           py::arg("iterations") = DenoiseSettings{}.iterations, py::arg("sigma_plane") = DenoiseSettings{}.sigma_plane,
-           py::arg("sigma_normal") = DenoiseSettings{}.sigma_normal,
-           py::arg("sigma_value") = DenoiseSettings{}.sigma_value)
-      .def_readonly("iterations", &DenoiseSettings::iterations)
-      .def_readonly("sigma_plane", &DenoiseSettings::sigma_plane)
-      .def_readonly("sigma_normal", &DenoiseSettings::sigma_normal)
-      .def_readonly("sigma_value", &DenoiseSettings::sigma_value)
-      .def(py::pickle(
-          [](const DenoiseSettings& d) { return py::make_tuple(d.iterations, d.sigma_plane, d.sigma_normal, d.sigma_value); },
-          [](const py::tuple& t) {
-            const DenoiseSettings d{t[0].cast<std::int64_t>(), t[1].cast<float>(), t[2].cast<std::int64_t>(),
-                                    t[3].cast<float>()};
-            d.validate();
-            return d;
-          }))
-      .def("__repr__", [](const DenoiseSettings& d) {
-        return "Denoise(iterations=" + std::to_string(d.iterations) + ", sigma_plane=" + std::to_string(d.sigma_plane) +
-               ", sigma_normal=" + std::to_string(d.sigma_normal) + ", sigma_value=" + std::to_string(d.sigma_value) +
-               ")";
-      });
-  py::class_<TemporalSettings>(m, "Temporal", R"doc(Temporal accumulation's settings (SPEC 7.4) for
-render_sequence(temporal=...): each frame blends its render with the history of
-the frames before, reprojected into its camera through the G-buffers.
-
-max_length: N, 1..65536: a still camera averages its first N frames exactly,
-    then keeps an exponential mean that weighs each new frame by 1/N.)doc")
-      .def(py::init([](std::int64_t max_length) {
-             const TemporalSettings t{max_length};
-             t.validate();
-             return t;
-           }),
-           py::arg("max_length") = TemporalSettings{}.max_length)
-      .def_readonly("max_length", &TemporalSettings::max_length)
-      .def(py::pickle([](const TemporalSettings& t) { return py::make_tuple(t.max_length); },
-                      [](const py::tuple& t) {
-                        const TemporalSettings s{t[0].cast<std::int64_t>()};
-                        s.validate();
-                        return s;
-                      }))
-      .def("__repr__", [](const TemporalSettings& t) { return "Temporal(max_length=" + std::to_string(t.max_length) + ")"; });
+           py::arg("angle_bias_deg") = HbaoSettings{}.angle_bias_deg, py::arg("falloff") = HbaoSettings{}.falloff);
+  add_table_members(hbao, "HBAO", hbao_setting_specs());
+  py::class_<DenoiseSettings> denoise(
+      m, "Denoise",
+      documented("The spatial filter's settings (SPEC 7.3) for render(denoise=...): an edge-aware a-trous wavelet\n"
+                 "filter (Dammertz et al. 2010) guided by the camera hits' G-buffer and each pixel's variance, as\n"
+                 "in SVGF (Schied et al. 2017).",
+                 denoise_setting_specs())
+          .c_str());
+  denoise.def(py::init([](std::int64_t iterations, float sigma_plane, std::int64_t sigma_normal, float sigma_value) {
+                const DenoiseSettings d{iterations, sigma_plane, sigma_normal, sigma_value};
+                d.validate();
+                return d;
+              }),
+              py::arg("iterations") = DenoiseSettings{}.iterations,
+              py::arg("sigma_plane") = DenoiseSettings{}.sigma_plane,
+              py::arg("sigma_normal") = DenoiseSettings{}.sigma_normal,
+              py::arg("sigma_value") = DenoiseSettings{}.sigma_value);
+  add_table_members(denoise, "Denoise", denoise_setting_specs());
+  py::class_<TemporalSettings> temporal(
+      m, "Temporal",
+      documented("Temporal accumulation's settings (SPEC 7.4) for render_sequence(temporal=...): each frame\n"
+                 "blends its render with the history of the frames before, reprojected into its camera through\n"
+                 "the G-buffers.",
+                 temporal_setting_specs())
+          .c_str());
+  temporal.def(py::init([](std::int64_t max_length) {
+                 const TemporalSettings t{max_length};
+                 t.validate();
+                 return t;
+               }),
+               py::arg("max_length") = TemporalSettings{}.max_length);
+  add_table_members(temporal, "Temporal", temporal_setting_specs());
   py::class_<TemporalHistory>(m, "TemporalHistory",
                               "What a sequence's frames keep on the device for the next (SPEC 7.4); "
                               "mbao.render_sequence makes one per sequence.")
@@ -293,9 +304,9 @@ max_length: N, 1..65536: a still camera averages its first N frames exactly,
         "The G-buffer (SPEC 7.2); returns ({plane: (height, width) float32}, the scene's render origin, stats), "
         "the planes of kernels/mbao/gbuffer.h by name, positions relative to the render origin. "
         "Use mbao.gbuffer, which checks and documents the arguments.");
-  m.def("setting_specs", &specs_list,
-        "The render settings, each as a dict: name, group (\"render\" or \"engine\"), kind, doc, range, lo, hi, "
-        "choices and default (render/setting_specs.h).");
+  m.def("setting_specs", &specs_of, py::arg("table") = "render",
+        "The settings of a table (\"render\", \"hbao\", \"denoise\" or \"temporal\"), each as a dict: name, group "
+        "(\"render\" or \"engine\"), kind, doc, range, lo, hi, choices and default (render/setting_specs.h).");
   m.def(
       "kernel_variants",
       [] {

@@ -10,21 +10,10 @@ namespace {
 
 [[noreturn]] void bad(const std::string& message) { throw std::invalid_argument(message); }
 
-constexpr std::int64_t kMaxIterations = 14;  // taps 2^13 pixels apart: past the widest image
-constexpr std::int64_t kMaxNormalExponent = MBAO_MAX_NORMAL_EXPONENT;
-constexpr std::int64_t kMaxHistoryLength = 1 << 16;  // N: from no history to one that weighs a new frame by 2^-16
-static_assert(kMaxNormalExponent < (1 << MBAO_NORMAL_EXPONENT_BITS), "denoise.cl squares over these bits");
-
-void check_positive(const char* name, float value, const char* what) {
-  if (!(value > 0.0f && std::isfinite(value)))
-    bad(std::string("denoise ") + name + " must be positive and finite (" + what + "), got " +
-        std::to_string(value));
-}
-
-void check_range(const char* name, std::int64_t value, std::int64_t lo, std::int64_t hi) {
-  if (value < lo || value > hi)
-    bad(std::string(name) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-        std::to_string(value));
+// Every setting of `settings` checked against its table, the errors naming `what` it is.
+template <typename Settings>
+void check_all(const Settings& settings, const std::vector<SettingSpecOf<Settings>>& specs, const std::string& what) {
+  for (const SettingSpecOf<Settings>& spec : specs) spec.SettingRange::check(what + " " + spec.name, spec.get(settings));
 }
 
 // Past this a pixel's ray count would not fit the 32-bit counter the kernels keep.
@@ -176,30 +165,11 @@ void RenderSettings::validate_hbao() const {
   hbao.validate();
 }
 
-void HbaoSettings::validate() const {
-  check_range("hbao directions", directions, 1, 64);
-  check_range("hbao steps", steps, 1, 64);
-  if (!(angle_bias_deg >= 0.0f && angle_bias_deg < 90.0f))
-    bad("hbao angle_bias_deg must be in [0, 90), got " + std::to_string(angle_bias_deg));
-  if (!(falloff >= 0.0f && falloff <= 1.0f)) bad("hbao falloff must be in [0, 1], got " + std::to_string(falloff));
-}
+void HbaoSettings::validate() const { check_all(*this, hbao_setting_specs(), "hbao"); }
 
-void DenoiseSettings::validate() const {
-  if (iterations < 1 || iterations > kMaxIterations)
-    bad("denoise iterations must be in [1, " + std::to_string(kMaxIterations) +
-        "] (iteration i takes taps 2^i pixels apart), got " + std::to_string(iterations));
-  check_positive("sigma_plane", sigma_plane, "distance from the tangent plane, in footprints");
-  if (sigma_normal < 0 || sigma_normal > kMaxNormalExponent)
-    bad("denoise sigma_normal must be an integer in [0, " + std::to_string(kMaxNormalExponent) +
-        "] (the exponent on the normals' cosine; 0 ignores normals), got " + std::to_string(sigma_normal));
-  check_positive("sigma_value", sigma_value, "value differences, in standard deviations");
-}
+void DenoiseSettings::validate() const { check_all(*this, denoise_setting_specs(), "denoise"); }
 
-void TemporalSettings::validate() const {
-  if (max_length < 1 || max_length > kMaxHistoryLength)
-    bad("temporal max_length must be in [1, " + std::to_string(kMaxHistoryLength) +
-        "] (the frames a pixel's mean is capped at; 1 keeps no history), got " + std::to_string(max_length));
-}
+void TemporalSettings::validate() const { check_all(*this, temporal_setting_specs(), "temporal"); }
 
 void RenderSettings::validate_filters() const {
   if (denoise) denoise->validate();

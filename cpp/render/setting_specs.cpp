@@ -5,22 +5,24 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "mbao/limits.h"
+
 namespace mbao {
 namespace {
 
 constexpr std::uint64_t kMaxUnsigned = std::numeric_limits<std::uint64_t>::max();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// The accessors of one RenderSettings member as a setting of kind `kind`.
-template <typename Member>
-SettingSpec member(const char* name, SettingGroup group, SettingKind kind, Member RenderSettings::*field,
-                   const char* doc) {
-  SettingSpec spec;
+// The accessors of one member of a settings struct as a setting of kind `kind`.
+template <typename Settings, typename Member>
+SettingSpecOf<Settings> member(const char* name, SettingGroup group, SettingKind kind, Member Settings::*field,
+                               const char* doc) {
+  SettingSpecOf<Settings> spec;
   spec.name = name;
   spec.group = group;
   spec.kind = kind;
   spec.doc = doc;
-  spec.get = [field, kind](const RenderSettings& s) -> SettingValue {
+  spec.get = [field, kind](const Settings& s) -> SettingValue {
     switch (kind) {
       case SettingKind::Integer: return std::int64_t(s.*field);
       case SettingKind::Unsigned:
@@ -29,7 +31,7 @@ SettingSpec member(const char* name, SettingGroup group, SettingKind kind, Membe
       default: return bool(s.*field);
     }
   };
-  spec.set = [field](RenderSettings& s, const SettingValue& value) {
+  spec.set = [field](Settings& s, const SettingValue& value) {
     std::visit(
         [&](const auto& v) {
           using T = std::decay_t<decltype(v)>;
@@ -40,9 +42,10 @@ SettingSpec member(const char* name, SettingGroup group, SettingKind kind, Membe
   return spec;
 }
 
-SettingSpec integer(const char* name, std::int64_t RenderSettings::*field, std::int64_t lo, std::int64_t hi,
-                    const char* doc) {
-  SettingSpec spec = member(name, SettingGroup::Render, SettingKind::Integer, field, doc);
+template <typename Settings>
+SettingSpecOf<Settings> integer(const char* name, std::int64_t Settings::*field, std::int64_t lo, std::int64_t hi,
+                                const char* doc) {
+  SettingSpecOf<Settings> spec = member(name, SettingGroup::Render, SettingKind::Integer, field, doc);
   spec.lo = lo;
   spec.hi = hi;
   return spec;
@@ -56,26 +59,30 @@ SettingSpec whole(const char* name, std::uint64_t RenderSettings::*field, std::u
   return spec;
 }
 
-SettingSpec real(const char* name, float RenderSettings::*field, double lo, bool lo_open, double hi,
-                 const char* doc) {
-  SettingSpec spec = member(name, SettingGroup::Render, SettingKind::Real, field, doc);
+// Which ends of a real setting's range are refused themselves.
+enum class Ends { Closed, LowOpen, HighOpen, Open };
+
+template <typename Settings>
+SettingSpecOf<Settings> real(const char* name, float Settings::*field, double lo, double hi, Ends ends,
+                             const char* doc) {
+  SettingSpecOf<Settings> spec = member(name, SettingGroup::Render, SettingKind::Real, field, doc);
   spec.lo = lo;
-  spec.lo_open = lo_open;
   spec.hi = hi;
+  spec.lo_open = ends == Ends::LowOpen || ends == Ends::Open;
+  spec.hi_open = ends == Ends::HighOpen || ends == Ends::Open;
   return spec;
 }
 
-// A setting that may be left unset, to stand for `none_means`.
-SettingSpec optional_real(const char* name, std::optional<float> RenderSettings::*field, double lo, bool lo_open,
-                          double hi, const char* none_means, const char* doc) {
+// A setting that may be left unset, to stand for `none_means`; > lo.
+SettingSpec optional_real(const char* name, std::optional<float> RenderSettings::*field, double lo,
+                          const char* none_means, const char* doc) {
   SettingSpec spec;
   spec.name = name;
-  spec.group = SettingGroup::Render;
   spec.kind = SettingKind::Real;
   spec.doc = doc;
   spec.lo = lo;
-  spec.lo_open = lo_open;
-  spec.hi = hi;
+  spec.lo_open = true;
+  spec.hi = kInf;
   spec.none_means = none_means;
   spec.get = [field](const RenderSettings& s) -> SettingValue {
     if (!(s.*field)) return std::monostate{};
@@ -119,8 +126,8 @@ std::vector<SettingSpec> make_specs() {
       choice("estimator", G::Render, &RenderSettings::estimator, parse_estimator,
              "\"branching\" (the paper's: r + r^2 + ... + r^b rays per camera sample) or \"path\" (r paths of up "
              "to b segments, r * b rays); the same expectation (SPEC 2)."),
-      real("rho", &RenderSettings::rho, 0.0, false, 1.0, "The albedo of every surface."),
-      optional_real("max_distance", &RenderSettings::max_distance, 0.0, true, kInf,
+      real("rho", &RenderSettings::rho, 0.0, 1.0, Ends::Closed, "The albedo of every surface."),
+      optional_real("max_distance", &RenderSettings::max_distance, 0.0,
                     "the camera's max_distance where it suggests one (camera.json, a glTF camera's extras), else "
                     "inf; for HBAO then a quarter of the scene's diagonal",
                     "The AO radius: hits farther away count as misses; inf for none (SPEC 1). HBAO's search "
@@ -134,7 +141,7 @@ std::vector<SettingSpec> make_specs() {
       choice("method", G::Render, &RenderSettings::method, parse_method,
              "\"raytraced\" (the estimators) or \"hbao\": screen-space horizon-based AO (SPEC 4) on the camera "
              "rays' hits through the pixel centres, with radius max_distance, one bounce and spp 1."),
-      member("variance", G::Render, K::Flag, &RenderSettings::variance,
+      member<RenderSettings>("variance", G::Render, K::Flag, &RenderSettings::variance,
              "Estimate each pixel's variance from the spread of its samples (SPEC 7.1) into Result.variance: "
              "its camera samples' at spp >= 2, else its r directions' (samples >= 2)."),
       whole("max_rays", &RenderSettings::max_rays, 1,
@@ -147,13 +154,54 @@ std::vector<SettingSpec> make_specs() {
       choice("organisation", G::Engine, &RenderSettings::organisation, parse_organisation,
              "\"megakernel\" (a work item runs a pixel's estimator), \"wavefront\" (branching only: a launch per "
              "bounce over a queue of the surfaces that bounce on) or \"auto\": the device's choice."),
-      member("tile_pixels", G::Engine, K::AutoCount, &RenderSettings::tile_pixels,
+      member<RenderSettings>("tile_pixels", G::Engine, K::AutoCount, &RenderSettings::tile_pixels,
              "Pixels per launch; automatic bounds the memory and the rays of a launch."),
-      member("work_group_size", G::Engine, K::AutoCount, &RenderSettings::work_group_size,
+      member<RenderSettings>("work_group_size", G::Engine, K::AutoCount, &RenderSettings::work_group_size,
              "OpenCL work-group size; automatic is 64, or the kernel's limit where lower."),
-      member("traversal_stats", G::Engine, K::Flag, &RenderSettings::traversal_stats,
+      member<RenderSettings>("traversal_stats", G::Engine, K::Flag, &RenderSettings::traversal_stats,
              "Count nodes, leaves, triangle tests and restarts per ray into stats[\"traversal\"] (kernels "
              "built to count, somewhat slower)."),
+  };
+}
+
+std::vector<SettingSpecOf<HbaoSettings>> make_hbao_specs() {
+  using H = HbaoSettings;
+  return {
+      integer("directions", &H::directions, 1, 64, "Image directions marched from each pixel, rotated per pixel by "
+              "the seed."),
+      integer("steps", &H::steps, 1, 64, "Samples along each direction, the first one jittered per pixel."),
+      real("angle_bias_deg", &H::angle_bias_deg, 0.0, 90.0, Ends::HighOpen,
+           "Horizons less than this many degrees above the tangent plane are ignored."),
+      real("falloff", &H::falloff, 0.0, 1.0, Ends::Closed,
+           "The attenuation W(r) = 1 - falloff * (r / radius)^2 of each horizon rise; the radius is the render's "
+           "max_distance."),
+  };
+}
+
+constexpr std::int64_t kMaxIterations = 14;  // taps 2^13 pixels apart: past the widest image
+constexpr std::int64_t kMaxNormalExponent = MBAO_MAX_NORMAL_EXPONENT;
+static_assert(kMaxNormalExponent < (1 << MBAO_NORMAL_EXPONENT_BITS), "denoise.cl squares over these bits");
+
+std::vector<SettingSpecOf<DenoiseSettings>> make_denoise_specs() {
+  using D = DenoiseSettings;
+  return {
+      integer("iterations", &D::iterations, 1, kMaxIterations, "K; iteration i takes taps 2^i pixels apart."),
+      real("sigma_plane", &D::sigma_plane, 0.0, kInf, Ends::Open,
+           "How far, in pixel footprints, a tap may lie off the pixel's tangent plane."),
+      integer("sigma_normal", &D::sigma_normal, 0, kMaxNormalExponent,
+              "The exponent on the cosine between the normals; 0 ignores them."),
+      real("sigma_value", &D::sigma_value, 0.0, kInf, Ends::Open,
+           "How far a tap's value may differ, in standard deviations of the pixel's blurred variance."),
+  };
+}
+
+constexpr std::int64_t kMaxHistoryLength = 1 << 16;  // N: from no history to one that weighs a new frame by 2^-16
+
+std::vector<SettingSpecOf<TemporalSettings>> make_temporal_specs() {
+  return {
+      integer("max_length", &TemporalSettings::max_length, 1, kMaxHistoryLength,
+              "N: a still camera averages its first N frames exactly, then keeps an exponential mean that weighs "
+              "each new frame by 1/N; 1 keeps no history."),
   };
 }
 
@@ -179,7 +227,7 @@ std::string value_text(const SettingValue& value) {
 
 }  // namespace
 
-std::string SettingSpec::range() const {
+std::string SettingRange::range() const {
   switch (kind) {
     case SettingKind::Integer:
       return "[" + std::to_string(std::get<std::int64_t>(lo)) + ", " + std::to_string(std::get<std::int64_t>(hi)) + "]";
@@ -191,8 +239,8 @@ std::string SettingSpec::range() const {
     case SettingKind::AutoCount: return ">= 1, or automatic";
     case SettingKind::Real: {
       const double low = std::get<double>(lo), high = std::get<double>(hi);
-      if (std::isinf(high)) return (lo_open ? "> " : ">= ") + number(low);
-      return (lo_open ? "(" : "[") + number(low) + ", " + number(high) + "]";
+      if (std::isinf(high) && !hi_open) return (lo_open ? "> " : ">= ") + number(low);
+      return (lo_open ? "(" : "[") + number(low) + ", " + number(high) + (hi_open ? ")" : "]");
     }
     case SettingKind::Choice: {
       std::string text;
@@ -205,8 +253,7 @@ std::string SettingSpec::range() const {
   return "";
 }
 
-void SettingSpec::check(const RenderSettings& settings) const {
-  const SettingValue value = get(settings);
+void SettingRange::check(const std::string& name, const SettingValue& value) const {
   if (std::holds_alternative<std::monostate>(value)) return;  // unset: stands for none_means
   bool inside = true;
   switch (kind) {
@@ -222,7 +269,8 @@ void SettingSpec::check(const RenderSettings& settings) const {
     }
     case SettingKind::Real: {
       const double v = std::get<double>(value), low = std::get<double>(lo);
-      inside = (lo_open ? v > low : v >= low) && v <= std::get<double>(hi);  // NaN is outside
+      const double high = std::get<double>(hi);
+      inside = (lo_open ? v > low : v >= low) && (hi_open ? v < high : v <= high);  // NaN is outside
       break;
     }
     default: break;  // counts, names and flags hold only allowed values once set
@@ -245,6 +293,21 @@ const SettingSpec& setting_spec(const std::string& name) {
     names += (names.empty() ? "" : ", ") + spec.name;
   }
   throw std::invalid_argument("no render setting \"" + name + "\"; the settings are " + names);
+}
+
+const std::vector<SettingSpecOf<HbaoSettings>>& hbao_setting_specs() {
+  static const std::vector<SettingSpecOf<HbaoSettings>> specs = make_hbao_specs();
+  return specs;
+}
+
+const std::vector<SettingSpecOf<DenoiseSettings>>& denoise_setting_specs() {
+  static const std::vector<SettingSpecOf<DenoiseSettings>> specs = make_denoise_specs();
+  return specs;
+}
+
+const std::vector<SettingSpecOf<TemporalSettings>>& temporal_setting_specs() {
+  static const std::vector<SettingSpecOf<TemporalSettings>> specs = make_temporal_specs();
+  return specs;
 }
 
 }  // namespace mbao

@@ -22,7 +22,7 @@ from ._progress import progress_count, progress_reporter
 from .images import check_writable, save_image
 from .render import render, render_sequence
 from .scene import FRAME, as_camera, load
-from .settings import ENGINE, RENDER, Engine
+from .settings import ENGINE, HBAO_SETTINGS, RENDER, Engine
 
 QUIET_HELP = "no progress bar (by default one is shown on a terminal for work of more than a few seconds)"
 
@@ -81,15 +81,9 @@ def _parser():
         _add_setting(r, spec)
     r.add_argument("--denoise", action="store_true",
                    help="filter the image with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)")
-    hbao, defaults = r.add_argument_group("HBAO options", "for --method hbao (SPEC 4)"), _core.HBAO()
-    hbao.add_argument("--hbao-directions", type=int, default=defaults.directions,
-                      help="image directions per pixel, 1..64 (default: %(default)s)")
-    hbao.add_argument("--hbao-steps", type=int, default=defaults.steps,
-                      help="samples along each direction, 1..64 (default: %(default)s)")
-    hbao.add_argument("--hbao-angle-bias", type=float, default=defaults.angle_bias_deg,
-                      help="degrees above the tangent plane below which horizons are ignored (default: %(default)s)")
-    hbao.add_argument("--hbao-falloff", type=float, default=defaults.falloff,
-                      help="attenuation 1 - falloff * (r / radius)^2, in [0, 1] (default: %(default)s)")
+    hbao = r.add_argument_group("HBAO options", "for --method hbao (SPEC 4): mbao.HBAO's settings")
+    for spec in HBAO_SETTINGS.values():
+        _add_setting(hbao, spec, prefix="hbao_")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
     r.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     engine = r.add_argument_group("engine options", "how the work is done; none of them changes the image")
@@ -208,9 +202,9 @@ def _add_view(commands):
     v.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
 
-def _add_setting(parser, spec):
-    """The option of one setting of mbao.render, named, typed and documented by the settings' table."""
-    flag, kind = "--" + spec["name"].replace("_", "-"), spec["kind"]
+def _add_setting(parser, spec, prefix=""):
+    """The option of one setting of a settings table, named (after `prefix`), typed and documented by it."""
+    flag, kind = "--" + (prefix + spec["name"]).replace("_", "-"), spec["kind"]
     if kind == "flag":
         parser.add_argument(flag, action="store_true", help=spec["doc"])
         return
@@ -261,7 +255,7 @@ def _render(args):
     result = render(
         scene,
         camera=args.camera,
-        hbao=_core.HBAO(args.hbao_directions, args.hbao_steps, args.hbao_angle_bias, args.hbao_falloff),
+        hbao=_core.HBAO(**{name: getattr(args, "hbao_" + name) for name in HBAO_SETTINGS}),
         engine=Engine(**{name: getattr(args, name) for name in ENGINE}),
         device=_device_argument(args.device),
         denoise=args.denoise or None,
@@ -279,7 +273,7 @@ def _render(args):
     if args.method == "hbao":
         print(
             f"settings     {args.width}x{args.height}, hbao radius={_radius(s, args)}, directions={args.hbao_directions}, "
-            f"steps={args.hbao_steps}, angle_bias={args.hbao_angle_bias} deg, falloff={args.hbao_falloff}"
+            f"steps={args.hbao_steps}, angle_bias={args.hbao_angle_bias_deg} deg, falloff={args.hbao_falloff}"
         )
     else:
         print(

@@ -1,7 +1,8 @@
 """The render settings, from the C++ core's one table of them (cpp/render/setting_specs.h).
 
 mbao.render takes its signature and docstring from RENDER, mbao.Engine its
-fields from ENGINE, and `python -m mbao render` its options from both. Each
+fields from ENGINE, and `python -m mbao render` its options from both and
+its --hbao-* options from HBAO_SETTINGS, mbao.HBAO's. Each
 spec is a dict: name, group, kind, doc, range, lo, hi, none_means, choices, default.
 """
 
@@ -13,6 +14,7 @@ from . import _checks, _core
 _SPECS = _core.setting_specs()
 RENDER = {spec["name"]: spec for spec in _SPECS if spec["group"] == "render"}
 ENGINE = {spec["name"]: spec for spec in _SPECS if spec["group"] == "engine"}
+HBAO_SETTINGS = {spec["name"]: spec for spec in _core.setting_specs("hbao")}
 
 
 def checked(spec, value):

@@ -23,20 +23,24 @@ std::string refusal(const SettingSpec& spec, const SettingValue& value) {
   return "";
 }
 
-TEST(SettingSpecs, EveryDefaultIsInsideItsRangeAndReadsBackAsSet) {
+// A table of distinct names, each documented, whose defaults lie inside
+// their ranges and read back as set, and make a valid struct together.
+template <typename Settings>
+void expect_a_table_of_its_struct(const std::vector<SettingSpecOf<Settings>>& specs) {
   std::set<std::string> names;
-  for (const SettingSpec& spec : setting_specs()) {
+  for (const SettingSpecOf<Settings>& spec : specs) {
     SCOPED_TRACE(spec.name);
     EXPECT_TRUE(names.insert(spec.name).second);
     EXPECT_FALSE(spec.doc.empty());
-    EXPECT_NO_THROW(spec.check(RenderSettings{}));
-    RenderSettings s;
+    EXPECT_NO_THROW(spec.check(Settings{}));
+    Settings s;
     spec.set(s, spec.default_value());
     EXPECT_EQ(spec.get(s), spec.default_value());
   }
-  RenderSettings defaults;
-  defaults.validate();  // the defaults together make a render
+  Settings{}.validate();
 }
+
+TEST(SettingSpecs, EveryDefaultIsInsideItsRangeAndReadsBackAsSet) { expect_a_table_of_its_struct(setting_specs()); }
 
 TEST(SettingSpecs, RangesAreCheckedAndStated) {
   EXPECT_EQ(setting_spec("width").range(), "[1, 16384]");
@@ -83,6 +87,40 @@ TEST(SettingSpecs, EngineSettingsAreTheOnesThatCannotChangeTheImage) {
     if (spec.group == SettingGroup::Engine) engine.insert(spec.name);
   EXPECT_EQ(engine, (std::set<std::string>{"traversal", "organisation", "tile_pixels", "work_group_size",
                                            "traversal_stats"}));
+}
+
+template <typename Settings>
+std::string struct_refusal(const std::vector<SettingSpecOf<Settings>>& specs, const std::string& name,
+                           const SettingValue& value) {
+  Settings s;
+  for (const SettingSpecOf<Settings>& spec : specs)
+    if (spec.name == name) spec.set(s, value);
+  try {
+    s.validate();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// HBAO's, the denoiser's and temporal accumulation's tables, and each
+// struct's validate refusing what its table does, naming the struct.
+TEST(SettingSpecs, EachFilterAndHbaoSettingIsInItsTable) {
+  expect_a_table_of_its_struct(hbao_setting_specs());
+  expect_a_table_of_its_struct(denoise_setting_specs());
+  expect_a_table_of_its_struct(temporal_setting_specs());
+  const auto& hbao = hbao_setting_specs();
+  EXPECT_EQ(struct_refusal(hbao, "directions", std::int64_t(0)), "hbao directions must be in [1, 64], got 0");
+  EXPECT_NE(struct_refusal(hbao, "angle_bias_deg", 90.0).find("hbao angle_bias_deg must be in [0, 90), got 90"),
+            std::string::npos);
+  EXPECT_EQ(struct_refusal(hbao, "angle_bias_deg", 89.5), "");
+  const auto& denoise = denoise_setting_specs();
+  EXPECT_NE(struct_refusal(denoise, "sigma_value", double(INFINITY)).find("denoise sigma_value must be in (0, inf)"),
+            std::string::npos);
+  EXPECT_NE(struct_refusal(denoise, "sigma_plane", 0.0).find("denoise sigma_plane must be in (0, inf)"),
+            std::string::npos);
+  EXPECT_EQ(struct_refusal(temporal_setting_specs(), "max_length", std::int64_t(65537)),
+            "temporal max_length must be in [1, 65536], got 65537");
 }
 
 }  // namespace
