@@ -297,13 +297,27 @@ def test_hbao_from_the_command_line_equals_the_api(tmp_path, gltf_scene):
     np.testing.assert_array_equal(read_image(tmp_path / "hbao.exr")[1][..., 0], expected.ao)
 
 
-def test_the_render_commands_hbao_options_are_mbao_hbaos_settings(tmp_path):
-    """One --hbao-NAME option per setting of mbao.HBAO's table, with its default and range."""
-    help_text = " ".join(run_mbao("render", "--help", cwd=tmp_path).stdout.split())
-    for spec in mbao._core.setting_specs("hbao"):
-        flag = "--hbao-" + spec["name"].replace("_", "-")
-        assert re.search(re.escape(flag) + r" \S+ " + re.escape(spec["doc"]) + r" \(default: " +
-                         re.escape(str(spec["default"])) + ", allowed " + re.escape(spec["range"]), help_text), flag
+@pytest.mark.parametrize("command, tables", [("render", ["hbao", "denoise"]), ("orbit", ["temporal", "denoise"])])
+def test_the_commands_settings_options_are_the_settings_classes_tables(tmp_path, command, tables):
+    """One --TABLE-NAME option per setting of mbao.HBAO's, mbao.Denoise's and
+    mbao.Temporal's tables, with its meaning, default and range."""
+    help_text = " ".join(run_mbao(command, "--help", cwd=tmp_path).stdout.split())
+    for table in tables:
+        for spec in mbao._core.setting_specs(table):
+            flag = f"--{table}-" + spec["name"].replace("_", "-")
+            assert re.search(re.escape(flag) + r" \S+ " + re.escape(spec["doc"]) + r" \(default: " +
+                             re.escape(str(spec["default"])) + ", allowed " + re.escape(spec["range"]), help_text), flag
+
+
+def test_denoise_options_reach_the_filter_and_are_checked_without_denoise(tmp_path):
+    proc = run_mbao("render", "--width", 16, "--height", 12, "--denoise", "--denoise-iterations", 2,
+                    "--denoise-sigma-normal", 0, "-o", "out.exr", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    expected = mbao.render(mbao.cornell_box(), width=16, height=12,
+                           denoise=mbao.Denoise(iterations=2, sigma_normal=0))
+    np.testing.assert_array_equal(read_image(tmp_path / "out.exr")[1][..., 0], expected.ao)
+    refused = run_mbao("render", "--denoise-iterations", 0, "-o", "out.png", cwd=tmp_path)
+    assert refused.returncode != 0 and "denoise iterations must be in [1, 14], got 0" in refused.stderr
 
 
 def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_scene):

@@ -22,7 +22,7 @@ from ._progress import progress_count, progress_reporter
 from .images import check_writable, save_image
 from .render import render, render_sequence
 from .scene import FRAME, as_camera, load
-from .settings import ENGINE, HBAO_SETTINGS, RENDER, Engine
+from .settings import DENOISE_SETTINGS, ENGINE, HBAO_SETTINGS, RENDER, TEMPORAL_SETTINGS, Engine
 
 QUIET_HELP = "no progress bar (by default one is shown on a terminal for work of more than a few seconds)"
 
@@ -81,9 +81,8 @@ def _parser():
         _add_setting(r, spec)
     r.add_argument("--denoise", action="store_true",
                    help="filter the image with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)")
-    hbao = r.add_argument_group("HBAO options", "for --method hbao (SPEC 4): mbao.HBAO's settings")
-    for spec in HBAO_SETTINGS.values():
-        _add_setting(hbao, spec, prefix="hbao_")
+    _add_table(r, "denoise options", "for --denoise (SPEC 7.3): mbao.Denoise's settings", DENOISE_SETTINGS, "denoise_")
+    _add_table(r, "HBAO options", "for --method hbao (SPEC 4): mbao.HBAO's settings", HBAO_SETTINGS, "hbao_")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
     r.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     engine = r.add_argument_group("engine options", "how the work is done; none of them changes the image")
@@ -163,6 +162,9 @@ def _parser():
                    help="accumulate each frame with the ones before, reprojected (SPEC 7.4; spp 1, samples >= 2)")
     o.add_argument("--denoise", action="store_true",
                    help="filter each frame with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)")
+    _add_table(o, "temporal options", "for --temporal (SPEC 7.4): mbao.Temporal's settings", TEMPORAL_SETTINGS,
+               "temporal_")
+    _add_table(o, "denoise options", "for --denoise (SPEC 7.3): mbao.Denoise's settings", DENOISE_SETTINGS, "denoise_")
     for spec in RENDER.values():
         _add_setting(o, spec)
     o.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
@@ -218,6 +220,30 @@ def _add_setting(parser, spec, prefix=""):
     parser.add_argument(flag, **options)
 
 
+def _add_table(parser, title, description, table, prefix):
+    """An option group of one settings table, each option --PREFIX-NAME."""
+    group = parser.add_argument_group(title, description)
+    for spec in table.values():
+        _add_setting(group, spec, prefix)
+
+
+def _table_values(args, table, prefix):
+    """{name: value} of a settings table from its options."""
+    return {name: getattr(args, prefix + name) for name in table}
+
+
+def _temporal_argument(args):
+    """mbao.Temporal of the --temporal-* options where --temporal is given; checked either way."""
+    settings = _core.Temporal(**_table_values(args, TEMPORAL_SETTINGS, "temporal_"))
+    return settings if args.temporal else False
+
+
+def _denoise_argument(args):
+    """mbao.Denoise of the --denoise-* options where --denoise is given; checked either way."""
+    settings = _core.Denoise(**_table_values(args, DENOISE_SETTINGS, "denoise_"))
+    return settings if args.denoise else None
+
+
 def _radius(stats, args):
     """The radius a render used, and where it came from (SPEC 1's rule)."""
     source = {"settings": "--max-distance", "camera": "camera.json" if args.camera else "the scene's camera",
@@ -255,10 +281,10 @@ def _render(args):
     result = render(
         scene,
         camera=args.camera,
-        hbao=_core.HBAO(**{name: getattr(args, "hbao_" + name) for name in HBAO_SETTINGS}),
+        hbao=_core.HBAO(**_table_values(args, HBAO_SETTINGS, "hbao_")),
         engine=Engine(**{name: getattr(args, name) for name in ENGINE}),
         device=_device_argument(args.device),
-        denoise=args.denoise or None,
+        denoise=_denoise_argument(args),
         progress=_progress_argument(args),
         **{name: getattr(args, name) for name in RENDER},
     )
@@ -381,8 +407,9 @@ def _orbit(args):
     scene = load(args.scene) if args.scene else _core.cornell_box()
     first = _camera_argument(args, scene)
     sequence = render_sequence(
-        scene, orbit_cameras(first, args.frames, args.degrees), temporal=args.temporal,
-        denoise=args.denoise or None, device=_device_argument(args.device), progress=False,
+        scene, orbit_cameras(first, args.frames, args.degrees),
+        temporal=_temporal_argument(args), denoise=_denoise_argument(args), device=_device_argument(args.device),
+        progress=False,
         **{name: getattr(args, name) for name in RENDER})
     with progress_reporter(_progress_argument(args), "orbit", "frame", args.frames) as report:
         count, frames = progress_count(report, args.frames), []

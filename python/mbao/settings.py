@@ -1,8 +1,10 @@
 """The render settings, from the C++ core's one table of them (cpp/render/setting_specs.h).
 
 mbao.render takes its signature and docstring from RENDER, mbao.Engine its
-fields from ENGINE, and `python -m mbao render` its options from both and
-its --hbao-* options from HBAO_SETTINGS, mbao.HBAO's. Each
+fields from ENGINE, and `python -m mbao render` its options from both; the
+command line's --hbao-*, --denoise-* and --temporal-* options come from
+HBAO_SETTINGS, DENOISE_SETTINGS and TEMPORAL_SETTINGS, the tables of
+mbao.HBAO, mbao.Denoise and mbao.Temporal. Each
 spec is a dict: name, group, kind, doc, range, lo, hi, none_means, choices, default.
 """
 
@@ -15,6 +17,8 @@ _SPECS = _core.setting_specs()
 RENDER = {spec["name"]: spec for spec in _SPECS if spec["group"] == "render"}
 ENGINE = {spec["name"]: spec for spec in _SPECS if spec["group"] == "engine"}
 HBAO_SETTINGS = {spec["name"]: spec for spec in _core.setting_specs("hbao")}
+DENOISE_SETTINGS = {spec["name"]: spec for spec in _core.setting_specs("denoise")}
+TEMPORAL_SETTINGS = {spec["name"]: spec for spec in _core.setting_specs("temporal")}
 
 
 def checked(spec, value):
