@@ -32,9 +32,9 @@ struct Placement {
 // density) + 1 texels each way) lies `padding` texels from the border, and the
 // texels each chart's triangles touch lie more than `padding` texels (in x or
 // y) from those of every other. Charts go in `order`, each as high up and then
-// as far left as it fits, as it is or half turned (first fit, into any gap
-// the charts before it left; as it is where both fit equally: two concave
-// charts, or two triangles, then nest). None where they do not fit.
+// as far left as it fits, as it is or half turned, as it is where both fit at
+// one place (first fit, into any gap the charts before it left; a half turn
+// lets two triangles, or two concave charts, nest). None where they do not fit.
 std::optional<std::vector<Placement>> packed_charts(const std::vector<FlatChart>& charts,
                                                     const std::vector<std::size_t>& order, double density,
                                                     int width, int height, int padding);
