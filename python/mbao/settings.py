@@ -80,3 +80,12 @@ Engine = _engine_class()
 def engine_values(engine):
     """{name: value} of an Engine, for the core."""
     return {name: getattr(engine, name) for name in ENGINE}
+
+
+def markdown_table(table):
+    """A settings table of the core (_core.setting_specs(table)) as docs/spec.md shows it."""
+    rows = ["| setting | meaning | default | allowed |", "|---|---|---|---|"]
+    rows += [f"| `{spec['name']}` | {spec['doc']} | {spec['default']!r} | {spec['range']} |"
+             for spec in _core.setting_specs(table)]
+    return "\n".join(rows)
+
