@@ -29,8 +29,7 @@ Frame::BufferSizes Frame::buffer_sizes(const RenderSettings& s, const RenderPlan
   sizes.ao_variance = ao && (s.variance || s.filtered()) ? pixels * sizeof(cl_float) : 0;
   sizes.gbuffer = pixels * gbuffer_plane_count(plan.gbuffer_planes) * sizeof(cl_float);
   sizes.traversal_totals = s.traversal_stats ? 4 * sizeof(cl_ulong) : 0;
-  const bool wavefront = !plan.kernels.finish.empty();
-  sizes.wavefront = wavefront ? Wavefront::device_bytes(s, plan.kernels, tile_pixels) : 0;
+  sizes.wavefront = plan.kernels.wavefront() ? Wavefront::device_bytes(s, plan.kernels, tile_pixels) : 0;
   return sizes;
 }
 
@@ -72,10 +71,10 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
   camera_rays_ = cl::Kernel(program, plan.kernels.camera_rays.c_str());
   camera_group_ = work_group_size_for(camera_rays_, device, s.work_group_size);
 
-  if (!plan.kernels.megakernel.empty()) {
+  if (plan.kernels.ao == AoLaunches::Megakernel) {
     ao_kernel_ = cl::Kernel(program, plan.kernels.megakernel.c_str());
     ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
-  } else if (!plan.kernels.finish.empty()) {
+  } else if (plan.kernels.wavefront()) {
     wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, ao_args_, s, plan.kernels, tile_pixels,
                                              buffers_);
   }

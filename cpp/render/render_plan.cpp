@@ -172,10 +172,12 @@ FrameKernels frame_kernels(const RenderSettings& s, const RenderPlan& plan) {
   k.camera_samples_per_item = packets ? MBAO_LANES : 1;
   if (plan.output != FrameOutput::AmbientOcclusion) return k;
   if (plan.organisation == KernelOrganisation::Megakernel) {
+    k.ao = AoLaunches::Megakernel;
     k.megakernel = s.estimator == Estimator::Branching ? "ao_branching" : "ao_path";
     return k;
   }
-  if (plan.traversal == Traversal::Lanes) {
+  k.ao = plan.traversal == Traversal::Lanes ? AoLaunches::StreamedWavefront : AoLaunches::Wavefront;
+  if (k.ao == AoLaunches::StreamedWavefront) {
     k.stream_rays = "stream_bounce_rays";
     k.stream_trace = "trace_rays_in_lanes";
     k.stream_hits = "stream_bounce_hits";

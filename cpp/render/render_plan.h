@@ -82,9 +82,15 @@ enum class RenderProduct { Image, GBuffer };
 // RenderSettings::filtered); the planes HBAO reads, alone; or the whole G-buffer.
 enum class FrameOutput { AmbientOcclusion, HbaoGBuffer, GBuffer };
 
+// How a frame's AO runs after its camera rays: not at all (their G-buffer
+// alone), in the megakernel, or in the wavefront, each bounce over a queue or
+// as a stream of rays walked sixteen to a work item.
+enum class AoLaunches { None, Megakernel, Wavefront, StreamedWavefront };
+
 // The entry points of render.cl that a frame launches, by their part in it;
 // empty where the frame has no such part.
 struct FrameKernels {
+  AoLaunches ao = AoLaunches::None;
   std::string camera_rays;  // trace_camera_rays, or trace_camera_packets: every frame
   std::size_t camera_samples_per_item = 1;  // MBAO_LANES for trace_camera_packets
   std::string megakernel;   // ao_branching or ao_path: the megakernel organisation
@@ -96,6 +102,7 @@ struct FrameKernels {
   std::string stream_rays, stream_trace, stream_hits;
 
   std::vector<std::string> in_launch_order() const;  // the names, the empty ones left out
+  bool wavefront() const { return ao == AoLaunches::Wavefront || ao == AoLaunches::StreamedWavefront; }
 };
 
 struct RenderPlan {

@@ -20,8 +20,8 @@ std::size_t queue_entries_per_camera_sample(const RenderSettings& s, std::int64_
   return deepest;
 }
 
-// Lanes run each bounce as a stream of rays (StreamedBounces).
-bool streamed(const FrameKernels& kernels) { return !kernels.stream_trace.empty(); }
+// Each bounce as a stream of rays (StreamedBounces), as the plan says for lanes.
+bool streamed(const FrameKernels& kernels) { return kernels.ao == AoLaunches::StreamedWavefront; }
 
 }  // namespace
 

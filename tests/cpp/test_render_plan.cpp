@@ -214,12 +214,15 @@ using Kernels = std::vector<std::string>;
 TEST(RenderPlan, NamesTheKernelsEachFrameLaunches) {
   RenderSettings s = two_bounces();
   EXPECT_EQ(plan_render(s, kCpu, kShallow).kernels.in_launch_order(), (Kernels{"trace_camera_rays", "ao_branching"}));
+  EXPECT_EQ(plan_render(s, kCpu, kShallow).kernels.ao, AoLaunches::Megakernel);
   s.estimator = Estimator::Path;
   EXPECT_EQ(plan_render(s, kCpu, kShallow).kernels.in_launch_order(), (Kernels{"trace_camera_rays", "ao_path"}));
   s = two_bounces();
   EXPECT_EQ(plan_render(s, kGpu, kShallow).kernels.in_launch_order(),
             (Kernels{"trace_camera_rays", "wavefront_first_bounce", "wavefront_bounce", "wavefront_finish"}));
+  EXPECT_EQ(plan_render(s, kGpu, kShallow).kernels.ao, AoLaunches::Wavefront);
   const RenderPlan lanes = plan_render(s, kCpu, kDeep);
+  EXPECT_EQ(lanes.kernels.ao, AoLaunches::StreamedWavefront);
   EXPECT_EQ(lanes.kernels.in_launch_order(),
             (Kernels{"trace_camera_packets", "stream_bounce_rays", "trace_rays_in_lanes", "stream_bounce_hits",
                      "wavefront_finish"}));
@@ -242,6 +245,7 @@ TEST(RenderPlan, FramesOfCameraRaysAloneWriteThePlanesTheirReadersRead) {
   EXPECT_EQ(gbuffer.gbuffer_planes, std::uint32_t(MBAO_GBUFFER_ALL_PLANES));
   EXPECT_EQ(gbuffer.organisation, KernelOrganisation::Megakernel);
   EXPECT_EQ(gbuffer.kernels.in_launch_order(), Kernels{"trace_camera_rays"});
+  EXPECT_EQ(gbuffer.kernels.ao, AoLaunches::None);
 
   s = two_bounces();
   s.method = Method::Hbao;
@@ -250,6 +254,7 @@ TEST(RenderPlan, FramesOfCameraRaysAloneWriteThePlanesTheirReadersRead) {
   EXPECT_EQ(hbao.output, FrameOutput::HbaoGBuffer);
   EXPECT_EQ(hbao.gbuffer_planes, std::uint32_t(MBAO_GBUFFER_HBAO_PLANES));
   EXPECT_EQ(hbao.kernels.in_launch_order(), Kernels{"trace_camera_packets"});  // the CPU's packets
+  EXPECT_EQ(hbao.kernels.ao, AoLaunches::None);
   EXPECT_FALSE(hbao.program.origin_paths);
 }
 
