@@ -129,15 +129,11 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
   }
   const Camera local_camera = camera.relative_to(scene->render_origin());
   try {
-    if (plan.output == FrameOutput::GBuffer) {
-      run_gbuffer(*device_scene, built.program, local_camera, settings, plan, nullptr, result);
-    } else if (plan.output == FrameOutput::HbaoGBuffer) {
-      const cl::Program hbao_program = screen_space_program(Program::Hbao, stats);
-      run_gbuffer(*device_scene, built.program, local_camera, settings, plan, &hbao_program, result);
-    } else {
+    if (plan.output == FrameOutput::AmbientOcclusion)
       run_traced(*device_scene, built.program, local_camera, settings, plan, between_tiles, bake_tiles, history,
                  result);
-    }
+    else
+      run_gbuffer(*device_scene, built.program, local_camera, settings, plan, result);
   } catch (const cl::Error& e) {
     throw_device_error((bake_tiles ? "baking " : "rendering ") + scene->name() + " on " + device().description(),
                        e);
@@ -244,16 +240,19 @@ cl::Program Renderer::screen_space_program(Program program, RenderStats& stats) 
 }
 
 void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                           const RenderSettings& settings, const RenderPlan& plan, const cl::Program* hbao_program,
-                           RenderResult& result) {
+                           const RenderSettings& settings, const RenderPlan& plan, RenderResult& result) {
   RenderStats& stats = result.stats;
   cl::CommandQueue& queue = compute_.queue();
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   const std::size_t tile_pixels = plan.tile_pixels;
   check_device_memory(device(), scene, Frame::device_bytes(settings, plan, tile_pixels), settings);
   Frame frame(compute_.context(), device().device, program, scene, camera, settings, plan, tile_pixels);
+  std::optional<cl::Program> hbao_program;
   std::optional<HbaoPass> hbao;
-  if (hbao_program) hbao.emplace(device().device, *hbao_program, camera, settings);
+  if (plan.output == FrameOutput::HbaoGBuffer) {
+    hbao_program = screen_space_program(Program::Hbao, stats);
+    hbao.emplace(device().device, *hbao_program, camera, settings);
+  }
   stats.memory_bytes = scene.bytes() + frame.bytes();
   const auto enqueue_gbuffer = [&] {
     for (std::size_t first = 0; first < pixels; first += tile_pixels)

@@ -119,11 +119,10 @@ class Renderer {
                                TemporalHistory* history, RenderResult& result);
   // A program that walks no tree (hbao.cl, denoise.cl, temporal.cl), its build time added to stats.
   cl::Program screen_space_program(Program program, RenderStats& stats);
-  // A G-buffer frame (the camera rays and their G-buffer), then HBAO's pass where `hbao_program` is given
-  // (the plan's output: the planes it reads), else the whole G-buffer read back into result.gbuffer.
+  // A G-buffer frame (the camera rays and their G-buffer), then HBAO's pass where the plan's output is
+  // the planes it reads, else the whole G-buffer read back into result.gbuffer.
   void run_gbuffer(const DeviceScene& scene, const cl::Program& program, const Camera& camera,
-                   const RenderSettings& settings, const RenderPlan& plan, const cl::Program* hbao_program,
-                   RenderResult& result);
+                   const RenderSettings& settings, const RenderPlan& plan, RenderResult& result);
 
   ComputeContext compute_;
   DeviceSceneCache scenes_;
