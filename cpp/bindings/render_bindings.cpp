@@ -138,6 +138,14 @@ std::string documented(const std::string& intro, const std::vector<SettingSpecOf
   return doc;
 }
 
+// A settings struct made from its constructor's arguments, in its members' order, and checked.
+template <typename Settings, typename... Args>
+Settings validated(Args... args) {
+  const Settings settings{args...};
+  settings.validate();
+  return settings;
+}
+
 // A settings class's members from its table: a read-only property per
 // setting, pickling as the tuple of their values, and a repr naming each.
 template <typename Settings>
@@ -252,11 +260,7 @@ void bind_render(py::module_& m) {
       m, "HBAO",
       documented("HBAO's settings (SPEC 4; Bavoil et al. 2008) for render(method=\"hbao\").", hbao_setting_specs())
           .c_str());
-  hbao.def(py::init([](std::int64_t directions, std::int64_t steps, float angle_bias_deg, float falloff) {
-             const HbaoSettings h{directions, steps, angle_bias_deg, falloff};
-             h.validate();
-             return h;
-           }),
+  hbao.def(py::init(&validated<HbaoSettings, std::int64_t, std::int64_t, float, float>),
            py::arg("directions") = HbaoSettings{}.directions, py::arg("steps") = HbaoSettings{}.steps,
            py::arg("angle_bias_deg") = HbaoSettings{}.angle_bias_deg, py::arg("falloff") = HbaoSettings{}.falloff);
   add_table_members(hbao, "HBAO", hbao_setting_specs());
@@ -267,11 +271,7 @@ void bind_render(py::module_& m) {
                  "in SVGF (Schied et al. 2017).",
                  denoise_setting_specs())
           .c_str());
-  denoise.def(py::init([](std::int64_t iterations, float sigma_plane, std::int64_t sigma_normal, float sigma_value) {
-                const DenoiseSettings d{iterations, sigma_plane, sigma_normal, sigma_value};
-                d.validate();
-                return d;
-              }),
+  denoise.def(py::init(&validated<DenoiseSettings, std::int64_t, float, std::int64_t, float>),
               py::arg("iterations") = DenoiseSettings{}.iterations,
               py::arg("sigma_plane") = DenoiseSettings{}.sigma_plane,
               py::arg("sigma_normal") = DenoiseSettings{}.sigma_normal,
@@ -284,11 +284,7 @@ void bind_render(py::module_& m) {
                  "the G-buffers.",
                  temporal_setting_specs())
           .c_str());
-  temporal.def(py::init([](std::int64_t max_length) {
-                 const TemporalSettings t{max_length};
-                 t.validate();
-                 return t;
-               }),
+  temporal.def(py::init(&validated<TemporalSettings, std::int64_t>),
                py::arg("max_length") = TemporalSettings{}.max_length);
   add_table_members(temporal, "Temporal", temporal_setting_specs());
   py::class_<TemporalHistory>(m, "TemporalHistory",
