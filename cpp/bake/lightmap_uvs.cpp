@@ -221,12 +221,12 @@ FlatChart laid_flat(const TriangleMesh& mesh, const std::vector<std::uint32_t>& 
   return FlatChart{std::move(corners), hi - lo};
 }
 
-double area(const FlatChart& chart) { return chart.size.x * chart.size.y; }
+double box_area(const FlatChart& chart) { return chart.size.x * chart.size.y; }
 
 // The density at which the charts' boxes' area alone would fill the texture; 1 where they have none.
 double filling_density(const std::vector<FlatChart>& charts, int width, int height) {
   double boxes = 0.0;
-  for (const FlatChart& chart : charts) boxes += area(chart);
+  for (const FlatChart& chart : charts) boxes += box_area(chart);
   return boxes > 0.0 ? std::sqrt(double(width) * double(height) / boxes) : 1.0;
 }
 
@@ -258,7 +258,7 @@ struct CutLengths {
 };
 
 // The area of a chart's triangles.
-double flat_area(const FlatChart& chart) {
+double triangles_area(const FlatChart& chart) {
   double sum = 0.0;
   for (std::size_t i = 0; i + 2 < chart.corners.size(); i += 3) {
     const glm::dvec2 a = chart.corners[i + 1] - chart.corners[i], b = chart.corners[i + 2] - chart.corners[i];
@@ -276,7 +276,7 @@ double flat_area(const FlatChart& chart) {
 bool worth_cutting(const FlatChart& flat, const CutLengths& lengths, bool cut_large) {
   const double length = flat.size.x;
   return (length > lengths.strip && length > 2.0 * flat.size.y) ||
-         (length > lengths.hollow && flat_area(flat) < kHollowFill * area(flat)) ||
+         (length > lengths.hollow && triangles_area(flat) < kHollowFill * box_area(flat)) ||
          (cut_large && length > lengths.large);
 }
 
@@ -381,7 +381,7 @@ std::vector<std::size_t> largest_first(const std::vector<FlatChart>& charts) {
   std::vector<std::size_t> order(charts.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
   std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return area(charts[a]) > area(charts[b]); });
+                   [&](std::size_t a, std::size_t b) { return box_area(charts[a]) > box_area(charts[b]); });
   return order;
 }
 
