@@ -47,7 +47,7 @@ json rays_json(double frame_ms, std::uint64_t rays) {
 // A per-vertex bake: the second of two, the first having built the kernels.
 json vertex_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& scene,
                  const mbao::RenderSettings& settings) {
-  const mbao::VertexPoints points(scene->mesh());
+  const mbao::VertexPoints points(scene->mesh(), scene->mesh().all_triangles());
   const std::int64_t samples = vertex_samples(*scene);
   mbao::bake_estimates(renderer, scene, settings, samples, points, 1024);
   const mbao::BakeEstimates bake = mbao::bake_estimates(renderer, scene, settings, samples, points, 1024);

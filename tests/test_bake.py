@@ -171,6 +171,35 @@ def test_vertices_without_surface_are_open():
     np.testing.assert_array_equal(result.standard_error[8:], 0.0)
 
 
+@pytest.mark.filterwarnings("ignore:.*looks closed")
+def test_triangles_not_baked_still_occlude():
+    """SPEC 6: a floor inside a closed box, baked alone. The box's walls still
+    stop every ray (the floor is 0), but its vertices are baked over none of
+    their triangles: 1, with standard error 0, and no ray traced for them."""
+    floor, floor_indices = plane(0.5, divisions=2)
+    vertices, indices = merge((floor, floor_indices), box((-1.0, -1.0, -1.0), (1.0, 1.0, 1.0)))
+    floor_triangles = np.arange(len(floor_indices))
+    alone = bake(vertices, indices, bounces=2, samples=16, triangles=floor_triangles)
+    np.testing.assert_array_equal(alone.values[:len(floor)], 0.0)
+    np.testing.assert_array_equal(alone.values[len(floor):], 1.0)
+    np.testing.assert_array_equal(alone.standard_error[len(floor):], 0.0)
+    everything = bake(vertices, indices, bounces=2, samples=16)
+    np.testing.assert_array_equal(everything.values, 0.0)
+    assert alone.stats["rays_secondary"] * len(vertices) == everything.stats["rays_secondary"] * len(floor)
+
+
+@pytest.mark.parametrize("triangles, message", [
+    ([], "triangles must be a non-empty list of triangle indices"),
+    ([0.5], "triangles must be a non-empty list of triangle indices"),
+    ([[0, 1]], "triangles must be a non-empty list"),
+    ([2], r"triangles: 2 is not a triangle of the scene, whose triangles are 0 to 1"),
+    ([-1], r"triangles: -1 is not a triangle"),
+])
+def test_bad_triangles_are_named(triangles, message):
+    with pytest.raises(ValueError, match=message):
+        bake(*plane(1.0), samples=2, triangles=triangles)
+
+
 def test_a_bake_counts_its_rays_and_refuses_too_many():
     vertices, indices = outward_box_grid()
     result = bake(vertices, indices, bounces=2, samples=16, directions=3, progress=None)  # None: no bar

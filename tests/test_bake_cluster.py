@@ -23,14 +23,15 @@ def test_any_split_of_a_bakes_positions_is_the_whole_bake():
                  max_rays=_core.DEFAULT_MAX_RAYS)
     values = dict({name: checked(RENDER[name], value) for name, value in given.items()}, samples=4,
                   **engine_values(mbao.Engine()))
-    whole, whole_error, _ = _core.bake_vertices(scene, resolve(None), values, 16, None)
-    positions = _core.vertex_bake_positions(scene, 16)
+    every_other = np.arange(0, scene.triangle_count, 2, dtype=np.uint32)
+    whole, whole_error, _ = _core.bake_vertices(scene, every_other, resolve(None), values, 16, None)
+    positions = _core.vertex_bake_positions(scene, every_other, 16)
     for cuts in ([0, positions], [0, 7, positions // 2 + 3, positions], [0, 1, 2, positions - 1, positions]):
         mean, second_moment = np.empty(positions, np.float32), np.empty(positions, np.float32)
         for first, end in zip(cuts, cuts[1:]):
             mean[first:end], second_moment[first:end], _ = _core.trace_vertex_bake(
-                scene, resolve(None), values, 16, first, end, None)
-        values_, errors = _core.finish_vertex_bake(scene, 16, mean, second_moment)
+                scene, every_other, resolve(None), values, 16, first, end, None)
+        values_, errors = _core.finish_vertex_bake(scene, every_other, 16, mean, second_moment)
         np.testing.assert_array_equal(values_, whole)
         np.testing.assert_array_equal(errors, whole_error)
 
@@ -79,7 +80,7 @@ def test_a_worker_builds_each_texture_bakes_layout_once():
     texcoords = (np.asarray(floor)[:, [0, 2]] + 1.0) / 2.0
     mesh = mbao.Mesh(floor, floor_indices, texcoords=texcoords)
     scene = as_scene(mesh)
-    material = bake._texture_materials(mesh, 0, None)[0]
+    material = bake._texture_materials(mesh, bake._baked_triangles(mesh, None), 0, None)[0]
 
     def recipe():
         return bake._TexelRecipe(material.texcoords, material.triangles, 16, 16, material.wrap)

@@ -3,6 +3,7 @@ bake, wrap modes, coverage, dilation and the refusal of UVs that claim a texel
 twice. Statistical checks allow 4 standard errors of the estimator."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -232,6 +233,23 @@ def test_a_uv_set_without_area_is_refused_before_tracing():
     with pytest.raises(ValueError, match=r"the mesh, UV set TEXCOORD_0: the UVs of all its 8 triangles have no area "
                                          r".*texcoord=\"generate\""):
         bake(vertices, indices, on_a_line, resolution=16, samples=2)
+
+
+def test_a_texture_bake_of_some_triangles_is_the_bake_of_those_texels():
+    """SPEC 6: the floor baked alone, the box on it only occluding. No warning of
+    the box's UVs (it is not baked), and the texels are those of the bake of
+    everything, bit for bit: the same texels hold the same surface."""
+    vertices, indices, texcoords = floor_with_a_box()
+    floor_triangles = np.arange(len(indices) - 12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        alone = bake(vertices, indices, texcoords, resolution=16, samples=8, triangles=floor_triangles).textures[0]
+    np.testing.assert_array_equal(alone.triangles, floor_triangles)
+    assert alone.image.min() < 0.9  # beside the box
+    with pytest.warns(UserWarning, match="12 of its"):
+        everything = bake(vertices, indices, texcoords, resolution=16, samples=8).textures[0]
+    np.testing.assert_array_equal(alone.image, everything.image)
+    np.testing.assert_array_equal(alone.standard_error, everything.standard_error)
 
 
 def test_a_uv_set_with_area_in_part_bakes_with_a_warning_of_what_it_left_out():

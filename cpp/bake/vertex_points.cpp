@@ -16,23 +16,27 @@ double median(double a, double b, double c) { return std::max(std::min(a, b), st
 
 }  // namespace
 
-VertexPoints::VertexPoints(const TriangleMesh& mesh) : ring_start_(mesh.positions.size() + 1, 0) {
-  std::vector<double> areas(mesh.triangles.size());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    areas[t] = triangle_area(mesh, mesh.triangles[t]);
-    if (!(areas[t] > 0.0)) continue;
+VertexPoints::VertexPoints(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles)
+    : ring_start_(mesh.positions.size() + 1, 0) {
+  std::vector<std::uint32_t> with_area;
+  std::vector<double> areas;
+  for (const std::uint32_t t : triangles) {
+    const double area = triangle_area(mesh, mesh.triangles.at(t));
+    if (!(area > 0.0)) continue;
+    with_area.push_back(t);
+    areas.push_back(area);
     for (int c = 0; c < 3; ++c) ++ring_start_[mesh.triangles[t][c] + 1];
   }
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) ring_start_[v + 1] += ring_start_[v];
   rings_.resize(ring_start_.back());
   std::vector<std::size_t> filled(ring_start_.begin(), ring_start_.end() - 1);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    if (!(areas[t] > 0.0)) continue;
+  for (std::size_t i = 0; i < with_area.size(); ++i) {
+    const std::uint32_t t = with_area[i];
     for (std::uint32_t c = 0; c < 3; ++c) {
       const std::uint32_t v = mesh.triangles[t][int(c)];
       const std::size_t slot = filled[v]++;
       const double before = slot == ring_start_[v] ? 0.0 : rings_[slot - 1].area_so_far;
-      rings_[slot] = {std::uint32_t(t), c, before + areas[t]};
+      rings_[slot] = {t, c, before + areas[i]};
     }
   }
 }

@@ -1,5 +1,6 @@
 // The points of a per-vertex bake (SPEC 6.2): vertex i's estimates are drawn
-// over its one-ring with density proportional to its hat function.
+// over its one-ring, of the triangles baked, with density proportional to its
+// hat function.
 #pragma once
 
 #include <vector>
@@ -11,7 +12,8 @@ namespace mbao {
 
 class VertexPoints : public EstimatePoints {
  public:
-  explicit VertexPoints(const TriangleMesh& mesh);
+  // triangles: the ones baked, indices into mesh.triangles (each in range); the rest only occlude.
+  VertexPoints(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles);
 
   std::size_t targets() const override { return ring_start_.size() - 1; }
   bool has_surface(std::size_t vertex) const override { return ring_start_[vertex + 1] > ring_start_[vertex]; }

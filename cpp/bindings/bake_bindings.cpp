@@ -19,14 +19,28 @@ namespace {
 // Vertices in no particular order: a layout as wide as a texture's, so tiles are not tiny on a GPU.
 constexpr std::size_t kVertexLayoutWidth = 1024;
 
-py::tuple bake_vertices(const std::shared_ptr<Scene>& scene, const DeviceInfo& device, const py::dict& values,
-                        std::int64_t samples, const py::object& progress) {
+using TriangleArray = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>;
+
+// The triangles a vertex bake bakes, each an index into the scene's.
+std::vector<std::uint32_t> baked_triangles(const Scene& scene, const TriangleArray& triangles) {
+  if (triangles.ndim() != 1) throw std::invalid_argument("triangles must be one-dimensional");
+  std::vector<std::uint32_t> out(triangles.data(), triangles.data() + triangles.size());
+  for (const std::uint32_t t : out)
+    if (t >= scene.mesh().triangles.size())
+      throw std::invalid_argument("triangles: " + std::to_string(t) + " is not a triangle of a scene of " +
+                                  std::to_string(scene.mesh().triangles.size()));
+  return out;
+}
+
+py::tuple bake_vertices(const std::shared_ptr<Scene>& scene, const TriangleArray& triangles, const DeviceInfo& device,
+                        const py::dict& values, std::int64_t samples, const py::object& progress) {
+  const std::vector<std::uint32_t> baked = baked_triangles(*scene, triangles);
   const RenderSettings settings = settings_from(values);
   const Renderer::TileCallback between_tiles = tile_callback(progress);
   BakeEstimates bake;
   {
     py::gil_scoped_release release;
-    const VertexPoints points(scene->mesh());
+    const VertexPoints points(scene->mesh(), baked);
     bake = bake_estimates(Renderer::for_device(device), scene, settings, samples, points, kVertexLayoutWidth,
                           between_tiles);
   }
@@ -98,32 +112,37 @@ py::tuple traced_tuple(TracedPositions&& traced) {
                         stats_dict(traced.stats));
 }
 
-std::size_t vertex_bake_positions(const std::shared_ptr<Scene>& scene, std::int64_t samples) {
+std::size_t vertex_bake_positions(const std::shared_ptr<Scene>& scene, const TriangleArray& triangles,
+                                  std::int64_t samples) {
+  const std::vector<std::uint32_t> baked = baked_triangles(*scene, triangles);
   py::gil_scoped_release release;
-  return bake_layout(VertexPoints(scene->mesh()), samples, kVertexLayoutWidth).positions();
+  return bake_layout(VertexPoints(scene->mesh(), baked), samples, kVertexLayoutWidth).positions();
 }
 
-py::tuple trace_vertex_bake(const std::shared_ptr<Scene>& scene, const DeviceInfo& device, const py::dict& values,
-                            std::int64_t samples, std::size_t first, std::size_t end, const py::object& progress) {
+py::tuple trace_vertex_bake(const std::shared_ptr<Scene>& scene, const TriangleArray& triangles,
+                            const DeviceInfo& device, const py::dict& values, std::int64_t samples, std::size_t first,
+                            std::size_t end, const py::object& progress) {
+  const std::vector<std::uint32_t> baked = baked_triangles(*scene, triangles);
   const RenderSettings settings = settings_from(values);
   const Renderer::TileCallback between_tiles = tile_callback(progress);
   TracedPositions traced;
   {
     py::gil_scoped_release release;
-    const VertexPoints points(scene->mesh());
+    const VertexPoints points(scene->mesh(), baked);
     const BakeLayout layout = bake_layout(points, samples, kVertexLayoutWidth);
     traced = trace_bake(Renderer::for_device(device), scene, settings, points, layout, first, end, between_tiles);
   }
   return traced_tuple(std::move(traced));
 }
 
-py::tuple finish_vertex_bake(const std::shared_ptr<Scene>& scene, std::int64_t samples, const FloatArray& mean,
-                             const FloatArray& second_moment) {
+py::tuple finish_vertex_bake(const std::shared_ptr<Scene>& scene, const TriangleArray& triangles,
+                             std::int64_t samples, const FloatArray& mean, const FloatArray& second_moment) {
+  const std::vector<std::uint32_t> baked = baked_triangles(*scene, triangles);
   const std::vector<float> means = floats_of(mean), second_moments = floats_of(second_moment);
   BakeEstimates bake;
   {
     py::gil_scoped_release release;
-    const VertexPoints points(scene->mesh());
+    const VertexPoints points(scene->mesh(), baked);
     bake = finish_bake(points, bake_layout(points, samples, kVertexLayoutWidth), samples, means, second_moments);
   }
   const auto n = py::ssize_t(bake.values.size());
@@ -217,13 +236,13 @@ void bind_bake(py::module_& m) {
         py::arg("padding"), py::arg("progress"),
         "Bakes L_b per texel of a TexelLayout (SPEC 6.3) and dilates by `padding`; returns (image, standard_error, "
         "filled, stats). Use mbao.bake.");
-  m.def("vertex_bake_positions", &vertex_bake_positions, py::arg("scene"), py::arg("samples"),
+  m.def("vertex_bake_positions", &vertex_bake_positions, py::arg("scene"), py::arg("triangles"), py::arg("samples"),
         "The positions of a vertex bake's one image, which trace_vertex_bake splits.");
-  m.def("trace_vertex_bake", &trace_vertex_bake, py::arg("scene"), py::arg("device"), py::arg("settings"),
+  m.def("trace_vertex_bake", &trace_vertex_bake, py::arg("scene"), py::arg("triangles"), py::arg("device"), py::arg("settings"),
         py::arg("samples"), py::arg("first"), py::arg("end"), py::arg("progress"),
         "The positions [first, end) of a vertex bake traced: (mean, second moment, stats), by position. Any "
         "split of the positions gives the whole bake's, bit for bit. Use mbao.bake.");
-  m.def("finish_vertex_bake", &finish_vertex_bake, py::arg("scene"), py::arg("samples"), py::arg("mean"),
+  m.def("finish_vertex_bake", &finish_vertex_bake, py::arg("scene"), py::arg("triangles"), py::arg("samples"), py::arg("mean"),
         py::arg("second_moment"), "(values, standard_error) per vertex from every position's moments.");
   m.def("trace_texel_bake", &trace_texel_bake, py::arg("texels"), py::arg("device"), py::arg("settings"),
         py::arg("samples"), py::arg("first"), py::arg("end"), py::arg("progress"),
@@ -234,9 +253,10 @@ void bind_bake(py::module_& m) {
   m.attr("BAKE_SAMPLES_RANGE") = py::make_tuple(kMinBakeSamples, kMaxBakeSamples);
   m.attr("BAKE_RESOLUTION_RANGE") = py::make_tuple(1, kMaxTextureSide);
   m.attr("BAKE_PADDING_RANGE") = py::make_tuple(0, kMaxPadding);
-  m.def("bake_vertices", &bake_vertices, py::arg("scene"), py::arg("device"), py::arg("settings"),
+  m.def("bake_vertices", &bake_vertices, py::arg("scene"), py::arg("triangles"), py::arg("device"), py::arg("settings"),
         py::arg("samples"), py::arg("progress"),
-        "Bakes L_b per vertex (SPEC 6.2); returns (values, standard_error, stats). settings: {name: value} of "
+        "Bakes L_b per vertex (SPEC 6.2) over the one-rings of `triangles` (indices into the scene's; the rest only "
+        "occlude); returns (values, standard_error, stats). settings: {name: value} of "
         "setting_specs(). Use mbao.bake, which checks and documents the arguments.");
 }
 

@@ -1,6 +1,7 @@
 #include "scene/triangle_mesh.h"
 
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 namespace mbao {
@@ -9,6 +10,12 @@ namespace {
 bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
+
+std::vector<std::uint32_t> TriangleMesh::all_triangles() const {
+  std::vector<std::uint32_t> all(triangles.size());
+  std::iota(all.begin(), all.end(), 0u);
+  return all;
+}
 
 Bounds3 TriangleMesh::bounds() const {
   Bounds3 box;

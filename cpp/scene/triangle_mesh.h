@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <glm/vec3.hpp>
 #include <string>
 #include <vector>
@@ -23,6 +24,8 @@ struct TriangleMesh {
   // naming `what` and the offending element: no triangles, an index out of
   // range, a non-finite vertex position or normal, a normals array of the wrong length.
   Bounds3 checked_bounds(const std::string& what) const;
+  // 0, 1, ..., triangles.size() - 1: every triangle, where a list of them is asked for.
+  std::vector<std::uint32_t> all_triangles() const;
 };
 
 }  // namespace mbao

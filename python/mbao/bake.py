@@ -9,6 +9,7 @@ import weakref
 from typing import Any, Optional, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _checks, _core
 from ._progress import checked_progress, progress_reporter
@@ -86,8 +87,8 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
          normals: str = "shading", texcoord: Union[None, int, str] = None,
          resolution: Union[int, Tuple[int, int]] = 1024, padding: int = 4,
          wrap: Union[None, str, Tuple[str, str]] = None, seed: int = 0, max_rays: int = _core.DEFAULT_MAX_RAYS,
-         engine: Optional[Engine] = None, device: DeviceLike = None, progress: Progress = None,
-         client: Any = None) -> "Bake":
+         triangles: Optional[ArrayLike] = None, engine: Optional[Engine] = None, device: DeviceLike = None,
+         progress: Progress = None, client: Any = None) -> "Bake":
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
 
@@ -123,6 +124,10 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
         where it came from: "settings", "camera" or "none". A bake with no
         radius that comes out nearly black warns: in a closed scene every ray
         hits something.
+    triangles: the triangles baked, indices into scene.indices; None: all of
+        them. The others still occlude and reflect, but are baked nowhere: a
+        vertex's one-ring is its triangles baked (a vertex in none gets 1), and
+        each material's texture holds only its triangles baked (SPEC 6).
     engine: an mbao.Engine, as for render.
     device: as for render.
     progress: as for render, over the bake's tiles (with a client, its parts):
@@ -149,6 +154,7 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     lo, hi = _core.BAKE_SAMPLES_RANGE
     samples = _checks.integer("samples", samples, lo, hi, f"[{lo}, {hi}]")
     radius, radius_source = _radius(scene, max_distance, camera)
+    baked = _baked_triangles(scene, triangles)
     given = dict(bounces=bounces, estimator=estimator, rho=rho, max_distance=radius, normals=normals, seed=seed,
                  max_rays=max_rays)
     values = {name: checked(RENDER[name], value) for name, value in given.items()}
@@ -161,11 +167,12 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     if target == "vertices":
         with progress_reporter(progress, "bake", "tile") as on_tile:
             if client is None:
-                ao, standard_error, stats = _core.bake_vertices(scene, resolve(device), values, samples, on_tile)
+                ao, standard_error, stats = _core.bake_vertices(scene, baked, resolve(device), values, samples,
+                                                                on_tile)
             else:
-                positions = _core.vertex_bake_positions(scene, samples)
-                mean, second_moment, stats = _traced_on(client, scene, None, positions, values, samples, on_tile)
-                ao, standard_error = _core.finish_vertex_bake(scene, samples, mean, second_moment)
+                positions = _core.vertex_bake_positions(scene, baked, samples)
+                mean, second_moment, stats = _traced_on(client, scene, baked, positions, values, samples, on_tile)
+                ao, standard_error = _core.finish_vertex_bake(scene, baked, samples, mean, second_moment)
         stats = dict(stats, max_distance_source=radius_source)
         warn_if_closed(scene, ao, np.ones(ao.shape, bool), stats, "vertices")
         return Bake(target, ao, standard_error, settings, stats)
@@ -176,8 +183,8 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     wrap = None if wrap is None else _wrap(wrap)
     if texcoord is not None and texcoord != "generate":
         texcoord = _checks.integer("texcoord", texcoord, 0, 7, "[0, 7] (TEXCOORD_n), \"generate\" or None")
-    materials = (_generated_materials(scene, width, height, padding) if texcoord == "generate"
-                 else _texture_materials(scene, texcoord, wrap))
+    materials = (_generated_materials(scene, baked, width, height, padding) if texcoord == "generate"
+                 else _texture_materials(scene, baked, texcoord, wrap))
     textures, stats = _bake_textures(scene, materials, (width, height), padding, values, samples, device, progress,
                                      client)
     settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
@@ -185,6 +192,21 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     for texture in textures.values():
         warn_if_closed(scene, texture.image, texture.coverage, stats, "covered texels")
     return Bake(target, None, None, settings, stats, textures)
+
+
+def _baked_triangles(scene, triangles):
+    """The triangles a bake bakes: sorted, each once, as uint32 indices into scene.indices."""
+    if triangles is None:
+        return np.arange(scene.triangle_count, dtype=np.uint32)
+    given = np.asarray(triangles)
+    if given.ndim != 1 or given.size == 0 or given.dtype.kind not in "iu":
+        raise ValueError(f"triangles must be a non-empty list of triangle indices, got an array of shape "
+                         f"{given.shape} and dtype {given.dtype}")
+    outside = (given < 0) | (given >= scene.triangle_count)
+    if outside.any():
+        raise ValueError(f"triangles: {int(given[outside][0])} is not a triangle of the scene, whose triangles are "
+                         f"0 to {scene.triangle_count - 1}")
+    return np.unique(given).astype(np.uint32)
 
 
 def _radius(scene, max_distance, camera):
@@ -237,19 +259,20 @@ def _bake_textures(scene, materials, resolution, padding, values, samples, devic
 _MIN_POSITIONS_PER_PART = 1 << 14
 
 
-def _traced_on(client, scene, texels, positions, values, samples, on_part):
+def _traced_on(client, scene, points, positions, values, samples, on_part):
     """Every position's two moments of a bake, traced in parts on the cluster's
     workers, and the parts' stats, frame_ms and rays_secondary summed.
-    texels: None for a vertex bake, else the _TexelRecipe of its layout."""
+    points: what the estimates' points are drawn from: a vertex bake's triangles
+    baked (uint32 indices), or a texture bake's _TexelRecipe."""
     from ._cluster import default_in_flight, results_of, scene_for_workers  # only bakes on a cluster need Dask
 
     parts = max(1, min(2 * default_in_flight(client), positions // _MIN_POSITIONS_PER_PART))
     bounds = [positions * k // parts for k in range(parts + 1)]
     ranges = list(zip(bounds, bounds[1:]))
     on_cluster = scene_for_workers(client, scene, broadcast=True)
-    if texels is not None:  # to each worker once, like the scene
-        texels = client.scatter(texels, broadcast=True, hash=False)
-    tasks = ((_trace_part, on_cluster, texels, values, samples, first, end) for first, end in ranges)
+    # To each worker once, like the scene.
+    points = client.scatter(points, broadcast=True, hash=False)
+    tasks = ((_trace_part, on_cluster, points, values, samples, first, end) for first, end in ranges)
     mean, second_moment = np.empty(positions, np.float32), np.empty(positions, np.float32)
     stats, totals = None, dict(frame_ms=0.0, rays_secondary=0)
     results = results_of(client, tasks)
@@ -265,11 +288,12 @@ def _traced_on(client, scene, texels, positions, values, samples, on_part):
     return mean, second_moment, dict(stats, **totals)
 
 
-def _trace_part(scene, texels, values, samples, first, end):
+def _trace_part(scene, points, values, samples, first, end):
     """On a worker: positions [first, end) of a bake."""
-    if texels is None:
-        return _core.trace_vertex_bake(scene, resolve(None), values, samples, first, end, None)
-    return _core.trace_texel_bake(_layout_on_worker(scene, texels), resolve(None), values, samples, first, end, None)
+    if isinstance(points, _TexelRecipe):
+        return _core.trace_texel_bake(_layout_on_worker(scene, points), resolve(None), values, samples, first, end,
+                                      None)
+    return _core.trace_vertex_bake(scene, points, resolve(None), values, samples, first, end, None)
 
 
 @dataclasses.dataclass(eq=False)
@@ -334,24 +358,22 @@ class _Material:
     layout: object = None  # a generated set's TexelLayout, made while generating it
 
 
-def _texture_materials(scene, texcoord, wrap):
-    """The materials of a texture bake of `scene`, each with its UV set (SPEC 6.3)."""
+def _texture_materials(scene, baked, texcoord, wrap):
+    """The materials of a texture bake of `scene`'s triangles `baked`, each with its UV set (SPEC 6.3)."""
     if isinstance(scene, Mesh):
         if texcoord not in (None, 0):
             raise ValueError(f"texcoord must be None or 0 for an mbao.Mesh (its one set of texcoords), got {texcoord!r}")
         if scene.texcoords is None:
             raise ValueError(f"{scene.name}: a texture bake needs UVs, and this mesh has none: give mbao.Mesh "
                              f"texcoords=, or bake target=\"vertices\"")
-        triangles = np.arange(scene.triangle_count, dtype=np.uint32)
-        return [_Material(0, "the mesh", triangles, scene.texcoords[scene.indices], 0, wrap or ("repeat", "repeat"))]
+        return [_Material(0, "the mesh", baked, scene.texcoords[scene.indices[baked]], 0, wrap or ("repeat", "repeat"))]
     uv_sets = scene.uv_sets
     if uv_sets is None:
         raise ValueError(f"{scene.name}: a texture bake needs the file's UV sets: load it with "
                          f"mbao.load(path, texcoords=True), or pass its path; any scene bakes with "
                          f"texcoord=\"generate\"")
     materials = []
-    for index in np.unique(uv_sets["triangle_materials"]).tolist():
-        triangles = np.flatnonzero(uv_sets["triangle_materials"] == index).astype(np.uint32)
+    for index, triangles in _by_material(scene, baked).items():
         info = uv_sets["materials"][index] if index >= 0 else dict(name="", occlusion_texcoord=None,
                                                                    wrap=("repeat", "repeat"))
         name = f"material {index} ({info['name']!r})" if index >= 0 else "the triangles without a material"
@@ -390,16 +412,20 @@ def _resolution_text(size):
     return f"{size[0]}" if size[0] == size[1] else f"({size[0]}, {size[1]})"
 
 
-def _generated_materials(scene, width, height, padding):
+def _by_material(scene, baked):
+    """{material index: its triangles among `baked`}, for a scene loaded with its UV sets."""
+    triangle_materials = scene.uv_sets["triangle_materials"][baked]
+    return {index: baked[triangle_materials == index] for index in np.unique(triangle_materials).tolist()}
+
+
+def _generated_materials(scene, baked, width, height, padding):
     """Per material, a new UV set of charts packed into the texture (SPEC 6.3's texcoord="generate")."""
     if isinstance(scene, Mesh) or scene.uv_sets is None:
         key = 0 if isinstance(scene, Mesh) else -1
-        groups = {key: np.arange(scene.triangle_count, dtype=np.uint32)}
+        groups = {key: baked}
         names = {key: "the mesh" if isinstance(scene, Mesh) else scene.name}
     else:
-        triangle_materials = scene.uv_sets["triangle_materials"]
-        groups = {index: np.flatnonzero(triangle_materials == index).astype(np.uint32)
-                  for index in np.unique(triangle_materials).tolist()}
+        groups = _by_material(scene, baked)
         names = {index: f"{scene.name}: material {index}" for index in groups}
     # The materials' UV sets are independent: generated on all cores at once (the core releases the GIL).
     with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count()) as pool:

@@ -34,7 +34,7 @@ TEST(VertexPoints, DrawsTheRingWithDensityProportionalToTheHatFunction) {
   // phi_v at a point drawn with density proportional to phi_v is Beta(2, 2):
   // mean 1/2, variance 1/20. Vertex 0 has both triangles, vertex 1 one.
   const TriangleMesh mesh = unit_square();
-  const VertexPoints points(mesh);
+  const VertexPoints points(mesh, mesh.all_triangles());
   ASSERT_EQ(points.targets(), 4u);
   constexpr int n = 200000;
   for (std::uint32_t vertex : {0u, 1u}) {
@@ -62,8 +62,18 @@ TEST(VertexPoints, AVertexWithoutAreaHasNoPoints) {
   TriangleMesh mesh = unit_square();
   mesh.positions.push_back({5, 5, 5});
   mesh.triangles.push_back({4, 4, 0});
-  const VertexPoints points(mesh);
+  const VertexPoints points(mesh, mesh.all_triangles());
   EXPECT_FALSE(points.point(4, estimate_random(4, 0, 0)));
+}
+
+TEST(VertexPoints, DrawOnlyOnTheTrianglesBaked) {
+  // Baking triangle 1 alone: vertex 0's ring is that triangle, and vertex 1,
+  // which only triangle 0 uses, holds no surface.
+  const TriangleMesh mesh = unit_square();
+  const VertexPoints points(mesh, {1});
+  EXPECT_FALSE(points.has_surface(1));
+  EXPECT_FALSE(points.point(1, estimate_random(1, 0, 0)));
+  for (std::uint32_t i = 0; i < 1000; ++i) EXPECT_EQ(points.point(0, estimate_random(0, i, 3))->triangle, 1u);
 }
 
 TEST(TexelLayout, DrawsEachTexelsSurfaceUniformly) {

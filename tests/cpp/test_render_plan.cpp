@@ -271,8 +271,9 @@ TEST(RenderPlan, TilesHoldWhatOneLaunchMayHold) {
     ASSERT_GT(plan.tile_pixels, 0u);
     EXPECT_LT(plan.tile_pixels, std::size_t(s.width * s.height));
     EXPECT_LE(plan.tile_pixels * s.max_rays_per_camera_sample(), std::uint64_t(1) << 24);
-    if (plan.organisation == KernelOrganisation::Wavefront)
+    if (plan.organisation == KernelOrganisation::Wavefront) {
       EXPECT_LE(plan.tile_pixels * s.max_queue_entries_per_camera_sample(), kMaxWavefrontQueueEntries);
+    }
   }
   s.tile_pixels = 100;
   EXPECT_EQ(plan_render(s, kCpu, kShallow).tile_pixels, 100u);
