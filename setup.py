@@ -3,7 +3,7 @@
 from skbuild import setup
 
 setup(
-    packages=["mbao", "mbao.viewer"],
+    packages=["mbao", "mbao.viewer", "mbao.blender", "mbao.blender.mbao_bake"],
     package_data={"mbao": ["py.typed", "_core.pyi"], "mbao.viewer": ["static/*"]},
     package_dir={"": "python"},
     cmake_install_dir="python",

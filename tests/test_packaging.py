@@ -25,6 +25,7 @@ def test_pip_install_gives_a_working_package(tmp_path):
 
     assert all((target / "mbao" / "viewer" / "static" / name).is_file() for name in STATIC_FILES)
     assert (target / "mbao" / "py.typed").is_file() and (target / "mbao" / "_core.pyi").is_file()  # PEP 561
+    assert (target / "mbao" / "blender" / "mbao_bake" / "operator.py").is_file()  # what `mbao blender` installs
 
     check = textwrap.dedent(
         """

@@ -177,6 +177,16 @@ def _parser():
     k.add_argument("file", help="a .gltf or .glb file, a baked one or any other")
 
     commands.add_parser("devices", help="list the OpenCL devices")
+
+    from .blender.install import SUPPORTED
+
+    g = commands.add_parser("blender", help=f"the Blender add-on, which bakes multi-bounce AO in Blender "
+                                            f"({SUPPORTED}; SPEC 9)")
+    where = g.add_mutually_exclusive_group(required=True)
+    where.add_argument("--install", action="store_true", help="install it into the user's add-ons and enable it")
+    where.add_argument("--zip", metavar="FILE", help="write it as a zip, for Preferences > Add-ons > Install")
+    g.add_argument("--blender", default="blender", help="the Blender executable to install into "
+                                                        "(default: %(default)s)")
     return parser
 
 
@@ -471,6 +481,18 @@ def _open_browser(url):
         webbrowser.open(url)
 
 
+def _blender(args):
+    from .blender import install
+
+    if args.zip:
+        print(f"wrote {install.write_zip(args.zip)}: install it in Blender's Preferences > Add-ons > Install, "
+              f"then enable \"Render: mbao\"")
+    else:
+        print(f"installed and enabled the add-on in {install.install(args.blender)}: see Properties > Render > "
+              f"mbao Multi-Bounce AO, or call bpy.ops.mbao.bake")
+    return 0
+
+
 def main(argv=None):
     parser = _parser()
     args = parser.parse_args(argv)
@@ -499,6 +521,8 @@ def main(argv=None):
                 return _orbit(args)
             if args.command == "view":
                 return _view(args)
+            if args.command == "blender":
+                return _blender(args)
             return _render(args)
     except (ValueError, TypeError, OSError, _core.Error) as error:
         print(f"mbao: {command.in_flags(str(error))}", file=sys.stderr)
