@@ -189,7 +189,8 @@ def test_an_image_bake_fills_the_covered_texels_and_pads_the_rest(blender_home, 
         plane.data.update()  # tells the depsgraph, which the add-on reads
         image = bpy.data.images.new("ao", 32, 32, float_buffer=True)
         select(plane)
-        assert bpy.ops.mbao.bake(target="IMAGE", image="ao", samples=16, padding=2) == {"FINISHED"}
+        assert bpy.ops.mbao.bake(target="IMAGE", image="ao", samples=16, padding=2, preview=True) == {"FINISHED"}
+        assert [n.image for n in plane.active_material.node_tree.nodes if n.type == "TEX_IMAGE"] == [image]
         pixels = np.empty(32 * 32 * 4, np.float32)
         image.pixels.foreach_get(pixels)
         pixels = pixels.reshape(32, 32, 4)

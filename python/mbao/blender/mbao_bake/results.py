@@ -16,8 +16,8 @@ def write(bake_input, result, settings, blend_path):
         written = _write_attributes(bake_input.targets, result, settings)
     if settings["preview"]:
         for part in bake_input.targets:
-            _preview_material(part.obj, _image_node(image) if image is not None else _attribute_node(
-                settings["attribute"]))
+            _preview_material(part.obj, _source_node("ShaderNodeTexImage", image=image) if image is not None
+                              else _source_node("ShaderNodeAttribute", attribute_name=settings["attribute"]))
     return written
 
 
@@ -103,19 +103,11 @@ def _preview_material(obj, source_node):
     obj.data.materials.append(material)
 
 
-def _attribute_node(name):
-    """What makes a preview material's node that reads attribute `name`."""
+def _source_node(node_type, **settings):
+    """What makes a preview material's source node: a node of `node_type` with `settings`."""
     def node_in(nodes):
-        node = nodes.new("ShaderNodeAttribute")
-        node.attribute_name = name
-        return node
-    return node_in
-
-
-def _image_node(image):
-    """What makes a preview material's node that shows `image` through the active UV map."""
-    def node_in(nodes):
-        node = nodes.new("ShaderNodeTexImage")
-        node.image = image
+        node = nodes.new(node_type)
+        for name, value in settings.items():
+            setattr(node, name, value)
         return node
     return node_in
