@@ -39,8 +39,8 @@ SANITIZE_PACKAGES := clang libclang-rt-14-dev llvm
 BROWSER_TEST_PACKAGES := chromium chromium-driver python3-selenium python3-notebook
 # mypy checks a typed script against the package's annotations, and its stubtest the core's stub.
 TYPE_CHECK_PACKAGES := mypy
-# The Blender add-on's tests run Debian's Blender (3.4) headless.
-BLENDER_TEST_PACKAGES := blender
+# The Blender add-on's tests run Debian's Blender (3.4) headless, and with a window under Xvfb.
+BLENDER_TEST_PACKAGES := blender xvfb xauth
 # CTest and pytest run a test per core (pytest through xdist's workers): kernel
 # builds, which the driver's compiler runs on one core, and the tests that wait
 # on a browser, a server or a child process overlap with the rest.

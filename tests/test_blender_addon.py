@@ -299,3 +299,108 @@ def test_the_docs_script_runs_in_blender(blender_home, tmp_path):
     script = text.split("```python blender\n")[1].split("```")[0]
     said = blender(blender_home, tmp_path, script)
     assert "vertices baked" in said and "Info: mbao: baked color attribute 'mbao_ao' of 1 object" in said
+
+
+# Run in a Blender with a window (under Xvfb), its events simulated: the
+# operator as the panel's button runs it, beside the UI, then Esc.
+WINDOWED = """
+import sys
+import time
+import traceback
+
+import bpy
+import numpy as np
+
+import mbao_bake.jobs
+
+jobs = []
+started = mbao_bake.jobs.BakeJob.__init__
+
+
+def recorded(self, *arguments):
+    started(self, *arguments)
+    jobs.append(self)
+
+
+mbao_bake.jobs.BakeJob.__init__ = recorded
+state = {"ticks": 0, "step": "cancel"}
+
+
+def colors(obj, name):
+    attribute = obj.data.color_attributes[name]
+    out = np.empty(len(attribute.data) * 4, np.float32)
+    attribute.data.foreach_get("color", out)
+    return out
+
+
+def invoke(**settings):
+    window = bpy.context.window_manager.windows[0]
+    view = next(area for area in window.screen.areas if area.type == "VIEW_3D")
+    with bpy.context.temp_override(window=window, area=view, region=view.regions[-1]):
+        assert bpy.ops.mbao.bake("INVOKE_DEFAULT", **settings) == {"RUNNING_MODAL"}
+    state.update(ticks=0, since=time.monotonic())
+
+
+def setup():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    bpy.ops.mesh.primitive_plane_add(size=10)
+    bpy.ops.mesh.primitive_monkey_add(location=(0, 0, 1))
+    bpy.ops.object.shade_smooth()
+    invoke(samples=65536, bounces=2)
+    bpy.app.timers.register(checked(tick), first_interval=0.05)
+
+
+def tick():
+    state["ticks"] += 1
+    monkey = bpy.data.objects["Suzanne"]
+    job = jobs[-1]
+    if state["step"] == "cancel":
+        if state["ticks"] == 3:
+            window = bpy.context.window_manager.windows[0]
+            window.event_simulate(type="ESC", value="PRESS")
+            window.event_simulate(type="ESC", value="RELEASE")
+            state["escaped"] = time.monotonic()
+        if state["ticks"] > 3 and job.done:
+            assert job.cancelled and job.result is None
+            assert time.monotonic() - state["escaped"] < 10.0, "Esc took longer than a tile to stop the bake"
+            assert "mbao_ao" not in monkey.data.color_attributes
+            state["step"] = "bake"
+            invoke(samples=4096, bounces=2, seed=3)
+        return 0.05
+    if "mbao_ao" not in monkey.data.color_attributes:
+        return 0.05
+    assert state["ticks"] >= 2, "the UI's timers did not run while the bake ran"
+    assert len(jobs) == 2 and not jobs[-1].cancelled
+    assert bpy.ops.mbao.bake(samples=4096, bounces=2, seed=3, attribute="direct") == {"FINISHED"}
+    assert np.array_equal(colors(monkey, "mbao_ao"), colors(monkey, "direct"))
+    print("WINDOWED TEST PASSED", flush=True)
+    bpy.ops.wm.quit_blender()
+
+
+def checked(step):
+    def run():
+        try:
+            return step()
+        except Exception:
+            traceback.print_exc()
+            sys.stdout.flush()
+            import os
+            os._exit(1)
+    return run
+
+
+bpy.app.timers.register(checked(setup), first_interval=0.5)
+"""
+
+
+def test_from_the_ui_it_bakes_beside_it_and_esc_cancels(blender_home, tmp_path):
+    """In a Blender with a window: the operator invoked as the panel's button
+    does it runs modal, the UI's timers tick while it bakes, Esc stops it with
+    nothing written, and a bake left to finish writes what a script's does."""
+    script = tmp_path / "windowed.py"
+    script.write_text(WINDOWED)
+    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", "blender", "--enable-event-simulate",
+                          "--python", str(script)], env=blender_home, cwd=tmp_path, capture_output=True, text=True,
+                         timeout=300)
+    assert "WINDOWED TEST PASSED" in run.stdout, run.stdout[-6000:] + run.stderr[-6000:]
