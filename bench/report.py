@@ -303,9 +303,33 @@ def viewer(run):
     return table(["measure", "target"] + [scene["scene"] for scene in scenes], rows)
 
 
+def blender(run):
+    """bench/blender/run.py: Cycles' AO bake and mbao's add-on in one Blender, at one RMS standard error."""
+    cycles, b1, b2 = run["cycles"], run["mbao_b1"], run["mbao_b2"]
+    # Cycles counts no rays: one per sample per texel it bakes, the compared ones (their centres on a triangle).
+    cycles_mrays = cycles["samples"] * run["compared_texels"] / cycles["seconds"] / 1e6
+    rows = [["Cycles, bake type AO", 1, cycles["samples"], f"{cycles['rms_standard_error']:.4f}",
+             f"{cycles['seconds']:.1f}", "", f"{cycles_mrays:.1f}", f"{cycles['mean']:.3f}"],
+            ["mbao add-on", 1, b1["samples"], f"{b1['rms_standard_error']:.4f}", f"{b1['seconds']:.1f}",
+             f"{b1['tracing_seconds']:.1f}", f"{b1['mrays_per_s']:.1f}", f"{b1['mean']:.3f}"],
+            ["mbao add-on", 2, b2["samples"], f"{b2['rms_standard_error']:.4f}", f"{b2['seconds']:.1f}", "", "",
+             f"{b2['mean']:.3f}"]]
+    d = run["b1_difference"]
+    header = ["baker", "b", "samples", "RMS standard error", "s", "tracing s", "Mrays/s", "mean"]
+    return table(header, rows) + [
+        "", f"{run['scene']}, {run['triangles']} triangles, {run['size']} x {run['size']}, padding "
+            f"{run['padding']}, AO distance {run['distance']:g}, Blender {run['blender']}, {run['cores']} cores of "
+            f"{run['cpu']}; mbao on {device_name(run)}. Cycles' error falls as samples^-{cycles['error_order']:.2f}; "
+            f"its rays are one per sample per texel it bakes. At b = 1, mbao - Cycles over the "
+            f"{run['compared_texels']:,} texels both estimate: mean {d['mean']:+.4f} (RMS {d['rms']:.4f}); "
+            f"z = difference / its standard error: mean {d['mean_z']:+.2f}, RMS {d['rms_z']:.2f}, "
+            f"|z| > 4 for {d['beyond_4_sigma']:.1%} of the texels."]
+
+
 TABLES = {"table1": table1, "embree": embree, "trees": trees, "kd-build": kd_build, "traversals": traversals,
           "profile": profile, "organisation": organisation, "bake": bake, "denoise": denoise,
-          "denoise-summary": denoise_summary, "scale": scale, "cluster": cluster, "viewer": viewer}
+          "denoise-summary": denoise_summary, "scale": scale, "cluster": cluster, "viewer": viewer,
+          "blender": blender}
 ACROSS_FILES = {"summary": summary, "sources": sources}
 
 

@@ -80,7 +80,11 @@ class MBAO_OT_bake(bpy.types.Operator):
         if job.error is not None:
             self.report({"ERROR"}, f"mbao: {job.error}")
             return {"CANCELLED"}
-        written = results.write(self._input, job.result, bake_settings_of(self), bpy.data.filepath)
+        try:
+            written = results.write(self._input, job.result, bake_settings_of(self))
+        except (RuntimeError, OSError) as error:  # an image Blender cannot save, say
+            self.report({"ERROR"}, f"mbao: baked, but could not write the result: {error}")
+            return {"CANCELLED"}
         self.report({"INFO"}, f"mbao: baked {written} in {time.monotonic() - self._started:.1f} s "
                               f"({'in Blender' if job.run_in == 'BLENDER' else 'in a child process'})")
         return {"FINISHED"}

@@ -7,11 +7,11 @@ import numpy as np
 STANDARD_ERROR_SUFFIX = "_standard_error"
 
 
-def write(bake_input, result, settings, blend_path):
+def write(bake_input, result, settings):
     """Writes `result` where `settings` say; returns what was written, for the report."""
     image = bake_input.image
     if image is not None:
-        written = _write_images(image, result, settings, blend_path)
+        written = _write_images(image, result, settings)
     else:
         written = _write_attributes(bake_input.targets, result, settings)
     if settings["preview"]:
@@ -62,8 +62,8 @@ def _rgba(values):
     return rgba
 
 
-def _write_images(image, result, settings, blend_path):
-    _set_pixels(image, result["values"], settings, blend_path)
+def _write_images(image, result, settings):
+    _set_pixels(image, result["values"], settings)
     written = f"image {image.name!r}"
     if settings["standard_error"]:
         error_name = image.name + STANDARD_ERROR_SUFFIX
@@ -72,12 +72,12 @@ def _write_images(image, result, settings, blend_path):
             if error_image is not None:
                 bpy.data.images.remove(error_image)
             error_image = bpy.data.images.new(error_name, image.size[0], image.size[1], float_buffer=True)
-        _set_pixels(error_image, result["standard_error"], settings, blend_path)
+        _set_pixels(error_image, result["standard_error"], settings)
         written += f" and {error_name!r}"
     return written
 
 
-def _set_pixels(image, values, settings, blend_path):
+def _set_pixels(image, values, settings):
     """Rows from v = 0 up, as Blender keeps pixels and as the bake's rows run.
     The values are data, not colours: stored as they are (SPEC 9)."""
     image.colorspace_settings.name = "Non-Color"
