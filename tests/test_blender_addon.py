@@ -236,6 +236,12 @@ def test_bad_settings_are_reported_not_raised(blender_home, tmp_path):
         refused("has no image to bake into", target="IMAGE")
         refused("there is no image named 'nothing'", target="IMAGE", image="nothing")
         bpy.data.images.new("ao", 8, 8)
+        refused("Save Beside .blend needs the .blend saved first", target="IMAGE", image="ao", save=True)
+        twin = cube.copy()  # a linked duplicate: the same mesh
+        bpy.context.collection.objects.link(twin)
+        select(cube, twin)
+        refused("share one mesh")
+        select(cube)
         cube.data.uv_layers.remove(cube.data.uv_layers[0])
         refused(f"object {cube.name} has no UV map", target="IMAGE", image="ao")
         bpy.ops.object.modifier_add(type="SUBSURF")
