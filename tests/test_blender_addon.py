@@ -175,6 +175,31 @@ def test_a_mirrored_object_is_baked_on_its_front(blender_home, tmp_path):
     """)
 
 
+def test_what_is_visible_occludes_instances_included(blender_home, tmp_path):
+    """A hidden cube over the plane occludes nothing; a collection's instance
+    there does, as Blender shows it, though its source lies far away."""
+    blender(blender_home, tmp_path, """
+        cube, plane = cube_on_a_plane(cuts=1)
+        cube.hide_set(True)
+        select(plane)
+        assert bpy.ops.mbao.bake(samples=16, max_distance=2.0) == {"FINISHED"}
+        assert colors(plane, "mbao_ao")[:, 0].min() == 1.0
+        shelf = bpy.data.collections.new("shelf")
+        bpy.context.scene.collection.children.link(shelf)
+        bpy.ops.mesh.primitive_cube_add(location=(100.0, 0.0, 1.0))
+        source = bpy.context.active_object
+        for collection in source.users_collection:
+            collection.objects.unlink(source)
+        shelf.objects.link(source)
+        shelf.instance_offset = (100.0, 0.0, 0.0)
+        bpy.context.view_layer.layer_collection.children["shelf"].exclude = True  # only its instance is shown
+        bpy.ops.object.collection_instance_add(collection="shelf", location=(0.0, 0.0, 0.0))
+        select(plane)
+        assert bpy.ops.mbao.bake(samples=16, max_distance=2.0) == {"FINISHED"}
+        assert colors(plane, "mbao_ao")[:, 0].min() < 1.0
+    """)
+
+
 def test_an_image_bake_fills_the_covered_texels_and_pads_the_rest(blender_home, tmp_path):
     """The floor, its UVs shrunk to the middle of a 32 x 32 float image, baked
     with padding 2: the image is mbao.bake's texture of the floor's UVs, bit for

@@ -1,6 +1,7 @@
 """Blender's scene as the arrays of one mbao.Mesh (SPEC 9): the selected mesh
-objects to bake and every other visible object as occluders, each evaluated
-(modifiers applied) and in world space."""
+objects to bake and everything else visible as occluders (instances of
+collections and particles too), each evaluated (modifiers applied) and in
+world space."""
 
 import dataclasses
 
@@ -51,15 +52,15 @@ def bake_input(context, settings):
     if not targets:
         raise BakeInputError("select a mesh object to bake")
     _refuse_shared_meshes(targets)
-    occluders = [obj for obj in context.view_layer.objects
-                 if obj.type in GEOMETRY_TYPES and obj.visible_get() and obj not in targets]
     depsgraph = context.evaluated_depsgraph_get()
     per_texel = settings["target"] == "IMAGE"
     image = _image_of(targets, settings["image"]) if per_texel else None
+    placed = [(obj, obj.evaluated_get(depsgraph), obj.matrix_world) for obj in targets]
+    placed += [(None, evaluated, matrix) for evaluated, matrix in _occluders(depsgraph, targets)]
     pieces, parts, triangles, base = [], [], [], 0
-    for obj in targets + occluders:
-        evaluated = _evaluated(obj, depsgraph)
-        baked = obj in targets
+    for obj, evaluated_object, matrix in placed:
+        evaluated = _evaluated(evaluated_object, matrix)
+        baked = obj is not None
         if baked:
             _refuse_unbakeable(obj, evaluated, per_texel)
         piece = _per_corner(evaluated) if per_texel else _per_vertex(evaluated)
@@ -75,6 +76,20 @@ def bake_input(context, settings):
         arrays["normals"] = None
     arrays["triangles"] = np.concatenate(triangles)
     return BakeInput(arrays, parts, image)
+
+
+def _occluders(depsgraph, targets):
+    """(evaluated object, world matrix) of everything visible but the targets
+    themselves: objects, and the instances of collections and particles."""
+    found = []
+    for instance in depsgraph.object_instances:
+        obj = instance.object
+        if obj.type not in GEOMETRY_TYPES:
+            continue
+        if not instance.is_instance and (obj.original in targets or not instance.show_self):
+            continue
+        found.append((obj, instance.matrix_world.copy()))  # an instance's data lasts only its iteration
+    return found
 
 
 def _refuse_shared_meshes(targets):
@@ -129,12 +144,12 @@ def _active_node_image(obj):
     return node.image if node is not None and node.type == "TEX_IMAGE" else None
 
 
-def _evaluated(obj, depsgraph):
-    evaluated = obj.evaluated_get(depsgraph)
+def _evaluated(evaluated, matrix):
+    """An evaluated object's mesh as arrays, placed by `matrix`."""
     mesh = evaluated.to_mesh()
     try:
         mesh.calc_loop_triangles()
-        return _arrays_of(mesh, np.array(obj.matrix_world, dtype=np.float64))
+        return _arrays_of(mesh, np.array(matrix, dtype=np.float64))
     finally:
         evaluated.to_mesh_clear()
 
