@@ -25,6 +25,14 @@ def device():
     return resolve(None)
 
 
+@pytest.fixture(scope="module")
+def blender_home(tmp_path_factory):
+    """A Blender user folder with the add-on installed and enabled (tests/blender_harness.py)."""
+    from blender_harness import installed_home
+
+    return installed_home(tmp_path_factory.mktemp("blender"))
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261122)
