@@ -57,20 +57,21 @@ def bake_input(context, settings):
     image = _image_of(targets, settings["image"]) if per_texel else None
     placed = [(obj, obj.evaluated_get(depsgraph), obj.matrix_world) for obj in targets]
     placed += [(None, evaluated, matrix) for evaluated, matrix in _occluders(depsgraph, targets)]
-    pieces, parts, triangles, base = [], [], [], 0
+    pieces, parts, triangles, base, first = [], [], [], 0, 0
     for obj, evaluated_object, matrix in placed:
         evaluated = _evaluated(evaluated_object, matrix)
         baked = obj is not None
         if baked:
             _refuse_unbakeable(obj, evaluated, per_texel)
-        piece = _per_corner(evaluated) if per_texel else _per_vertex(evaluated)
-        if baked:
+            piece = _per_corner(evaluated) if per_texel else _per_vertex(evaluated)
             parts.append(Part(obj, base, len(piece["vertices"])))
-            first = sum(len(p["indices"]) for p in pieces)
             triangles.append(np.arange(first, first + len(piece["indices"]), dtype=np.uint32))
+        else:
+            piece = _occluding(evaluated, per_texel)
         piece["indices"] = piece["indices"] + base
         pieces.append(piece)
         base += len(piece["vertices"])
+        first += len(piece["indices"])
     arrays = {name: np.concatenate([p[name] for p in pieces]) for name in pieces[0]}
     if not arrays["normals"].any():  # all flat-shaded: the geometric normals, as mbao takes no normals
         arrays["normals"] = None
@@ -190,6 +191,15 @@ def _read(collection, attribute, width, dtype=np.float64):
 
 def _per_vertex(evaluated):
     return {"vertices": evaluated.positions, "indices": evaluated.triangles, "normals": evaluated.normals}
+
+
+def _occluding(evaluated, per_texel):
+    """An occluder's arrays: its vertices as they are, with UVs of no area where the bake is per texel
+    (it is baked nowhere, but the mesh's UVs are one per vertex)."""
+    piece = _per_vertex(evaluated)
+    if per_texel:
+        piece["texcoords"] = np.zeros((len(evaluated.positions), 2))
+    return piece
 
 
 def _per_corner(evaluated):
