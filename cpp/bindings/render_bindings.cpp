@@ -253,40 +253,38 @@ py::tuple trace(const std::shared_ptr<Scene>& scene, const py::array_t<float, py
 
 }  // namespace
 
+// A settings class from its table: documented by it, constructed from `Args`
+// (the constructor's keywords, `arguments`, restating the table's names and
+// defaults as a real signature; a test holds them equal) and checked, with the
+// table's members.
+template <typename Settings, typename... Args, typename... Keywords>
+void bind_settings_class(py::module_& m, const char* name, const std::string& intro,
+                         const std::vector<SettingSpecOf<Settings>>& specs, const Keywords&... arguments) {
+  py::class_<Settings> cls(m, name, documented(intro, specs).c_str());
+  cls.def(py::init(&validated<Settings, Args...>), arguments...);
+  add_table_members(cls, name, specs);
+}
+
 void bind_render(py::module_& m) {
   m.attr("DEFAULT_MAX_RAYS") = kDefaultMaxRays;
-  // The constructors restate each table's names and defaults as real signatures; a test holds them equal.
-  py::class_<HbaoSettings> hbao(
-      m, "HBAO",
-      documented("HBAO's settings (SPEC 4; Bavoil et al. 2008) for render(method=\"hbao\").", hbao_setting_specs())
-          .c_str());
-  hbao.def(py::init(&validated<HbaoSettings, std::int64_t, std::int64_t, float, float>),
-           py::arg("directions") = HbaoSettings{}.directions, py::arg("steps") = HbaoSettings{}.steps,
-           py::arg("angle_bias_deg") = HbaoSettings{}.angle_bias_deg, py::arg("falloff") = HbaoSettings{}.falloff);
-  add_table_members(hbao, "HBAO", hbao_setting_specs());
-  py::class_<DenoiseSettings> denoise(
+  bind_settings_class<HbaoSettings, std::int64_t, std::int64_t, float, float>(
+      m, "HBAO", "HBAO's settings (SPEC 4; Bavoil et al. 2008) for render(method=\"hbao\").", hbao_setting_specs(),
+      py::arg("directions") = HbaoSettings{}.directions, py::arg("steps") = HbaoSettings{}.steps,
+      py::arg("angle_bias_deg") = HbaoSettings{}.angle_bias_deg, py::arg("falloff") = HbaoSettings{}.falloff);
+  bind_settings_class<DenoiseSettings, std::int64_t, float, std::int64_t, float>(
       m, "Denoise",
-      documented("The spatial filter's settings (SPEC 7.3) for render(denoise=...): an edge-aware a-trous wavelet\n"
-                 "filter (Dammertz et al. 2010) guided by the camera hits' G-buffer and each pixel's variance, as\n"
-                 "in SVGF (Schied et al. 2017).",
-                 denoise_setting_specs())
-          .c_str());
-  denoise.def(py::init(&validated<DenoiseSettings, std::int64_t, float, std::int64_t, float>),
-              py::arg("iterations") = DenoiseSettings{}.iterations,
-              py::arg("sigma_plane") = DenoiseSettings{}.sigma_plane,
-              py::arg("sigma_normal") = DenoiseSettings{}.sigma_normal,
-              py::arg("sigma_value") = DenoiseSettings{}.sigma_value);
-  add_table_members(denoise, "Denoise", denoise_setting_specs());
-  py::class_<TemporalSettings> temporal(
+      "The spatial filter's settings (SPEC 7.3) for render(denoise=...): an edge-aware a-trous wavelet\n"
+      "filter (Dammertz et al. 2010) guided by the camera hits' G-buffer and each pixel's variance, as\n"
+      "in SVGF (Schied et al. 2017).",
+      denoise_setting_specs(), py::arg("iterations") = DenoiseSettings{}.iterations,
+      py::arg("sigma_plane") = DenoiseSettings{}.sigma_plane, py::arg("sigma_normal") = DenoiseSettings{}.sigma_normal,
+      py::arg("sigma_value") = DenoiseSettings{}.sigma_value);
+  bind_settings_class<TemporalSettings, std::int64_t>(
       m, "Temporal",
-      documented("Temporal accumulation's settings (SPEC 7.4) for render_sequence(temporal=...): each frame\n"
-                 "blends its render with the history of the frames before, reprojected into its camera through\n"
-                 "the G-buffers.",
-                 temporal_setting_specs())
-          .c_str());
-  temporal.def(py::init(&validated<TemporalSettings, std::int64_t>),
-               py::arg("max_length") = TemporalSettings{}.max_length);
-  add_table_members(temporal, "Temporal", temporal_setting_specs());
+      "Temporal accumulation's settings (SPEC 7.4) for render_sequence(temporal=...): each frame\n"
+      "blends its render with the history of the frames before, reprojected into its camera through\n"
+      "the G-buffers.",
+      temporal_setting_specs(), py::arg("max_length") = TemporalSettings{}.max_length);
   py::class_<TemporalHistory>(m, "TemporalHistory",
                               "What a sequence's frames keep on the device for the next (SPEC 7.4); "
                               "mbao.render_sequence makes one per sequence.")
