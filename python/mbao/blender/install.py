@@ -3,7 +3,6 @@ or into a zip that Preferences > Add-ons > Install takes (`--zip FILE`). Either
 way the add-on learns where this mbao is and which Python runs it."""
 
 import json
-import os
 import shutil
 import subprocess
 import sys
@@ -56,7 +55,7 @@ def _ask_blender(blender, expression):
         raise OSError(f"no Blender at {blender!r}: install it (Debian: apt-get install blender), or name its "
                       f"executable with --blender")
     run = subprocess.run([blender, "-b", "--python-exit-code", "1", "--python-expr", expression],
-                         capture_output=True, text=True, timeout=120, env=dict(os.environ))
+                         capture_output=True, text=True, timeout=120)
     if run.returncode != 0:
         raise OSError(f"{blender} failed ({run.returncode}): {run.stderr.strip() or run.stdout.strip()}")
     return run.stdout

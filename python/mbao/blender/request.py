@@ -18,30 +18,20 @@ import warnings
 
 import numpy as np
 
-# The add-on's settings that mbao.bake takes under the same names.
-BAKE_SETTINGS = ("bounces", "samples", "rho", "estimator", "seed")
-
-
 def bake(arrays, settings, progress=None):
     """mbao.bake of the triangles arrays["triangles"] of the mesh the arrays
-    describe (vertices, indices, optional normals and texcoords), per vertex
-    (settings["target"] "vertices") or into the UV set (else "texture", at
-    settings["resolution"] with settings["padding"]). settings["max_distance"]
-    0 means no radius. Returns {"values", "standard_error"}: per vertex (N,),
-    or per texel (H, W), row 0 at v = 0."""
+    describe (vertices, indices, optional normals and texcoords), with
+    `settings` its keyword arguments (target "vertices" or "texture"; a texture
+    is baked into the mesh's one UV set). Returns {"values", "standard_error"}:
+    per vertex (N,), or per texel (H, W), row 0 at v = 0."""
     from .. import Mesh, bake as mbao_bake
 
-    normals, texcoords = arrays.get("normals"), arrays.get("texcoords")
-    mesh = Mesh(arrays["vertices"], arrays["indices"], normals, texcoords)
-    chosen = {name: settings[name] for name in BAKE_SETTINGS}
-    radius = settings["max_distance"]
-    if settings["target"] == "vertices":
-        result = mbao_bake(mesh, target="vertices", triangles=arrays["triangles"], max_distance=radius or None,
-                           progress=progress or False, **chosen)
+    mesh = Mesh(arrays["vertices"], arrays["indices"], arrays.get("normals"), arrays.get("texcoords"))
+    into_texture = settings["target"] == "texture"
+    uv_set = {"texcoord": 0} if into_texture else {}
+    result = mbao_bake(mesh, triangles=arrays["triangles"], progress=progress or False, **uv_set, **settings)
+    if not into_texture:
         return {"values": result.values, "standard_error": result.standard_error}
-    result = mbao_bake(mesh, target="texture", triangles=arrays["triangles"], max_distance=radius or None,
-                       texcoord=0, resolution=tuple(settings["resolution"]), padding=settings["padding"],
-                       progress=progress or False, **chosen)
     texture = result.textures[0]
     return {"values": texture.image, "standard_error": texture.standard_error}
 

@@ -12,11 +12,11 @@ from .settings import bake_properties, bake_settings_of
 
 
 def _mbao_settings(settings, bake):
-    """What mbao is asked: the bake's settings in mbao.bake's terms (SPEC 9)."""
-    chosen = {name: settings[name] for name in ("bounces", "samples", "rho", "seed", "max_distance", "padding")}
-    chosen["estimator"] = settings["estimator"].lower()
+    """What mbao is asked: mbao.bake's keyword arguments (SPEC 9)."""
+    chosen = {name: settings[name] for name in ("bounces", "samples", "rho", "seed")}
+    chosen.update(estimator=settings["estimator"].lower(), max_distance=settings["max_distance"] or None)
     if bake.image is not None:
-        chosen.update(target="texture", resolution=tuple(bake.image.size))
+        chosen.update(target="texture", resolution=list(bake.image.size), padding=settings["padding"])
     else:
         chosen["target"] = "vertices"
     return chosen
@@ -58,7 +58,7 @@ class MBAO_OT_bake(bpy.types.Operator):
 
     def _start(self, context):
         """Starts the bake's job, or reports why it cannot start."""
-        settings = bake_settings_of(self)
+        self._settings = settings = bake_settings_of(self)
         try:
             self._input = bake_input(context, settings)
             results.check_writable(self._input, settings, bpy.data.filepath)
@@ -81,7 +81,7 @@ class MBAO_OT_bake(bpy.types.Operator):
             self.report({"ERROR"}, f"mbao: {job.error}")
             return {"CANCELLED"}
         try:
-            written = results.write(self._input, job.result, bake_settings_of(self))
+            written = results.write(self._input, job.result, self._settings)
         except (RuntimeError, OSError) as error:  # an image Blender cannot save, say
             self.report({"ERROR"}, f"mbao: baked, but could not write the result: {error}")
             return {"CANCELLED"}
