@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Run there, on a GPU machine the device tool lent, from the repository root with .gpu-bin and .gpu-scenes
 # carried (bench/gpu/prepare.sh made them here). Registers NVIDIA's OpenCL, then
-#   bench/gpu/run.sh bench [RESULT [SECTIONS]]  the benchmark into $OUT/RESULT.json (default nvidia-h100,
+#   bench/gpu/run.sh bench [RESULT [SECTIONS]]  the benchmark into $OUT/RESULT.json (default nvidia-h200,
 #                                               the sections of the committed GPU runs), its log beside it;
 #   bench/gpu/run.sh tests                      the C++ tests in six shards at once, logs in $OUT.
 # The device is $MBAO_DEVICE (an index or part of a name), NVIDIA's where it is not set.
@@ -20,7 +20,7 @@ export MBAO_SHARED_SCENES=$PWD/.gpu-scenes
 
 case ${1:-} in
   bench)
-    result=${2:-nvidia-h100}
+    result=${2:-nvidia-h200}
     sections=${3:-table1,profile,traversals,masks,kernel-builds,loading,organisation,kd-build}
     # Into a file, not a pipe: a benchmark whose output pipe closes dies before writing its JSON.
     if ! .gpu-bin/mbao_bench --device "$device" --scenes .gpu-scenes --sections "$sections" \
