@@ -59,6 +59,8 @@ std::vector<DeviceInfo> list_devices() {
       info.vendor = trimmed(device.getInfo<CL_DEVICE_VENDOR>());
       info.type = type_name(device.getInfo<CL_DEVICE_TYPE>());
       info.version = trimmed(device.getInfo<CL_DEVICE_VERSION>());
+      info.nvidia_compiler_options =
+          device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_nv_compiler_options") != std::string::npos;
       info.device = device;
       devices.push_back(std::move(info));
     }

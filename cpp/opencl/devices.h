@@ -17,6 +17,8 @@ struct DeviceInfo {
   std::string vendor;
   std::string type;     // "GPU", "CPU", "accelerator" or "other"
   std::string version;  // CL_DEVICE_VERSION
+  // cl_nv_compiler_options: the compiler takes NVIDIA's -cl-nv-* build options.
+  bool nvidia_compiler_options = false;
   cl::Device device;
 
   // "platform: name", as selection by name matches it.

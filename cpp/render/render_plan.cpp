@@ -30,6 +30,7 @@ constexpr DeviceProfile gpu_profile() {
   gpu.device_class = "GPU";
   gpu.walk = Traversal::ShortStack;
   gpu.organisation = KernelOrganisation::Wavefront;
+  gpu.max_registers = 64;
   return gpu;
 }
 
@@ -102,6 +103,17 @@ KernelOrganisation plan_organisation(const RenderSettings& s, FrameOutput output
   }
   reasons.push_back("organisation " + to_string(organisation) + ": " + why);
   return organisation;
+}
+
+int plan_register_cap(const DeviceInfo& device, const DeviceProfile& profile, std::vector<std::string>& reasons) {
+  if (profile.max_registers == 0) return 0;
+  if (!device.nvidia_compiler_options) {
+    reasons.push_back("registers: the compiler's choice (the device's compiler takes no cap)");
+    return 0;
+  }
+  reasons.push_back("registers: at most " + std::to_string(profile.max_registers) +
+                    " per work item (cl_nv_compiler_options)");
+  return profile.max_registers;
 }
 
 bool indexed_triangles(const DeviceProfile& profile, std::size_t triangles) {
@@ -233,6 +245,7 @@ std::string ProgramVariant::options() const {
   o += define("MBAO_LOAD_BOTH_CHILDREN", load_both_children);
   if (program == Program::Render) o += define("MBAO_ORIGIN_PATHS", origin_paths);
   o += define("MBAO_INDEXED_TRIANGLES", indexed_triangles);
+  if (max_registers > 0) o += " -cl-nv-maxrregcount=" + std::to_string(max_registers);
   return o;
 }
 
@@ -294,6 +307,7 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);
   p.origin_paths = plan_origin_paths(s, plan.output, p.walk, profile, scene, plan.reasons);
   p.indexed_triangles = indexed_triangles(profile, scene.triangles);
+  p.max_registers = plan_register_cap(device, profile, plan.reasons);
   if (profile.min_indexed_triangles > 0)
     plan.reasons.push_back(std::string("triangles ") + (p.indexed_triangles ? "from the mesh's vertices" : "as coordinates") +
                            ": " + std::to_string(scene.triangles) + " of them, the profile's threshold " +

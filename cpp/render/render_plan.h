@@ -38,6 +38,9 @@ struct DeviceProfile {
   std::size_t min_indexed_triangles = 0;
   // HBAO's G-buffer walks its camera rays in packets (lanes), whatever the tree's depth.
   bool gbuffer_packets = false;
+  // render.cl's registers per work item, where the compiler takes a cap (cl_nv_compiler_options;
+  // 0: the compiler's choice). Fewer registers, more rays in flight to hide the walks' memory latency.
+  int max_registers = 0;
 };
 
 // The row of the device table for `device`.
@@ -64,9 +67,11 @@ struct ProgramVariant {
   bool load_both_children = false;   // full-stack walks only (Stack, Lanes)
   bool origin_paths = false;         // render.cl, walks of one ray only
   bool indexed_triangles = false;    // render.cl, trace.cl
+  int max_registers = 0;             // render.cl: -cl-nv-maxrregcount, a build option, not a define (0: none)
 
   const char* file() const;
-  // "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 ...": the defines `program` reads, in a fixed order.
+  // "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 ...": the defines `program` reads, in a fixed order,
+  // then the register cap's build option where there is one.
   std::string options() const;
 };
 

@@ -279,6 +279,29 @@ TEST(RenderPlan, TilesHoldWhatOneLaunchMayHold) {
   EXPECT_EQ(plan_render(s, kCpu, kShallow).tile_pixels, 100u);
 }
 
+// Where the device's compiler takes a register cap (NVIDIA's), render.cl is
+// built with the GPU profile's; the cap is a build option, so the variants
+// all_program_variants lists, and their sources, are the same with it and without.
+TEST(RenderPlan, GpusWhoseCompilerTakesACapBuildRenderClWithTheProfilesRegisters) {
+  DeviceInfo nvidia = kGpu, cpu = kCpu;
+  nvidia.nvidia_compiler_options = cpu.nvidia_compiler_options = true;
+  const RenderPlan capped = plan_render(two_bounces(), nvidia, kDeep);
+  EXPECT_EQ(capped.program.max_registers, device_profile(kGpu).max_registers);
+  EXPECT_GT(capped.program.max_registers, 0);
+  ProgramVariant uncapped = capped.program;
+  uncapped.max_registers = 0;
+  EXPECT_EQ(capped.program.options(),
+            uncapped.options() + " -cl-nv-maxrregcount=" + std::to_string(capped.program.max_registers));
+  EXPECT_NE(capped.reasons.back().find("registers: at most"), std::string::npos);
+
+  const RenderPlan other_gpu = plan_render(two_bounces(), kGpu, kDeep);
+  EXPECT_EQ(other_gpu.program.max_registers, 0);
+  EXPECT_EQ(other_gpu.program.options(), uncapped.options());
+  EXPECT_NE(other_gpu.reasons.back().find("the compiler's choice"), std::string::npos);
+  EXPECT_EQ(plan_render(two_bounces(), cpu, kDeep).program.max_registers, 0);  // measured on GPUs only
+  EXPECT_EQ(plan_trace(Traversal::Auto, false, nvidia, kDeep).max_registers, 0);
+}
+
 TEST(RenderPlan, ReasonsNameEachAutomaticChoice) {
   const RenderPlan plan = plan_render(two_bounces(), kCpu, kDeep);
   // Traversal, organisation and the triangles' layout; lanes take no origin paths.
