@@ -290,6 +290,24 @@ def test_bake_and_render_default_to_the_same_bounces():
     assert defaults == {1}
 
 
+def test_the_bakes_settings_are_its_table_and_the_renders_in_mbao_bake_and_on_the_command_line():
+    """The bake's own settings (SPEC 6's table) and those it shares with a
+    render take one default in mbao.bake and in `python -m mbao bake`, and
+    its docstring lists the table's with their ranges."""
+    from mbao.cli import _parser
+    from mbao.settings import BAKE_SETTINGS, RENDER
+
+    parameters = inspect.signature(mbao.bake).parameters
+    options = vars(_parser().parse_args(["bake", "in.glb", "-o", "out.glb"]))
+    for name, spec in BAKE_SETTINGS.items():
+        assert parameters[name].default == options[name] == spec["default"], name
+        assert f"{name}: {spec['doc'][:30]}" in " ".join(mbao.bake.__doc__.split()), name
+    for name in ("bounces", "rho", "seed"):
+        assert parameters[name].default == options[name] == RENDER[name]["default"], name
+    assert BAKE_SETTINGS["estimator"]["choices"] == RENDER["estimator"]["choices"]
+    assert BAKE_SETTINGS["directions"]["range"] == RENDER["samples"]["range"]  # r, drawn as a render draws it
+
+
 def test_a_bake_takes_a_scene_path(tmp_path):
     with pytest.raises(mbao.LoadError, match="missing.glb"):
         mbao.bake(tmp_path / "missing.glb", progress=False)

@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "bake/bake_settings.h"
 #include "mbao/pixel_order.h"
 #include "render/setting_specs.h"
 
@@ -30,10 +31,9 @@ std::size_t pixels_per_target(std::size_t targets, std::size_t samples) {
 }  // namespace
 
 BakeLayout bake_layout(const EstimatePoints& points, std::int64_t samples, std::size_t layout_width) {
-  if (samples < kMinBakeSamples || samples > kMaxBakeSamples)
-    throw std::invalid_argument("samples must be in [" + std::to_string(kMinBakeSamples) + ", " +
-                                std::to_string(kMaxBakeSamples) + "] (estimates per vertex or texel; a standard "
-                                "error needs two), got " + std::to_string(samples));
+  BakeSettings asked;
+  asked.samples = samples;
+  asked.validate();
   BakeLayout layout;
   // Only the targets that hold surface are traced, in their order: no work item
   // is spent on a texel no UV reaches, and neighbours stay neighbours.

@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include "bake/bake_estimates.h"
+#include "bake/bake_settings.h"
 #include "bake/dilation.h"
 #include "bake/lightmap_uvs.h"
 #include "bake/texel_layout.h"
@@ -74,9 +75,9 @@ SceneTexels make_texels(const std::shared_ptr<Scene>& scene,
 }
 
 void check_padding(int padding) {
-  if (padding < 0 || padding > kMaxPadding)
-    throw std::invalid_argument("padding must be in [0, " + std::to_string(kMaxPadding) + "], got " +
-                                std::to_string(padding));
+  BakeSettings asked;
+  asked.padding = padding;
+  asked.validate();
 }
 
 py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const py::dict& values,
@@ -250,9 +251,7 @@ void bind_bake(py::module_& m) {
   m.def("finish_texel_bake", &finish_texel_bake, py::arg("texels"), py::arg("samples"), py::arg("padding"),
         py::arg("mean"), py::arg("second_moment"),
         "(image, standard_error, filled) of a TexelLayout from every position's moments, dilated by `padding`.");
-  m.attr("BAKE_SAMPLES_RANGE") = py::make_tuple(kMinBakeSamples, kMaxBakeSamples);
   m.attr("BAKE_RESOLUTION_RANGE") = py::make_tuple(1, kMaxTextureSide);
-  m.attr("BAKE_PADDING_RANGE") = py::make_tuple(0, kMaxPadding);
   m.def("bake_vertices", &bake_vertices, py::arg("scene"), py::arg("triangles"), py::arg("device"), py::arg("settings"),
         py::arg("samples"), py::arg("progress"),
         "Bakes L_b per vertex (SPEC 6.2) over the one-rings of `triangles` (indices into the scene's; the rest only "

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <iterator>
 
 #include <pybind11/numpy.h>
@@ -119,12 +120,34 @@ py::list specs_list(const std::vector<SettingSpecOf<Settings>>& table) {
   return specs;
 }
 
+// Calls `use` with the settings table named `table`.
+template <typename Use>
+auto with_table(const std::string& table, Use&& use) {
+  if (table == "render") return use(setting_specs());
+  if (table == "hbao") return use(hbao_setting_specs());
+  if (table == "denoise") return use(denoise_setting_specs());
+  if (table == "temporal") return use(temporal_setting_specs());
+  if (table == "bake") return use(bake_setting_specs());
+  throw std::invalid_argument("no settings table \"" + table +
+                              "\"; the tables are render, hbao, denoise, temporal and bake");
+}
+
 py::list specs_of(const std::string& table) {
-  if (table == "render") return specs_list(setting_specs());
-  if (table == "hbao") return specs_list(hbao_setting_specs());
-  if (table == "denoise") return specs_list(denoise_setting_specs());
-  if (table == "temporal") return specs_list(temporal_setting_specs());
-  throw std::invalid_argument("no settings table \"" + table + "\"; the tables are render, hbao, denoise and temporal");
+  return with_table(table, [](const auto& specs) { return specs_list(specs); });
+}
+
+// Throws std::invalid_argument for a name the table lacks or a value outside its range.
+void check_settings(const std::string& table, const py::dict& values) {
+  with_table(table, [&](const auto& specs) {
+    typename std::decay_t<decltype(specs)>::value_type::SettingsType settings;
+    for (const auto& [key, value] : values) {
+      const std::string name = py::str(key);
+      const auto spec = std::find_if(specs.begin(), specs.end(), [&](const auto& s) { return s.name == name; });
+      if (spec == specs.end()) throw std::invalid_argument("no " + table + " setting \"" + name + "\"");
+      spec->set(settings, from_python(*spec, value));
+    }
+    settings.validate();
+  });
 }
 
 // A settings class's docstring: `intro`, then each setting with what it means, its default and its range.
@@ -298,6 +321,8 @@ void bind_render(py::module_& m) {
         "The G-buffer (SPEC 7.2); returns ({plane: (height, width) float32}, the scene's render origin, stats), "
         "the planes of kernels/mbao/gbuffer.h by name, positions relative to the render origin. "
         "Use mbao.gbuffer, which checks and documents the arguments.");
+  m.def("check_settings", &check_settings, py::arg("table"), py::arg("values"),
+        "Raises ValueError naming the first of {name: value} that `table`'s settings lack or hold out of range.");
   m.def("setting_specs", &specs_of, py::arg("table") = "render",
         "The settings of a table (\"render\", \"hbao\", \"denoise\" or \"temporal\"), each as a dict: name, group "
         "(\"render\" or \"engine\"), kind, doc, range, lo, hi, choices and default (render/setting_specs.h).");

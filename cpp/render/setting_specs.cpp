@@ -1,5 +1,6 @@
 #include "render/setting_specs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -98,21 +99,42 @@ SettingSpec optional_real(const char* name, std::optional<float> RenderSettings:
 }
 
 // An enum member, set and read by the names parse and to_string give its values.
-template <typename E>
-SettingSpec choice(const char* name, SettingGroup group, E RenderSettings::*field, E (*parse)(const std::string&),
-                   const char* doc) {
-  SettingSpec spec;
+template <typename Settings, typename E>
+SettingSpecOf<Settings> choice(const char* name, SettingGroup group, E Settings::*field,
+                               E (*parse)(const std::string&), const char* doc) {
+  SettingSpecOf<Settings> spec;
   spec.name = name;
   spec.group = group;
   spec.kind = SettingKind::Choice;
   spec.doc = doc;
   spec.choices = names_of<E>();
-  spec.get = [field](const RenderSettings& s) -> SettingValue { return to_string(s.*field); };
-  spec.set = [field, parse](RenderSettings& s, const SettingValue& value) {
-    s.*field = parse(std::get<std::string>(value));
+  spec.get = [field](const Settings& s) -> SettingValue { return to_string(s.*field); };
+  spec.set = [field, parse](Settings& s, const SettingValue& value) { s.*field = parse(std::get<std::string>(value)); };
+  return spec;
+}
+
+// A string member that holds one of `choices`.
+template <typename Settings>
+SettingSpecOf<Settings> named(const char* name, std::string Settings::*field, std::vector<std::string> choices,
+                              const char* doc) {
+  SettingSpecOf<Settings> spec;
+  spec.name = name;
+  spec.kind = SettingKind::Choice;
+  spec.doc = doc;
+  spec.choices = std::move(choices);
+  spec.get = [field](const Settings& s) -> SettingValue { return s.*field; };
+  spec.set = [field, name = spec.name, allowed = spec.choices, range = spec.range()](Settings& s,
+                                                                                    const SettingValue& value) {
+    const std::string& given = std::get<std::string>(value);
+    if (std::find(allowed.begin(), allowed.end(), given) == allowed.end())
+      throw std::invalid_argument(name + " must be " + range + ", got \"" + given + "\"");
+    s.*field = given;
   };
   return spec;
 }
+
+// r, the directions drawn at a point: a render's samples, a bake's directions.
+constexpr std::int64_t kMaxDirections = std::int64_t(1) << 20;
 
 std::vector<SettingSpec> make_specs() {
   using G = SettingGroup;
@@ -122,7 +144,7 @@ std::vector<SettingSpec> make_specs() {
       integer("height", &RenderSettings::height, 1, 16384, "Image height in pixels."),
       integer("bounces", &RenderSettings::bounces, 1, 1 << 16,
               "b, the bounces of SPEC 1; the branching estimator takes at most 16."),
-      integer("samples", &RenderSettings::samples, 1, 1 << 20, "r, the directions drawn at each hit."),
+      integer("samples", &RenderSettings::samples, 1, kMaxDirections, "r, the directions drawn at each hit."),
       choice("estimator", G::Render, &RenderSettings::estimator, parse_estimator,
              "\"branching\" (the paper's: r + r^2 + ... + r^b rays per camera sample) or \"path\" (r paths of up "
              "to b segments, r * b rays); the same expectation (SPEC 2)."),
@@ -192,6 +214,25 @@ std::vector<SettingSpecOf<DenoiseSettings>> make_denoise_specs() {
               "The exponent on the cosine between the normals; 0 ignores them."),
       real("sigma_value", &D::sigma_value, 0.0, kInf, Ends::Open,
            "How far a tap's value may differ, in standard deviations of the pixel's blurred variance."),
+  };
+}
+
+std::vector<SettingSpecOf<BakeSettings>> make_bake_specs() {
+  using B = BakeSettings;
+  return {
+      named("target", &B::target, {"vertices", "texture"},
+            "\"vertices\": a value per vertex (SPEC 6.2); \"texture\": a texture per material, into a UV set "
+            "(SPEC 6.3)."),
+      integer("samples", &B::samples, kMinBakeSamples, kMaxBakeSamples,
+              "Estimates per vertex or texel, each at its own point of the vertex's one-ring or the texel's "
+              "surface; the standard error needs two."),
+      choice("estimator", SettingGroup::Render, &B::estimator, parse_estimator,
+             "How each estimate traces from its point (SPEC 2): \"path\" (r paths of b segments) or "
+             "\"branching\" (r directions at every hit)."),
+      integer("directions", &B::directions, 1, kMaxDirections,
+              "r, the directions drawn at the point (and at every hit of the branching estimator)."),
+      integer("padding", &B::padding, 0, kMaxPadding,
+              "Texture only: empty texels within this many texels of a covered one take its value (dilation)."),
   };
 }
 
@@ -303,6 +344,15 @@ const std::vector<SettingSpecOf<HbaoSettings>>& hbao_setting_specs() {
 const std::vector<SettingSpecOf<DenoiseSettings>>& denoise_setting_specs() {
   static const std::vector<SettingSpecOf<DenoiseSettings>> specs = make_denoise_specs();
   return specs;
+}
+
+const std::vector<SettingSpecOf<BakeSettings>>& bake_setting_specs() {
+  static const std::vector<SettingSpecOf<BakeSettings>> specs = make_bake_specs();
+  return specs;
+}
+
+void BakeSettings::validate() const {
+  for (const auto& spec : bake_setting_specs()) spec.check(*this);
 }
 
 const std::vector<SettingSpecOf<TemporalSettings>>& temporal_setting_specs() {

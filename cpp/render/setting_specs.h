@@ -2,8 +2,8 @@
 
 // Settings as the Python API and the command line name them: one definition
 // of each setting's name, group, kind, default, range and meaning, in a table
-// per settings struct (the render's, HBAO's, the denoiser's and temporal
-// accumulation's). The bindings set the structs from them and take their
+// per settings struct (the render's, HBAO's, the denoiser's, temporal
+// accumulation's and the bake's own). The bindings set the structs from them and take their
 // docstrings and signatures from them. mbao.render takes its signature and
 // docstring from the render's, mbao.Engine its fields, and `python -m mbao
 // render` its options from the render's and HBAO's. Each struct's validate
@@ -15,6 +15,7 @@
 #include <variant>
 #include <vector>
 
+#include "bake/bake_settings.h"
 #include "render/render_settings.h"
 
 namespace mbao {
@@ -47,6 +48,7 @@ struct SettingRange {
 // One setting of a `Settings` struct.
 template <typename Settings>
 struct SettingSpecOf : SettingRange {
+  using SettingsType = Settings;
   std::string name;  // the Python keyword; the command line's option is --name with '-' for '_'
   SettingGroup group = SettingGroup::Render;
   std::string doc;         // what it means, a sentence or two
@@ -70,5 +72,7 @@ const SettingSpec& setting_spec(const std::string& name);
 const std::vector<SettingSpecOf<HbaoSettings>>& hbao_setting_specs();
 const std::vector<SettingSpecOf<DenoiseSettings>>& denoise_setting_specs();
 const std::vector<SettingSpecOf<TemporalSettings>>& temporal_setting_specs();
+// mbao.bake's own settings (bake/bake_settings.h), in its signature's order.
+const std::vector<SettingSpecOf<BakeSettings>>& bake_setting_specs();
 
 }  // namespace mbao

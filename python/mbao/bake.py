@@ -4,6 +4,7 @@ import concurrent.futures
 import dataclasses
 import math
 import os
+import textwrap
 import threading
 import weakref
 from typing import Any, Optional, Tuple, Union
@@ -18,9 +19,7 @@ from ._warnings import warn
 from .devices import resolve
 from .render import warn_if_closed
 from .scene import FRAME, Mesh, as_camera, as_scene, load
-from .settings import RENDER, Engine, checked, engine_values
-
-TARGETS = ("vertices", "texture")
+from .settings import BAKE_SETTINGS, RENDER, Engine, checked, describe, engine_values
 WRAP_MODES = ("repeat", "mirrored-repeat", "clamp-to-edge")
 
 
@@ -82,10 +81,14 @@ class Bake:
         return f"<mbao.Bake {self.target}: {what}, {self.stats['frame_ms'] / 1e3:.1f} s on {self.stats['device']}>"
 
 
-def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, samples: int = 256, estimator: str = "path",
-         directions: int = 4, rho: float = 1.0, max_distance: Optional[float] = None, camera: CameraLike = None,
-         normals: str = "shading", texcoord: Union[None, int, str] = None,
-         resolution: Union[int, Tuple[int, int]] = 1024, padding: int = 4,
+_OWN = {name: spec["default"] for name, spec in BAKE_SETTINGS.items()}
+
+
+def bake(scene: SceneLike, *, target: str = _OWN["target"], bounces: int = 1, samples: int = _OWN["samples"],
+         estimator: str = _OWN["estimator"], directions: int = _OWN["directions"], rho: float = 1.0,
+         max_distance: Optional[float] = None, camera: CameraLike = None, normals: str = "shading",
+         texcoord: Union[None, int, str] = None, resolution: Union[int, Tuple[int, int]] = 1024,
+         padding: int = _OWN["padding"],
          wrap: Union[None, str, Tuple[str, str]] = None, seed: int = 0, max_rays: int = _core.DEFAULT_MAX_RAYS,
          triangles: Optional[ArrayLike] = None, engine: Optional[Engine] = None, device: DeviceLike = None,
          progress: Progress = None, client: Any = None) -> "Bake":
@@ -95,14 +98,9 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     scene: an mbao.Scene (mbao.load, mbao.Mesh) or the path of a scene file; a
         texture bake of a loaded file into its own UV sets needs
         mbao.load(path, texcoords=True).
-    target: "vertices": a value per vertex of scene.vertices; "texture": a
-        texture per material, into a UV set.
+    target, samples, estimator, directions, padding: the bake's own settings,
+        below.
     bounces, rho, normals, seed, max_rays: as for mbao.render.
-    samples: estimates per vertex or texel, each at its own point of the
-        vertex's one-ring or the texel's surface; in [2, 65536].
-    estimator, directions: how each estimate traces from its point (SPEC 2):
-        "path" (r paths of `bounces` segments) or "branching" (r directions
-        at every hit), with r = directions, as render's estimator and samples.
     texcoord: texture only: n of the UV set TEXCOORD_n. None: per material, its
         occlusionTexture's texCoord where it has one, else TEXCOORD_1 where all
         its triangles have it, else TEXCOORD_0; an mbao.Mesh's texcoords are set 0.
@@ -111,8 +109,6 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
         between them (the texture's stats say charts, worst_stretch,
         texels_per_unit and texels_used).
     resolution: texture only: the texture's size, an int or (width, height), each in [1, 16384].
-    padding: texture only: empty texels within this many texels of a covered
-        one take its value (dilation); in [0, 64].
     wrap: texture only: how UVs outside [0, 1] map, "repeat", "mirrored-repeat"
         or "clamp-to-edge", or a pair of them (along u, along v); None: the
         sampler of the material's occlusion texture, else "repeat" (glTF's default).
@@ -147,19 +143,18 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     scene, the settings and the seed. The GIL is released while baking; Ctrl-C
     stops after the tile in flight. Returns an mbao.Bake.
     """
-    target = _checks.choice("target", target, TARGETS)
+    own = dict(target=target, samples=samples, estimator=estimator, directions=directions, padding=padding)
+    own = {name: checked(BAKE_SETTINGS[name], value) for name, value in own.items()}
+    _core.check_settings("bake", own)
+    target, samples, estimator, directions, padding = own.values()
     checked_progress(progress)
     from_file = isinstance(scene, (str, os.PathLike))
     scene = load(scene, texcoords=True) if target == "texture" and from_file else as_scene(scene)
-    lo, hi = _core.BAKE_SAMPLES_RANGE
-    samples = _checks.integer("samples", samples, lo, hi, f"[{lo}, {hi}]")
     radius, radius_source = _radius(scene, max_distance, camera)
     baked = _baked_triangles(scene, triangles)
     given = dict(bounces=bounces, estimator=estimator, rho=rho, max_distance=radius, normals=normals, seed=seed,
                  max_rays=max_rays)
-    values = {name: checked(RENDER[name], value) for name, value in given.items()}
-    r = RENDER["samples"]
-    values["samples"] = _checks.integer("directions", directions, r["lo"], r["hi"], r["range"])
+    values = dict({name: checked(RENDER[name], value) for name, value in given.items()}, samples=directions)
     if engine is not None and not isinstance(engine, Engine):
         raise TypeError(f"engine must be None or an mbao.Engine, got {type(engine).__name__}")
     values.update(engine_values(engine or Engine()))
@@ -178,8 +173,6 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
         return Bake(target, ao, standard_error, settings, stats)
 
     width, height = _resolution(resolution)
-    lo, hi = _core.BAKE_PADDING_RANGE
-    padding = _checks.integer("padding", padding, lo, hi, f"[{lo}, {hi}]")
     wrap = None if wrap is None else _wrap(wrap)
     if texcoord is not None and texcoord != "generate":
         texcoord = _checks.integer("texcoord", texcoord, 0, 7, "[0, 7] (TEXCOORD_n), \"generate\" or None")
@@ -192,6 +185,10 @@ def bake(scene: SceneLike, *, target: str = "vertices", bounces: int = 1, sample
     for texture in textures.values():
         warn_if_closed(scene, texture.image, texture.coverage, stats, "covered texels")
     return Bake(target, None, None, settings, stats, textures)
+
+
+bake.__doc__ = bake.__doc__.rstrip() + "\n\n    The bake's own settings (SPEC 6):\n\n" + "\n".join(
+    textwrap.indent(describe(spec), "    ") for spec in BAKE_SETTINGS.values()) + "\n"
 
 
 def _baked_triangles(scene, triangles):

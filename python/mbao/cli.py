@@ -22,7 +22,7 @@ from ._progress import progress_count, progress_reporter
 from .images import check_writable, save_image
 from .render import render, render_sequence
 from .scene import FRAME, as_camera, load
-from .settings import DENOISE_SETTINGS, ENGINE, HBAO_SETTINGS, RENDER, TEMPORAL_SETTINGS, Engine
+from .settings import BAKE_SETTINGS, DENOISE_SETTINGS, ENGINE, HBAO_SETTINGS, RENDER, TEMPORAL_SETTINGS, Engine
 
 QUIET_HELP = "no progress bar (by default one is shown on a terminal for work of more than a few seconds)"
 
@@ -95,16 +95,16 @@ def _parser():
     c.add_argument("-o", "--output", default="compare", help="file name prefix")
     c.add_argument("--camera", help=f"camera.json, or {FRAME} for one framing the whole scene; None: the scene's own "
                                     "camera, else one framing it")
-    c.add_argument("--width", type=int, default=256, help="image width in pixels")
-    c.add_argument("--height", type=int, default=256, help="image height in pixels")
-    c.add_argument("--samples", type=int, default=4, help="r of the Figure 2 renders")
-    c.add_argument("--rho", type=float, default=1.0, help="albedo in [0, 1]")
+    for name in ("width", "height"):
+        _add_setting(c, RENDER[name], default=256)
+    _add_setting(c, RENDER["samples"])
+    _add_setting(c, RENDER["rho"])
     c.add_argument("--max-distance", type=float,
                    help="AO radius (HBAO's too); None: camera.json's, else a quarter of the scene's diagonal")
     c.add_argument("--target-error", type=float, default=0.01, help="the reference's standard error per pixel")
     c.add_argument("--sample-counts", type=int, nargs="+", default=[1, 2, 4, 8, 16],
                    help="r of each method's renders in the study (HBAO: its directions)")
-    c.add_argument("--seed", type=int, default=0, help="seed of the renders")
+    _add_setting(c, RENDER["seed"])
     c.add_argument("--quiet", action="store_true", help=QUIET_HELP)
     c.add_argument("--scheduler", metavar="ADDRESS",
                    help="a Dask scheduler (tcp://HOST:8786): the reference and the study render on its workers' "
@@ -118,26 +118,22 @@ def _parser():
     b.add_argument("-o", "--output", required=True,
                    help="the baked file, everything else in it kept: .glb for a .glb input, .gltf for a .gltf one; "
                         "another format is written as a new glTF, .glb or .gltf")
-    b.add_argument("--target", choices=["texture", "vertices"], default="vertices",
-                   help="an occlusion texture per material, or an _OCCLUSION attribute per primitive")
+    _add_setting(b, BAKE_SETTINGS["target"])
     b.add_argument("--texcoord", type=_texcoord_argument,
                    help="n of the UV set TEXCOORD_n, or 'generate' for a new one of charts (written as the next free "
                         "TEXCOORD_n); None: the occlusion texture's, else TEXCOORD_1, else TEXCOORD_0")
     b.add_argument("--resolution", type=int, nargs="+", default=[1024], metavar="N",
                    help="the texture's size: N, or WIDTH HEIGHT")
-    b.add_argument("--padding", type=int, default=4, help="texels filled around the covered ones (dilation)")
-    _add_setting(b, RENDER["bounces"])
-    b.add_argument("--samples", type=int, default=256, help="estimates per vertex or texel, each at a point of its own")
-    b.add_argument("--estimator", choices=["path", "branching"], default="path",
-                   help="how an estimate traces from its point: r paths, or r directions at every hit (SPEC 2)")
-    b.add_argument("--directions", type=int, default=4, help="r, the directions drawn at the point (and at every "
-                   "hit of the branching estimator)")
-    b.add_argument("--rho", type=float, default=1.0, help="albedo in [0, 1]")
+    for spec in BAKE_SETTINGS.values():
+        if spec["name"] != "target":
+            _add_setting(b, spec)
+    for name in ("bounces", "rho"):
+        _add_setting(b, RENDER[name])
     b.add_argument("--max-distance", type=float,
                    help="AO radius in world units, inf for none; None: the one --camera suggests, else the one the "
                         "scene's own camera suggests, else inf (SPEC 1)")
     b.add_argument("--camera", help="a camera.json whose max_distance is the bake's radius (nothing else of it is used)")
-    b.add_argument("--seed", type=int, default=0, help="the bake is a function of the seed and the settings")
+    _add_setting(b, RENDER["seed"])
     b.add_argument("--bit-depth", type=int, choices=[8, 16], default=8, help="bits per channel of the textures")
     b.add_argument("--vertex-colors", action="store_true",
                    help="with --target vertices, also multiply the AO into COLOR_0, for viewers that show no "
@@ -214,15 +210,17 @@ def _add_view(commands):
     v.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
 
 
-def _add_setting(parser, spec, prefix=""):
-    """The option of one setting of a settings table, named (after `prefix`), typed and documented by it."""
+def _add_setting(parser, spec, prefix="", default=None):
+    """The option of one setting of a settings table, named (after `prefix`), typed and documented by it;
+    `default`, where given, is the command's own default in place of the table's."""
     flag, kind = "--" + (prefix + spec["name"]).replace("_", "-"), spec["kind"]
     if kind == "flag":
         parser.add_argument(flag, action="store_true", help=spec["doc"])
         return
     allowed = f", allowed {spec['range']}" if kind in ("integer", "unsigned", "real") else ""
-    default = spec["none_means"] or "automatic" if spec["default"] is None else "%(default)s"
-    options = dict(default=spec["default"], help=f"{spec['doc']} (default: {default}{allowed})")
+    value = spec["default"] if default is None else default
+    shown = spec["none_means"] or "automatic" if value is None else "%(default)s"
+    options = dict(default=value, help=f"{spec['doc']} (default: {shown}{allowed})")
     if kind == "choice":
         options["choices"] = spec["choices"]
     else:

@@ -4,7 +4,8 @@ mbao.render takes its signature and docstring from RENDER, mbao.Engine its
 fields from ENGINE, and `python -m mbao render` its options from both; the
 command line's --hbao-*, --denoise-* and --temporal-* options come from
 HBAO_SETTINGS, DENOISE_SETTINGS and TEMPORAL_SETTINGS, the tables of
-mbao.HBAO, mbao.Denoise and mbao.Temporal. Each
+mbao.HBAO, mbao.Denoise and mbao.Temporal. mbao.bake and `python -m mbao bake`
+take the bake's own settings from BAKE_SETTINGS. Each
 spec is a dict: name, group, kind, doc, range, lo, hi, none_means, choices, default.
 """
 
@@ -19,6 +20,7 @@ ENGINE = {spec["name"]: spec for spec in _SPECS if spec["group"] == "engine"}
 HBAO_SETTINGS = {spec["name"]: spec for spec in _core.setting_specs("hbao")}
 DENOISE_SETTINGS = {spec["name"]: spec for spec in _core.setting_specs("denoise")}
 TEMPORAL_SETTINGS = {spec["name"]: spec for spec in _core.setting_specs("temporal")}
+BAKE_SETTINGS = {spec["name"]: spec for spec in _core.setting_specs("bake")}
 
 
 def checked(spec, value):

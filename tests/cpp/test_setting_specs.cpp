@@ -123,5 +123,19 @@ TEST(SettingSpecs, EachFilterAndHbaoSettingIsInItsTable) {
             "temporal max_length must be in [1, 65536], got 65537");
 }
 
+// The bake's own table (mbao.bake, `python -m mbao bake`): its checks are
+// the core's, whether the bake comes from Python or from C++.
+TEST(SettingSpecs, TheBakesOwnSettingsAreInTheirTable) {
+  expect_a_table_of_its_struct(bake_setting_specs());
+  const auto& bake = bake_setting_specs();
+  EXPECT_EQ(struct_refusal(bake, "samples", std::int64_t(1)), "samples must be in [2, 65536], got 1");
+  EXPECT_EQ(struct_refusal(bake, "padding", std::int64_t(65)), "padding must be in [0, 64], got 65");
+  EXPECT_EQ(struct_refusal(bake, "directions", std::int64_t(0)), "directions must be in [1, 1048576], got 0");
+  EXPECT_EQ(struct_refusal(bake, "estimator", std::string("branching")), "");
+  BakeSettings s;
+  EXPECT_THROW(bake[0].set(s, std::string("faces")), std::invalid_argument);  // target: "vertices" or "texture"
+  EXPECT_EQ(s.target, "vertices");
+}
+
 }  // namespace
 }  // namespace mbao
