@@ -1,4 +1,4 @@
-"""The performance tables of README.md and docs/performance.md, made from bench/results/*.json.
+"""The performance tables in README.md, docs/performance.md and docs/cluster.md, from bench/results/*.json.
 
     .venv/bin/python bench/report.py          # rewrites the tables in place
     .venv/bin/python bench/report.py --check  # exits 1, naming the table, where a committed one differs
@@ -19,7 +19,7 @@ import sys
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 RESULTS = REPO / "bench" / "results"
-DOCUMENTS = [REPO / "README.md", REPO / "docs" / "performance.md"]
+DOCUMENTS = [REPO / "README.md", REPO / "docs" / "performance.md", REPO / "docs" / "cluster.md"]
 
 # The seed paper's Table 1 (RTX 2080 Ti, 512 x 512, r = 4): frame ms at b = 1 and 2.
 PAPER_MS = {"cornell_box (built-in)": (1.5, 10.4), "sponza": (21.3, 147.5)}

@@ -81,6 +81,14 @@ def test_the_readme_has_examples():
     assert any(example.document.name == "README.md" for example in EXAMPLES)
 
 
+def test_the_readme_stays_a_first_page():
+    """README.md is at most 300 lines: the rest goes to docs/, which its last table lists."""
+    readme = (REPO / "README.md").read_text()
+    assert len(readme.splitlines()) <= 300
+    for page in sorted((REPO / "docs").glob("*.md")):
+        assert f"](docs/{page.name})" in readme, f"docs/{page.name} is not linked from README.md"
+
+
 @pytest.mark.parametrize("example", EXAMPLES, ids=str)
 def test_each_example_runs_as_a_script_of_its_own(tmp_path, example):
     finished = run_as_a_script(example.code, tmp_path)
