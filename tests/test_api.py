@@ -329,10 +329,10 @@ def test_the_cores_settings_classes_are_their_tables(cls, table):
     assert [getattr(pickle.loads(pickle.dumps(made)), s["name"]) for s in specs] == [getattr(made, s["name"]) for s in specs]
 
 
-@pytest.mark.parametrize("table", ["hbao", "bake", "denoise", "temporal"])
+@pytest.mark.parametrize("table", ["render", "hbao", "bake", "denoise", "temporal"])
 def test_the_spec_shows_each_settings_table_as_the_core_has_it(table):
-    """docs/spec.md's tables of HBAO's (4), the bake's own (6), the denoiser's
-    (7.3) and temporal accumulation's (7.4) settings are
+    """docs/spec.md's tables of a render's (3.5), HBAO's (4), the bake's own
+    (6), the denoiser's (7.3) and temporal accumulation's (7.4) settings are
     mbao.settings.markdown_table's, which prints the one to paste where they
     differ."""
     spec = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "spec.md").read_text()
