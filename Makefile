@@ -39,6 +39,8 @@ SANITIZE_PACKAGES := clang libclang-rt-14-dev llvm
 BROWSER_TEST_PACKAGES := chromium chromium-driver python3-selenium python3-notebook
 # mypy checks a typed script against the package's annotations, and its stubtest the core's stub.
 TYPE_CHECK_PACKAGES := mypy
+# The sources' format: clang-format's for C++ and OpenCL C, black's for Python (tests/test_formatting.py).
+FORMAT_CHECK_PACKAGES := clang-format black
 # The Blender add-on's tests run Debian's Blender (3.4) headless, and with a window under Xvfb.
 BLENDER_TEST_PACKAGES := blender xvfb xauth
 # CTest and pytest run a test per core (pytest through xdist's workers): kernel
@@ -46,7 +48,7 @@ BLENDER_TEST_PACKAGES := blender xvfb xauth
 # on a browser, a server or a child process overlap with the rest.
 PARALLEL_TEST_PACKAGES := python3-pytest-xdist
 test: APT_PACKAGES += $(SANITIZE_PACKAGES) $(BROWSER_TEST_PACKAGES) $(TYPE_CHECK_PACKAGES) $(BLENDER_TEST_PACKAGES) \
-  $(PARALLEL_TEST_PACKAGES)
+  $(PARALLEL_TEST_PACKAGES) $(FORMAT_CHECK_PACKAGES)
 test: build sanitize-build $(NPM_TOOLS)
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 	$(VENV)/bin/python -m pytest -n $(JOBS) tests

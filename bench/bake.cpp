@@ -69,8 +69,7 @@ json texture_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& 
     uv_ms += clock.elapsed_ms();  // the layout, made to check the charts, included
     const mbao::TexelLayout& layout = *uvs.layout;
     if (materials++ == 0) mbao::bake_estimates(renderer, scene, settings, kTexelSamples, layout, kTextureSide);
-    mbao::BakeEstimates bake =
-        mbao::bake_estimates(renderer, scene, settings, kTexelSamples, layout, kTextureSide);
+    mbao::BakeEstimates bake = mbao::bake_estimates(renderer, scene, settings, kTexelSamples, layout, kTextureSide);
     trace_ms += bake.stats.frame_ms;
     rays += bake.stats.rays_secondary;
     clock = mbao::Stopwatch();
@@ -120,8 +119,7 @@ json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, cons
                   {"vertex_bake", vertex}};
       std::cout << "| " << s.name << " | " << distance_text(*settings.max_distance) << " | "
                 << mbao::to_string(estimator) << " | " << fixed(render["mrays_per_s"], 1) << " | "
-                << fixed(render_rate, 1) << " | "
-                << fixed(vertex["mrays_per_s"], 1) << " | ";
+                << fixed(render_rate, 1) << " | " << fixed(vertex["mrays_per_s"], 1) << " | ";
       if (estimator == mbao::Estimator::Path) {
         const json texture = texture_bake(renderer, scene, settings);
         row["texture_bake"] = texture;
@@ -141,8 +139,8 @@ json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, cons
             << ", the render and the bakes with one estimator. Render: " << options.settings.width << "x"
             << options.settings.height << "; its Mrays/s with the camera rays, its AO Mrays/s without them (but "
             << "over the whole frame). Vertex bake: 16 estimates per vertex, more for "
-            << "small meshes (2^20 in all). Texture bake: every material into generated UVs at " << kTextureSide
-            << "x" << kTextureSide << ", padding " << kPadding << ", " << kTexelSamples
+            << "small meshes (2^20 in all). Texture bake: every material into generated UVs at " << kTextureSide << "x"
+            << kTextureSide << ", padding " << kPadding << ", " << kTexelSamples
             << " estimates per texel; its Mrays/s over the tracing alone; texels covered: the mean over "
             << "materials of the fraction of their texture's texels a triangle covers.\n\n";
   return rows;

@@ -20,11 +20,11 @@ struct Options {
   std::string json_path;
   std::string device;
   int frames = 5;
-  mbao::RenderSettings settings;  // the Table 1 configuration, with --width/--height/--samples/--traversal
+  mbao::RenderSettings settings;               // the Table 1 configuration, with --width/--height/--samples/--traversal
   std::vector<std::string> sections;           // --sections; empty: all of them
   std::vector<std::size_t> work_groups = {0};  // --work-groups, for the organisation section; 0: the default
   std::vector<std::size_t> scale_sizes = {1000000, 4000000, 8400000, 16000000, 32000000};  // --scale-sizes: triangles
-  std::string self;               // this executable, for the measurements that need a fresh process
+  std::string self;  // this executable, for the measurements that need a fresh process
   std::string command_line;
 };
 

@@ -32,8 +32,16 @@ REPO = pathlib.Path(__file__).resolve().parent.parent
 SPONZA = REPO.parent / "shared" / "scenes" / "sponza"
 
 PASSES = 64
-SETTINGS = dict(width=256, height=256, bounces=2, samples=32, max_distance=300.0, min_passes=PASSES,
-                max_passes=PASSES, progress=False)
+SETTINGS = dict(
+    width=256,
+    height=256,
+    bounces=2,
+    samples=32,
+    max_distance=300.0,
+    min_passes=PASSES,
+    max_passes=PASSES,
+    progress=False,
+)
 WORKERS = (1, 2)
 
 
@@ -49,8 +57,11 @@ def timed_reference(client=None):
 def bytes_per_pass(workers):
     """(from the workers, to the workers) per pass: the chunks' pickled moments, and the scene once per worker."""
     scene = mbao.load(SPONZA / "scene.glb")
-    settings = dict(camera=mbao.Camera.load(SPONZA / "camera.json"), estimator="path",
-                    **{k: SETTINGS[k] for k in ("width", "height", "bounces", "samples", "max_distance")})
+    settings = dict(
+        camera=mbao.Camera.load(SPONZA / "camera.json"),
+        estimator="path",
+        **{k: SETTINGS[k] for k in ("width", "height", "bounces", "samples", "max_distance")},
+    )
     chunk = len(pickle.dumps(_chunk(scene, settings, 0, _PASSES_PER_CHUNK), protocol=pickle.HIGHEST_PROTOCOL))
     chunks = -(-PASSES // _PASSES_PER_CHUNK)
     scene_bytes = len(pickle.dumps(scene, protocol=pickle.HIGHEST_PROTOCOL))
@@ -69,8 +80,9 @@ def main():
         here, local = timed_reference()
         seconds["here"].append(here)
         for n in WORKERS:
-            with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-                    Client(cluster) as client:
+            with LocalCluster(
+                n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+            ) as cluster, Client(cluster) as client:
                 taken, distributed = timed_reference(client)
             np.testing.assert_array_equal(distributed.ao, local.ao)
             np.testing.assert_array_equal(distributed.standard_error, local.standard_error)
@@ -79,14 +91,29 @@ def main():
     for n in WORKERS:
         ratios = [c / h for c, h in zip(seconds[f"{n} workers"], seconds["here"])]
         back, out = bytes_per_pass(n)
-        rows.append({"workers": n, "seconds": seconds[f"{n} workers"], "here_seconds": seconds["here"],
-                     "over_here": statistics.median(ratios), "over_here_all": ratios,
-                     "bytes_per_pass_from_workers": back, "bytes_per_pass_to_workers": out})
+        rows.append(
+            {
+                "workers": n,
+                "seconds": seconds[f"{n} workers"],
+                "here_seconds": seconds["here"],
+                "over_here": statistics.median(ratios),
+                "over_here_all": ratios,
+                "bytes_per_pass_from_workers": back,
+                "bytes_per_pass_to_workers": out,
+            }
+        )
     device = mbao.render(mbao.cornell_box(), width=1, height=1).stats["device"]  # as mbao_bench names it
     version = next(d.version for d in mbao.devices() if device.endswith(d.name))
-    run = {"command": "bench/cluster.py " + " ".join(sys.argv[1:]), "device": device, "device_version": version,
-           "date": datetime.date.today().isoformat(), "cores": os.cpu_count(), "passes": PASSES,
-           "settings": {k: v for k, v in SETTINGS.items() if k != "progress"}, "cluster": rows}
+    run = {
+        "command": "bench/cluster.py " + " ".join(sys.argv[1:]),
+        "device": device,
+        "device_version": version,
+        "date": datetime.date.today().isoformat(),
+        "cores": os.cpu_count(),
+        "passes": PASSES,
+        "settings": {k: v for k, v in SETTINGS.items() if k != "progress"},
+        "cluster": rows,
+    }
     pathlib.Path(args.json).write_text(json.dumps(run, indent=1) + "\n")
     print(json.dumps(rows, indent=1))
     print(f"wrote {os.path.relpath(args.json)}")

@@ -44,29 +44,52 @@ def worker(args):
         engine = dict(traversal=args.traversal, traversal_stats=traversal_stats)
         # Builds from before mbao.Engine took the engine settings as keywords of render().
         engine = {"engine": mbao.Engine(**engine)} if hasattr(mbao, "Engine") else engine
-        return mbao.render(scene, camera=camera, width=size, height=size, bounces=args.bounces,
-                           method=args.method, **options_for_method, **engine)
+        return mbao.render(
+            scene,
+            camera=camera,
+            width=size,
+            height=size,
+            bounces=args.bounces,
+            method=args.method,
+            **options_for_method,
+            **engine,
+        )
 
     image = render(args.size).ao  # also the warm-up frame
     print(hashlib.sha1(image.tobytes()).hexdigest(), flush=True)
     for command in sys.stdin:
         if command.strip() == "counts":
             counts = render(64, traversal_stats=True).stats.get("traversal")  # builds before HBAO counted had none
-            print(" ".join(f"{name}={value:.2f}" for name, value in counts.items()) if counts else "not counted",
-                  flush=True)
+            print(
+                " ".join(f"{name}={value:.2f}" for name, value in counts.items()) if counts else "not counted",
+                flush=True,
+            )
         else:
             print(render(args.size).stats["frame_ms"], flush=True)
 
 
 class Worker:
     def __init__(self, package, traversal, variables, args):
-        command = [sys.executable, os.path.abspath(__file__), "--worker", "--scene", args.scene,
-                   "--bounces", str(args.bounces), "--size", str(args.size), "--traversal", traversal,
-                   "--method", args.method]
+        command = [
+            sys.executable,
+            os.path.abspath(__file__),
+            "--worker",
+            "--scene",
+            args.scene,
+            "--bounces",
+            str(args.bounces),
+            "--size",
+            str(args.size),
+            "--traversal",
+            traversal,
+            "--method",
+            args.method,
+        ]
         environment = dict(os.environ, PYTHONPATH=os.path.abspath(package))
         environment.update(variable.split("=", 1) for variable in variables)
-        self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
-                                        env=environment)
+        self.process = subprocess.Popen(
+            command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=environment
+        )
         self.image_hash = self._read()
 
     def _read(self):
@@ -113,10 +136,20 @@ def main():
     parser.add_argument("--size", type=int, default=512, help="image width and height")
     parser.add_argument("--pairs", type=int, default=8)
     parser.add_argument("--traversal", default="auto")
-    parser.add_argument("--old-env", action="append", default=[], metavar="NAME=VALUE",
-                        help="an environment variable for the old worker only (repeatable)")
-    parser.add_argument("--new-env", action="append", default=[], metavar="NAME=VALUE",
-                        help="an environment variable for the new worker only (repeatable)")
+    parser.add_argument(
+        "--old-env",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="an environment variable for the old worker only (repeatable)",
+    )
+    parser.add_argument(
+        "--new-env",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="an environment variable for the new worker only (repeatable)",
+    )
     parser.add_argument("--old-traversal", help="the old worker's traversal (default: --traversal)")
     parser.add_argument("--new-traversal", help="the new worker's traversal (default: --traversal)")
     parser.add_argument("--method", default="raytraced", choices=["raytraced", "hbao"])

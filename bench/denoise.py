@@ -40,8 +40,9 @@ def reference(name, scene, camera, bounces, radius, target_error, cache):
     path = pathlib.Path(cache) / f"{name}_b{bounces}_{SIZE}_{target_error:g}.exr"
     if path.exists():
         return mbao.Reference.load(path)
-    converged = mbao.reference(scene, camera=camera, width=SIZE, height=SIZE, bounces=bounces, max_distance=radius,
-                               target_error=target_error)
+    converged = mbao.reference(
+        scene, camera=camera, width=SIZE, height=SIZE, bounces=bounces, max_distance=radius, target_error=target_error
+    )
     path.parent.mkdir(parents=True, exist_ok=True)
     converged.save(path)
     return converged
@@ -49,10 +50,16 @@ def reference(name, scene, camera, bounces, radius, target_error, cache):
 
 def denoise_share(scene, camera, bounces, radius):
     """Median denoise_ms and frame_ms of 5 denoised renders, after one that builds the kernels."""
-    renders = [mbao.render(scene, camera=camera, width=SIZE, height=SIZE, bounces=bounces, max_distance=radius,
-                           denoise=True, seed=k).stats for k in range(6)][1:]
-    return {"denoise_ms": statistics.median(s["denoise_ms"] for s in renders),
-            "frame_ms": statistics.median(s["frame_ms"] for s in renders)}
+    renders = [
+        mbao.render(
+            scene, camera=camera, width=SIZE, height=SIZE, bounces=bounces, max_distance=radius, denoise=True, seed=k
+        ).stats
+        for k in range(6)
+    ][1:]
+    return {
+        "denoise_ms": statistics.median(s["denoise_ms"] for s in renders),
+        "frame_ms": statistics.median(s["frame_ms"] for s in renders),
+    }
 
 
 def measure(setup, target_error, cache):
@@ -61,13 +68,24 @@ def measure(setup, target_error, cache):
     camera = mbao.Camera.load(folder / "camera.json") if folder else None
     converged = reference(name, scene, camera, bounces, radius, target_error, cache)
     single = mbao.convergence(scene, [prefix, prefix + " + denoise"], converged, frame_counts=(1,), plot=False)
-    sequences = mbao.convergence(scene, [prefix + " + temporal", prefix + " + temporal + denoise"], converged,
-                                 frame_counts=FRAMES, plot=False)
-    rows = [dict(row) for table in (single, sequences)
-            for row in (table.to_dict("records") if hasattr(table, "to_dict") else table)]
-    return {"scene": name, "bounces": bounces, "max_distance": radius if radius is not None else "camera",
-            "size": SIZE, "samples": FRAME_SAMPLES, "rows": rows,
-            "reference": converged.settings, "denoise": denoise_share(scene, camera, bounces, radius)}
+    sequences = mbao.convergence(
+        scene, [prefix + " + temporal", prefix + " + temporal + denoise"], converged, frame_counts=FRAMES, plot=False
+    )
+    rows = [
+        dict(row)
+        for table in (single, sequences)
+        for row in (table.to_dict("records") if hasattr(table, "to_dict") else table)
+    ]
+    return {
+        "scene": name,
+        "bounces": bounces,
+        "max_distance": radius if radius is not None else "camera",
+        "size": SIZE,
+        "samples": FRAME_SAMPLES,
+        "rows": rows,
+        "reference": converged.settings,
+        "denoise": denoise_share(scene, camera, bounces, radius),
+    }
 
 
 def main():
@@ -79,8 +97,13 @@ def main():
     results = [measure(setup, args.target_error, args.cache) for setup in SETUPS]
     device = mbao.render(mbao.cornell_box(), width=1, height=1).stats["device"]  # as mbao_bench names it
     version = next(d.version for d in mbao.devices() if device.endswith(d.name))
-    run = {"command": "bench/denoise.py " + " ".join(sys.argv[1:]), "device": device, "device_version": version,
-           "date": datetime.date.today().isoformat(), "denoise": results}
+    run = {
+        "command": "bench/denoise.py " + " ".join(sys.argv[1:]),
+        "device": device,
+        "device_version": version,
+        "date": datetime.date.today().isoformat(),
+        "denoise": results,
+    }
     pathlib.Path(args.json).write_text(json.dumps(run, indent=1) + "\n")
     print(f"wrote {os.path.relpath(args.json)}")
 

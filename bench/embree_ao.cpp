@@ -245,9 +245,8 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
         stack.push_back({impl.surface(primary.hit.primID, primary.hit.u, primary.hit.v, camera_ray.dir), 0, 0});
         while (!stack.empty()) {
           Level& level = stack.back();
-          const std::uint32_t children = s.estimator == mbao::Estimator::Branching || stack.size() == 1
-                                             ? std::uint32_t(s.samples)
-                                             : 1u;
+          const std::uint32_t children =
+              s.estimator == mbao::Estimator::Branching || stack.size() == 1 ? std::uint32_t(s.samples) : 1u;
           if (level.next_child == children) {
             stack.pop_back();
             continue;
@@ -258,8 +257,8 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
                                          ? level.node * std::uint32_t(s.samples) + c
                                          : (stack.size() == 1 ? c : level.node);
           const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s.seed);
-          glm::vec3 dir = cosine_direction(level.surface.shading_normal, philox_unit_float(r.v[0]),
-                                           philox_unit_float(r.v[1]));
+          glm::vec3 dir =
+              cosine_direction(level.surface.shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
           if (!mirrored_above(level.surface.geometric_normal, &dir)) continue;
           ++rays[thread];
           RTCRayHit ray = single_ray({leaving_point(level.surface), dir}, t_max);
@@ -325,8 +324,8 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
           const bool branching = s.estimator == mbao::Estimator::Branching;
           const std::uint32_t children = branching || bounce == 1 ? std::uint32_t(s.samples) : 1u;
           for (std::uint32_t c = 0; c < children; ++c) {
-            const std::uint32_t node = branching ? parent.node * std::uint32_t(s.samples) + c
-                                                 : (bounce == 1 ? c : parent.node);
+            const std::uint32_t node =
+                branching ? parent.node * std::uint32_t(s.samples) + c : (bounce == 1 ? c : parent.node);
             const Philox4x32 r = random_block(pixel, camera_sample, bounce, node, s.seed);
             glm::vec3 dir =
                 cosine_direction(surface.shading_normal, philox_unit_float(r.v[0]), philox_unit_float(r.v[1]));
@@ -355,7 +354,8 @@ EmbreeFrame EmbreeAo::render(const mbao::Camera& camera, const mbao::RenderSetti
             rtcOccluded16(valid, impl.rtc_scene, &context, &rays16.ray);
           for (std::size_t i = 0; i < n; ++i) {
             const TreeRay& tree_ray = queue[start + i];
-            const bool escaped = need_hits ? rays16.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID : rays16.ray.tfar[i] >= 0.0f;
+            const bool escaped =
+                need_hits ? rays16.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID : rays16.ray.tfar[i] >= 0.0f;
             if (escaped) {
               ++escapes[tree_ray.slot * std::size_t(s.bounces) + bounce - 1];
             } else if (need_hits) {

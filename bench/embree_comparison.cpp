@@ -11,7 +11,8 @@ namespace {
 
 // PoCL runs one thread per core unless POCL_MAX_PTHREAD_COUNT says otherwise; Embree gets as many.
 unsigned pocl_threads() {
-  if (const char* count = std::getenv("POCL_MAX_PTHREAD_COUNT"); count && std::atoi(count) > 0) return unsigned(std::atoi(count));
+  if (const char* count = std::getenv("POCL_MAX_PTHREAD_COUNT"); count && std::atoi(count) > 0)
+    return unsigned(std::atoi(count));
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
@@ -95,9 +96,9 @@ json embree_comparison(mbao::Renderer& renderer, const std::vector<BenchScene>& 
       const json traversal = per_ray_counts(counted);
       std::cout << "| " << s.name << " | " << bounces << " | " << fixed(mbao_frames["frame_ms"], 1) << " | "
                 << fixed(single["frame_ms"], 1) << " / " << fixed(packets["frame_ms"], 1) << " | " << fixed(ratio, 2)
-                << " | " << fixed(traversal["nodes_per_ray"], 1) << ", " << fixed(traversal["leaves_per_ray"], 1) << ", "
-                << fixed(traversal["triangles_per_ray"], 1) << ", " << fixed(traversal["restarts_per_ray"], 2) << " |"
-                << std::endl;
+                << " | " << fixed(traversal["nodes_per_ray"], 1) << ", " << fixed(traversal["leaves_per_ray"], 1)
+                << ", " << fixed(traversal["triangles_per_ray"], 1) << ", " << fixed(traversal["restarts_per_ray"], 2)
+                << " |" << std::endl;
       rows.push_back({{"scene", s.name},
                       {"bounces", bounces},
                       {"mbao", mbao_frames},

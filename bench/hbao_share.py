@@ -29,11 +29,14 @@ def share(folder, radius, size, pairs):
         traced.append(mbao.render(scene, **traced_frame).stats)
     ratios = [h["frame_ms"] / t["frame_ms"] for h, t in zip(hbao, traced)]
     q1, median, q3 = statistics.quantiles(ratios, n=4)
-    print(f"{os.path.basename(os.path.normpath(folder))}, radius {radius:g}: "
-          f"HBAO {statistics.median(h['frame_ms'] for h in hbao):.1f} ms "
-          f"(G-buffer {statistics.median(h['gbuffer_ms'] for h in hbao):.1f} ms), "
-          f"b = 1 {statistics.median(t['frame_ms'] for t in traced):.1f} ms, "
-          f"HBAO / b = 1 {median:.3f} [{q1:.3f}-{q3:.3f}] over {pairs} pairs on {hbao[0]['device']}", flush=True)
+    print(
+        f"{os.path.basename(os.path.normpath(folder))}, radius {radius:g}: "
+        f"HBAO {statistics.median(h['frame_ms'] for h in hbao):.1f} ms "
+        f"(G-buffer {statistics.median(h['gbuffer_ms'] for h in hbao):.1f} ms), "
+        f"b = 1 {statistics.median(t['frame_ms'] for t in traced):.1f} ms, "
+        f"HBAO / b = 1 {median:.3f} [{q1:.3f}-{q3:.3f}] over {pairs} pairs on {hbao[0]['device']}",
+        flush=True,
+    )
 
 
 def main():

@@ -75,8 +75,8 @@ json kd_builds(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, 
       std::vector<double> ratios;
       for (int frame = 0; frame < options.frames; ++frame) ratios.push_back(build_ms[0][frame] / build_ms[v][frame]);
       row["default_build_time_over"][tried[v].name] = median(ratios);
-      std::cout << "| " << s.name << " | | default / " << tried[v].name << ", build time | "
-                << fixed(median(ratios), 2) << " | | | | | | |" << std::endl;
+      std::cout << "| " << s.name << " | | default / " << tried[v].name << ", build time | " << fixed(median(ratios), 2)
+                << " | | | | | | |" << std::endl;
     }
     rows.push_back(row);
   }

@@ -50,8 +50,11 @@ def ao_rays(scene, origins, dirs, per_hit=4, seed=1):
     tangent /= np.linalg.norm(tangent, axis=1)[:, None]
     bitangent = np.cross(normals, tangent)
     r, phi = np.sqrt(u1), 2 * np.pi * u2
-    dirs = (tangent * (r * np.cos(phi))[:, None] + bitangent * (r * np.sin(phi))[:, None]
-            + normals * np.sqrt(1 - u1)[:, None])
+    dirs = (
+        tangent * (r * np.cos(phi))[:, None]
+        + bitangent * (r * np.sin(phi))[:, None]
+        + normals * np.sqrt(1 - u1)[:, None]
+    )
     return points.astype(np.float32), dirs.astype(np.float32)
 
 

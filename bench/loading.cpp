@@ -30,9 +30,10 @@ EverythingLoaded load_everything(const std::string& path) {
   for (const tinygltf::Mesh& mesh : loaded.model.meshes)
     for (const tinygltf::Primitive& primitive : mesh.primitives) {
       for (const auto& [name, accessor] : primitive.attributes)
-        loaded.attributes.push_back(name.rfind("TEXCOORD_", 0) == 0
-                                        ? reader.texcoords(accessor, name)
-                                        : reader.floats(accessor, loaded.model.accessors[std::size_t(accessor)].type, name));
+        loaded.attributes.push_back(
+            name.rfind("TEXCOORD_", 0) == 0
+                ? reader.texcoords(accessor, name)
+                : reader.floats(accessor, loaded.model.accessors[std::size_t(accessor)].type, name));
       if (primitive.indices >= 0) loaded.indices.push_back(reader.indices(primitive.indices, "indices"));
     }
   return loaded;

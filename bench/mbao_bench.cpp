@@ -53,7 +53,8 @@ namespace {
   std::exit(2);
 }
 
-const std::vector<std::string> kSections = {"table1", "profile", "traversals", "embree", "masks", "kernel-builds", "loading", "organisation", "kd-build", "bake", "scale"};
+const std::vector<std::string> kSections = {"table1",  "profile",      "traversals", "embree", "masks", "kernel-builds",
+                                            "loading", "organisation", "kd-build",   "bake",   "scale"};
 
 std::vector<std::string> split_commas(const std::string& list) {
   std::vector<std::string> items;
@@ -94,19 +95,32 @@ bench::Options parse(int argc, char** argv) {
     if (i + 1 >= argc) usage(flag + " needs a value");
     const std::string value = argv[++i];
     try {
-      if (flag == "--scenes") options.scenes_dir = value;
-      else if (flag == "--json") options.json_path = value;
-      else if (flag == "--device") options.device = value;
-      else if (flag == "--frames") options.frames = std::stoi(value);
-      else if (flag == "--width") options.settings.width = std::stoi(value);
-      else if (flag == "--height") options.settings.height = std::stoi(value);
-      else if (flag == "--samples") options.settings.samples = std::stoi(value);
-      else if (flag == "--traversal") options.settings.traversal = mbao::parse_traversal(value);
-      else if (flag == "--sections") options.sections = parse_sections(value);
-      else if (flag == "--work-groups") options.work_groups = parse_sizes(flag, value);
-      else if (flag == "--scale-sizes") options.scale_sizes = parse_sizes(flag, value);
-      else if (flag == "--origin-paths") options.settings.origin_paths = parse_on_off(flag, value);
-      else usage("unknown option " + flag);
+      if (flag == "--scenes")
+        options.scenes_dir = value;
+      else if (flag == "--json")
+        options.json_path = value;
+      else if (flag == "--device")
+        options.device = value;
+      else if (flag == "--frames")
+        options.frames = std::stoi(value);
+      else if (flag == "--width")
+        options.settings.width = std::stoi(value);
+      else if (flag == "--height")
+        options.settings.height = std::stoi(value);
+      else if (flag == "--samples")
+        options.settings.samples = std::stoi(value);
+      else if (flag == "--traversal")
+        options.settings.traversal = mbao::parse_traversal(value);
+      else if (flag == "--sections")
+        options.sections = parse_sections(value);
+      else if (flag == "--work-groups")
+        options.work_groups = parse_sizes(flag, value);
+      else if (flag == "--scale-sizes")
+        options.scale_sizes = parse_sizes(flag, value);
+      else if (flag == "--origin-paths")
+        options.settings.origin_paths = parse_on_off(flag, value);
+      else
+        usage("unknown option " + flag);
     } catch (const std::logic_error&) {
       usage("bad value for " + flag + ": " + value);
     }
@@ -117,7 +131,8 @@ bench::Options parse(int argc, char** argv) {
 
 mbao::DeviceInfo pick_device(const std::string& spec) {
   if (spec.empty()) return mbao::default_device();
-  if (spec.find_first_not_of("0123456789") == std::string::npos) return mbao::find_device(std::size_t(std::stoul(spec)));
+  if (spec.find_first_not_of("0123456789") == std::string::npos)
+    return mbao::find_device(std::size_t(std::stoul(spec)));
   return mbao::find_device(spec);
 }
 
@@ -128,7 +143,8 @@ std::vector<bench::BenchScene> load_scenes(const std::string& dir) {
   if (dir.empty()) return scenes;
   std::vector<fs::path> folders;
   for (const auto& entry : fs::directory_iterator(dir))
-    if (fs::exists(entry.path() / "scene.glb") && fs::exists(entry.path() / "camera.json")) folders.push_back(entry.path());
+    if (fs::exists(entry.path() / "scene.glb") && fs::exists(entry.path() / "camera.json"))
+      folders.push_back(entry.path());
   std::sort(folders.begin(), folders.end());
   for (const fs::path& folder : folders) {
     mbao::Stopwatch clock;
@@ -178,7 +194,8 @@ int run(bench::Options options) {
 #ifdef MBAO_BENCH_EMBREE
   if (wanted(options, "embree")) report["embree"] = bench::embree_comparison(renderer, scenes, options);
 #else
-  if (wanted(options, "embree")) std::cout << "(Built without Embree: no side-by-side comparison. Debian: libembree-dev.)\n\n";
+  if (wanted(options, "embree"))
+    std::cout << "(Built without Embree: no side-by-side comparison. Debian: libembree-dev.)\n\n";
 #endif
   if (wanted(options, "masks")) report["mask_overhead"] = bench::mask_overhead(renderer, options);
   if (wanted(options, "kernel-builds")) report["kernel_builds"] = bench::kernel_builds(options);

@@ -70,10 +70,9 @@ json organisation(mbao::Renderer& renderer, const std::vector<BenchScene>& scene
           json row = compare(renderer, s, settings, options.frames);
           row["scene"] = s.name;
           row["max_distance"] = distance_json(radius);
-          std::cout << "| " << s.name << " | " << distance_text(radius)
-                    << " | " << bounces << " | " << group_name(work_group_size) << " | "
-                    << fixed(row["megakernel_ms"], 1) << " | " << fixed(row["wavefront_ms"], 1) << " | "
-                    << fixed(row["wavefront_over_megakernel"], 3) << " | "
+          std::cout << "| " << s.name << " | " << distance_text(radius) << " | " << bounces << " | "
+                    << group_name(work_group_size) << " | " << fixed(row["megakernel_ms"], 1) << " | "
+                    << fixed(row["wavefront_ms"], 1) << " | " << fixed(row["wavefront_over_megakernel"], 3) << " | "
                     << fixed(row["wavefront_over_megakernel_range"][0], 3) << "-"
                     << fixed(row["wavefront_over_megakernel_range"][1], 3) << " | "
                     << (row["same_image"].get<bool>() ? "yes" : "NO") << " |" << std::endl;
@@ -82,7 +81,8 @@ json organisation(mbao::Renderer& renderer, const std::vector<BenchScene>& scene
       }
     }
   }
-  std::cout << "\n" << options.settings.width << "x" << options.settings.height << ", r=" << options.settings.samples
+  std::cout << "\n"
+            << options.settings.width << "x" << options.settings.height << ", r=" << options.settings.samples
             << ", branching, rho=1, spp=1; ms = median of " << options.frames
             << " frames, the two organisations interleaved; wavefront / megakernel = median over the frame pairs;"
                " work group \"default\" = 64 unless a kernel allows less; \"same image\": bit for bit, with the"

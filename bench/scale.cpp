@@ -37,8 +37,8 @@ mbao::TriangleMesh spheres(std::size_t triangles) {
     for (int r = 1; r < kRings; ++r)
       for (int s = 0; s < kSegments; ++s) {
         const float theta = 3.14159265f * float(r) / kRings, phi = 6.28318531f * float(s) / kSegments;
-        mesh.positions.push_back(centre + glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                                    std::sin(theta) * std::sin(phi)));
+        mesh.positions.push_back(
+            centre + glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
       }
     const auto bottom = std::uint32_t(mesh.positions.size());
     mesh.positions.push_back(centre + glm::vec3(0.0f, -1.0f, 0.0f));
@@ -49,7 +49,8 @@ mbao::TriangleMesh spheres(std::size_t triangles) {
         mesh.triangles.push_back({ring(r, s), ring(r, s + 1), ring(r + 1, s + 1)});
         mesh.triangles.push_back({ring(r, s), ring(r + 1, s + 1), ring(r + 1, s)});
       }
-    for (int s = 0; s < kSegments; ++s) mesh.triangles.push_back({bottom, ring(kRings - 2, s), ring(kRings - 2, s + 1)});
+    for (int s = 0; s < kSegments; ++s)
+      mesh.triangles.push_back({bottom, ring(kRings - 2, s), ring(kRings - 2, s + 1)});
   }
   return mesh;
 }
@@ -149,9 +150,9 @@ json scale(const Options& options) {
     const bool embree = row.contains("rounds");
     std::cout << "| " << row["triangles"] << " | " << fixed(row[embree ? "rounds_build_ms" : "build_ms"], 0) << " | "
               << cell(row, "embree_build_ms", 0) << " | " << cell(row, "build_ratio", 2) << " | "
-              << cell(row, "embree_not_robust_build_ms", 0) << " | " << cell(row, "build_ratio_not_robust", 2)
-              << " | " << fixed(row["frame_ms"], 1) << " | " << fixed(row["build_peak_bytes_per_triangle"], 0)
-              << " | " << fixed(row["peak_rss_kb"].get<double>() / 1024.0, 0) << " | "
+              << cell(row, "embree_not_robust_build_ms", 0) << " | " << cell(row, "build_ratio_not_robust", 2) << " | "
+              << fixed(row["frame_ms"], 1) << " | " << fixed(row["build_peak_bytes_per_triangle"], 0) << " | "
+              << fixed(row["peak_rss_kb"].get<double>() / 1024.0, 0) << " | "
               << fixed(row["peak_bytes_per_triangle"], 0) << " |" << std::endl;
     rows.push_back(row);
   }

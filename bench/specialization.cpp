@@ -80,7 +80,8 @@ int child_build_kernels(const std::string& device) {
   const auto cornell = mbao::cornell_box();
   mbao::RenderSettings settings;  // Table 1's size: one tile, wider than a grid PoCL builds apart (launch_empty)
   const mbao::RenderStats stats = mbao::Renderer::for_device(info).render(cornell, *cornell->camera(), settings).stats;
-  std::cout << json{{"kernel_build_ms", stats.kernel_build_ms}, {"kernel_cache", stats.kernel_cache},
+  std::cout << json{{"kernel_build_ms", stats.kernel_build_ms},
+                    {"kernel_cache", stats.kernel_cache},
                     {"frame_ms", stats.frame_ms}}
                    .dump()
             << "\n";

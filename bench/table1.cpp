@@ -29,17 +29,18 @@ json table1(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, con
       const json& b1 = row["frames"][0];
       const json& b2 = row["frames"][1];
       const json& hbao = row["hbao"];
-      std::cout << "| " << s.name << " | " << s.scene->mesh().triangles.size() << " | "
-                << distance_text(radius) << " | " << fixed(tree.build_ms, 1)
-                << " | " << fixed(b1["frame_ms"], 1) << " | " << fixed(b2["frame_ms"], 1) << " | "
-                << fixed(b1["mrays_per_s"], 1) << " | " << fixed(b2["mrays_per_s"], 1) << " | "
-                << fixed(hbao["frame_ms"], 1) << " | " << fixed(hbao["gbuffer_ms"], 1) << " | "
+      std::cout << "| " << s.name << " | " << s.scene->mesh().triangles.size() << " | " << distance_text(radius)
+                << " | " << fixed(tree.build_ms, 1) << " | " << fixed(b1["frame_ms"], 1) << " | "
+                << fixed(b2["frame_ms"], 1) << " | " << fixed(b1["mrays_per_s"], 1) << " | "
+                << fixed(b2["mrays_per_s"], 1) << " | " << fixed(hbao["frame_ms"], 1) << " | "
+                << fixed(hbao["gbuffer_ms"], 1) << " | "
                 << fixed(hbao["frame_ms"].get<double>() / b1["frame_ms"].get<double>(), 2) << " | "
                 << renderer.device().name << " |" << std::endl;
       rows.push_back(row);
     }
   }
-  std::cout << "\n" << options.settings.width << "x" << options.settings.height << ", r=" << options.settings.samples
+  std::cout << "\n"
+            << options.settings.width << "x" << options.settings.height << ", r=" << options.settings.samples
             << ", branching, rho=1, spp=1; frame = median of " << options.frames
             << " (camera rays + AO + read-back); Mrays/s counts primary and secondary rays. HBAO (the paper's SSAO "
                "column): 8 directions x 6 steps with the row's radius (inf: the scene's, a quarter of its "

@@ -34,7 +34,8 @@ json traversals(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes,
                 << " | " << fixed(counts["nodes_per_ray"], 1) << " | " << fixed(counts["leaves_per_ray"], 1) << " | "
                 << fixed(counts["triangles_per_ray"], 1) << " | " << fixed(counts["restarts_per_ray"], 2) << " |"
                 << std::endl;
-      rows.push_back({{"scene", s.name}, {"traversal", mbao::to_string(traversal)}, {"frames", frames}, {"per_ray", counts}});
+      rows.push_back(
+          {{"scene", s.name}, {"traversal", mbao::to_string(traversal)}, {"frames", frames}, {"per_ray", counts}});
     }
   }
   std::cout << "\nTable 1 configuration at b = 2, max_distance = inf, the organisation each traversal runs in by "

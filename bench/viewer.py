@@ -83,9 +83,12 @@ def page(driver, scene, **options):
     server = BackgroundServer(viewer)
     try:
         driver.get(viewer.url)
-        call(driver, "new Promise((resolve) => { const wait = () => (window.mbaoView && "
-                     "window.mbaoView.state().received > 0 ? resolve() : setTimeout(wait, 20)); wait(); })",
-             FRAME_TIMEOUT_S)
+        call(
+            driver,
+            "new Promise((resolve) => { const wait = () => (window.mbaoView && "
+            "window.mbaoView.state().received > 0 ? resolve() : setTimeout(wait, 20)); wait(); })",
+            FRAME_TIMEOUT_S,
+        )
         driver.execute_script(PROBE.read_text())
         yield viewer
     finally:
@@ -114,27 +117,43 @@ def drag(driver):
     dragged(driver, dict(DRAG, seconds=1.0))  # a warm-up: the server sizes a moving frame from the last one's time
     result = dragged(driver, DRAG)
     frames, latencies = result["frames"], [ms for ms in result["latencies"] if ms is not None]
-    return {"seconds": result["seconds"], "moves": result["moves"], "moves_per_s": result["moves"] / result["seconds"],
-            "frames": result["received"], "fps": result["received"] / result["seconds"],
-            "sizes": [[f["width"], f["height"]] for f in frames], "frame_ms": [f["frame_ms"] for f in frames],
-            "median_width": percentile([f["width"] for f in frames], 50),
-            "median_frame_ms": percentile([f["frame_ms"] for f in frames], 50),
-            "latencies_ms": latencies, "latency_median_ms": percentile(latencies, 50),
-            "latency_p90_ms": percentile(latencies, 90), "moves_without_frame": len(result["latencies"]) - len(latencies)}
+    return {
+        "seconds": result["seconds"],
+        "moves": result["moves"],
+        "moves_per_s": result["moves"] / result["seconds"],
+        "frames": result["received"],
+        "fps": result["received"] / result["seconds"],
+        "sizes": [[f["width"], f["height"]] for f in frames],
+        "frame_ms": [f["frame_ms"] for f in frames],
+        "median_width": percentile([f["width"] for f in frames], 50),
+        "median_frame_ms": percentile([f["frame_ms"] for f in frames], 50),
+        "latencies_ms": latencies,
+        "latency_median_ms": percentile(latencies, 50),
+        "latency_p90_ms": percentile(latencies, 90),
+        "moves_without_frame": len(result["latencies"]) - len(latencies),
+    }
 
 
 def inputs(driver):
     """Single moves with the button held, each waited for: the median and 90th percentile of input to frame."""
     generator = random.Random(1)
     pauses = [round(generator.uniform(*PAUSES_S) * 1000) for _ in range(INPUTS)]
-    results = call(driver, f"viewerProbe.inputs({pauses}, {STEP_PX}, {INPUT_TIMEOUT_S * 1000})",
-                   sum(pauses) / 1000 + INPUTS * INPUT_TIMEOUT_S + FRAME_TIMEOUT_S)
+    results = call(
+        driver,
+        f"viewerProbe.inputs({pauses}, {STEP_PX}, {INPUT_TIMEOUT_S * 1000})",
+        sum(pauses) / 1000 + INPUTS * INPUT_TIMEOUT_S + FRAME_TIMEOUT_S,
+    )
     shown = [r for r in results if r is not None]
     latencies = [r["ms"] for r in shown]
-    return {"inputs": INPUTS, "missing": INPUTS - len(shown), "latencies_ms": latencies,
-            "median_ms": percentile(latencies, 50), "p90_ms": percentile(latencies, 90),
-            "median_width": percentile([r["width"] for r in shown], 50),
-            "median_frame_ms": percentile([r["frame_ms"] for r in shown], 50)}
+    return {
+        "inputs": INPUTS,
+        "missing": INPUTS - len(shown),
+        "latencies_ms": latencies,
+        "median_ms": percentile(latencies, 50),
+        "p90_ms": percentile(latencies, 90),
+        "median_width": percentile([r["width"] for r in shown], 50),
+        "median_frame_ms": percentile([r["frame_ms"] for r in shown], 50),
+    }
 
 
 def motion(driver, name, scene, camera, settings):
@@ -163,12 +182,19 @@ def still(driver, converged):
         if frame["camera"] != home:
             continue  # a frame of the drag away, sent before the key press reached the server
         error = decoded(frame["png"])[mask] - converged.ao[mask]
-        rows.append({"t_s": frame["t"] / 1000, "frames": frame["frames"], "rmse": float(np.sqrt(np.mean(error ** 2)))})
+        rows.append({"t_s": frame["t"] / 1000, "frames": frame["frames"], "rmse": float(np.sqrt(np.mean(error**2)))})
     reached = next((row["t_s"] for row in rows if row["rmse"] <= TARGETS["rmse"]), None)
-    return {"scene": CORNELL, "settings": STILL, "frames": rows, "seconds_to_target": reached,
-            "rmse_at_end": rows[-1]["rmse"] if rows else None, "seconds": STILL_SECONDS,
-            "covered": float(mask.mean()), "reference": converged.settings,
-            "reference_noise": float(np.sqrt(np.mean(converged.standard_error[mask] ** 2)))}
+    return {
+        "scene": CORNELL,
+        "settings": STILL,
+        "frames": rows,
+        "seconds_to_target": reached,
+        "rmse_at_end": rows[-1]["rmse"] if rows else None,
+        "seconds": STILL_SECONDS,
+        "covered": float(mask.mean()),
+        "reference": converged.settings,
+        "reference_noise": float(np.sqrt(np.mean(converged.standard_error[mask] ** 2))),
+    }
 
 
 def cpu_model():
@@ -185,12 +211,15 @@ def main():
     args = parser.parse_args()
     sponza = pathlib.Path(args.scenes) / "sponza"
     # First, so that rendering it, once, is not measured with the browser.
-    converged = reference("cornell_box", mbao.cornell_box(), None, STILL["bounces"], None, args.target_error,
-                          args.cache)
+    converged = reference(
+        "cornell_box", mbao.cornell_box(), None, STILL["bounces"], None, args.target_error, args.cache
+    )
     driver = chromium()
     try:
-        scenes = [motion(driver, CORNELL, None, None, MOTION),
-                  motion(driver, "sponza", str(sponza / "scene.glb"), str(sponza / "camera.json"), MOTION)]
+        scenes = [
+            motion(driver, CORNELL, None, None, MOTION),
+            motion(driver, "sponza", str(sponza / "scene.glb"), str(sponza / "camera.json"), MOTION),
+        ]
         settled = still(driver, converged)
         browser = f"Chromium {driver.capabilities['browserVersion']}, headless"
     finally:
@@ -198,17 +227,31 @@ def main():
     device = mbao.render(mbao.cornell_box(), width=1, height=1).stats["device"]  # as mbao_bench names it
     version = next(d.version for d in mbao.devices() if device.endswith(d.name))
     protocol = dict(drag=DRAG, inputs=INPUTS, step_px=STEP_PX, pauses_s=PAUSES_S, still_seconds=STILL_SECONDS)
-    run = {"command": "bench/viewer.py " + " ".join(sys.argv[1:]), "device": device, "device_version": version,
-           "date": datetime.date.today().isoformat(), "cpu": cpu_model(), "cores": os.cpu_count(), "browser": browser,
-           "size": SIZE, "targets": TARGETS, "protocol": protocol, "viewer": {"motion": scenes, "still": settled}}
+    run = {
+        "command": "bench/viewer.py " + " ".join(sys.argv[1:]),
+        "device": device,
+        "device_version": version,
+        "date": datetime.date.today().isoformat(),
+        "cpu": cpu_model(),
+        "cores": os.cpu_count(),
+        "browser": browser,
+        "size": SIZE,
+        "targets": TARGETS,
+        "protocol": protocol,
+        "viewer": {"motion": scenes, "still": settled},
+    }
     pathlib.Path(args.json).write_text(json.dumps(run, indent=1) + "\n")
     for scene in scenes:
         d, i = scene["drag"], scene["input_to_frame"]
-        print(f"{scene['scene']}: dragging {d['fps']:.1f} frames/s (median {d['median_width']:.0f} px wide, "
-              f"{d['median_frame_ms']:.0f} ms), input to frame {i['median_ms']:.0f} ms median, {i['p90_ms']:.0f} ms "
-              f"90th percentile ({d['latency_median_ms']:.0f} and {d['latency_p90_ms']:.0f} ms while dragging)")
-    print(f"still Cornell box: RMSE <= {TARGETS['rmse']} after {settled['seconds_to_target']:.2f} s, "
-          f"{settled['rmse_at_end']:.4f} at {STILL_SECONDS:g} s")
+        print(
+            f"{scene['scene']}: dragging {d['fps']:.1f} frames/s (median {d['median_width']:.0f} px wide, "
+            f"{d['median_frame_ms']:.0f} ms), input to frame {i['median_ms']:.0f} ms median, {i['p90_ms']:.0f} ms "
+            f"90th percentile ({d['latency_median_ms']:.0f} and {d['latency_p90_ms']:.0f} ms while dragging)"
+        )
+    print(
+        f"still Cornell box: RMSE <= {TARGETS['rmse']} after {settled['seconds_to_target']:.2f} s, "
+        f"{settled['rmse_at_end']:.4f} at {STILL_SECONDS:g} s"
+    )
     print(f"wrote {os.path.relpath(args.json)}")
 
 

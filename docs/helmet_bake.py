@@ -43,10 +43,16 @@ def bilinear_repeat(image, uv):
     x, y = uv[:, 0] * width - 0.5, uv[:, 1] * height - 0.5
     x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
     fx, fy = x - x0, y - y0
+
     def at(i, j):
         return image[np.mod(j, height), np.mod(i, width)]
-    return ((1 - fx) * (1 - fy) * at(x0, y0) + fx * (1 - fy) * at(x0 + 1, y0) + (1 - fx) * fy * at(x0, y0 + 1)
-            + fx * fy * at(x0 + 1, y0 + 1))
+
+    return (
+        (1 - fx) * (1 - fy) * at(x0, y0)
+        + fx * (1 - fy) * at(x0 + 1, y0)
+        + (1 - fx) * fy * at(x0, y0 + 1)
+        + fx * fy * at(x0 + 1, y0 + 1)
+    )
 
 
 def shaded(triangle, barycentrics, corner_uvs, image):
@@ -69,7 +75,7 @@ def shipped_occlusion(path, scene):
     start = view.get("byteOffset", 0)
     with tempfile.TemporaryDirectory() as temporary:
         encoded = pathlib.Path(temporary) / "occlusion"
-        encoded.write_bytes(document.bin[start:start + view["byteLength"]])
+        encoded.write_bytes(document.bin[start : start + view["byteLength"]])
         pixels = oiio.ImageBuf(str(encoded)).get_pixels(oiio.FLOAT)[..., 0]
     return pixels, scene.uv_sets["sets"][material.get("texCoord", 0)][scene.indices]
 
@@ -83,8 +89,16 @@ def main():
     shipped, shipped_uvs = shipped_occlusion(path, scene)
     panels = [("the artist's occlusion texture", shaded(triangle, barycentrics, shipped_uvs, shipped))]
     for bounces in (1, 2):
-        bake = mbao.bake(scene, target="texture", texcoord="generate", resolution=RESOLUTION, samples=SAMPLES,
-                         bounces=bounces, camera=camera, progress=False)
+        bake = mbao.bake(
+            scene,
+            target="texture",
+            texcoord="generate",
+            resolution=RESOLUTION,
+            samples=SAMPLES,
+            bounces=bounces,
+            camera=camera,
+            progress=False,
+        )
         texture = bake.textures[0]
         corner_uvs = np.zeros((scene.triangle_count, 3, 2), np.float32)
         corner_uvs[texture.triangles] = texture.texcoords
@@ -95,9 +109,11 @@ def main():
         axis.imshow(image, cmap="gray", vmin=0, vmax=1)
         axis.set_title(title)
         axis.axis("off")
-    figure.suptitle(f"Damaged Helmet: max_distance {radius}, rho 1, {RESOLUTION}x{RESOLUTION} generated UVs, "
-                    f"{SAMPLES} estimates per texel of {bake.settings['directions']} {bake.settings['estimator']}s each",
-                    fontsize=10)
+    figure.suptitle(
+        f"Damaged Helmet: max_distance {radius}, rho 1, {RESOLUTION}x{RESOLUTION} generated UVs, "
+        f"{SAMPLES} estimates per texel of {bake.settings['directions']} {bake.settings['estimator']}s each",
+        fontsize=10,
+    )
     figure.tight_layout()
     figure.savefig(here / "helmet_bake.png", dpi=80)
 

@@ -13,8 +13,17 @@ from viewer_client import served  # noqa: E402
 
 sponza = here.parent.parent / "shared" / "scenes" / "sponza"
 
-with served(str(sponza / "scene.glb"), camera=str(sponza / "camera.json"), width=640, height=400, bounces=2,
-            samples=4, max_distance=200.0, denoise=True, frames=16) as viewer:
+with served(
+    str(sponza / "scene.glb"),
+    camera=str(sponza / "camera.json"),
+    width=640,
+    height=400,
+    bounces=2,
+    samples=4,
+    max_distance=200.0,
+    denoise=True,
+    frames=16,
+) as viewer:
     browser = chromium()
     try:
         browser.set_window_size(960, 740)

@@ -31,8 +31,8 @@
 namespace {
 
 // Sizes small enough that an input builds its scene in well under a millisecond.
-constexpr unsigned kMaxMeshes = 4, kMaxVertices = 48, kMaxFaces = 64, kMaxNodes = 8, kMaxMaterials = 3,
-                   kMaxCameras = 2, kMaxTextureSide = 8, kMaxEncodedImage = 512;
+constexpr unsigned kMaxMeshes = 4, kMaxVertices = 48, kMaxFaces = 64, kMaxNodes = 8, kMaxMaterials = 3, kMaxCameras = 2,
+                   kMaxTextureSide = 8, kMaxEncodedImage = 512;
 
 float any_float(FuzzedDataProvider& in) {
   const auto bits = in.ConsumeIntegral<std::uint32_t>();
@@ -49,8 +49,8 @@ aiVector3D any_vector(FuzzedDataProvider& in) {
 // Names a texture may have: embedded images by index and by file name, the
 // image beside the "file" (MBAO_FUZZ_BASE_DIR/mask.png), a missing one, and any string.
 aiString texture_name(FuzzedDataProvider& in) {
-  static const char* const kNames[] = {"*0", "*1", "*7", "embedded.png", "mask.png", "missing.png", "C:\\x\\mask.png",
-                                       "//mask.png"};
+  static const char* const kNames[] = {
+      "*0", "*1", "*7", "embedded.png", "mask.png", "missing.png", "C:\\x\\mask.png", "//mask.png"};
   if (in.ConsumeBool()) return aiString(in.ConsumeRandomLengthString(32));
   return aiString(kNames[in.ConsumeIntegralInRange<std::size_t>(0, std::size(kNames) - 1)]);
 }
@@ -59,7 +59,8 @@ aiTexture* embedded_texture(FuzzedDataProvider& in) {
   auto* t = new aiTexture;
   t->mFilename = aiString("embedded.png");
   if (in.ConsumeBool()) {  // compressed: mWidth bytes of an encoded image in pcData
-    const std::vector<std::uint8_t> bytes = in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange(0u, kMaxEncodedImage));
+    const std::vector<std::uint8_t> bytes =
+        in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange(0u, kMaxEncodedImage));
     const std::size_t texels = (bytes.size() + sizeof(aiTexel) - 1) / sizeof(aiTexel);
     t->pcData = new aiTexel[texels > 0 ? texels : 1];
     if (!bytes.empty()) std::memcpy(t->pcData, bytes.data(), bytes.size());
@@ -92,8 +93,8 @@ aiMaterial* material(FuzzedDataProvider& in) {
     else
       m->AddProperty(&color, 1, AI_MATKEY_COLOR_DIFFUSE);
   }
-  for (const aiTextureType type : {aiTextureType_OPACITY, aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR,
-                                   aiTextureType_AMBIENT_OCCLUSION}) {
+  for (const aiTextureType type :
+       {aiTextureType_OPACITY, aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR, aiTextureType_AMBIENT_OCCLUSION}) {
     if (!in.ConsumeBool()) continue;
     const aiString file = texture_name(in);
     m->AddProperty(&file, AI_MATKEY_TEXTURE(type, 0));
@@ -122,12 +123,14 @@ aiMesh* mesh(FuzzedDataProvider& in, unsigned materials) {
     if (!(channels & (1u << c))) continue;
     m->mNumUVComponents[c] = 2;
     m->mTextureCoords[c] = new aiVector3D[m->mNumVertices];
-    for (unsigned v = 0; v < m->mNumVertices; ++v) m->mTextureCoords[c][v] = aiVector3D(any_float(in), any_float(in), 0);
+    for (unsigned v = 0; v < m->mNumVertices; ++v)
+      m->mTextureCoords[c][v] = aiVector3D(any_float(in), any_float(in), 0);
   }
   // One primitive type per mesh, as aiProcess_SortByPType leaves them.
   const unsigned corners = in.ConsumeIntegralInRange(1u, 3u);
-  m->mPrimitiveTypes = corners == 3 ? aiPrimitiveType_TRIANGLE : corners == 2 ? aiPrimitiveType_LINE
-                                                                               : aiPrimitiveType_POINT;
+  m->mPrimitiveTypes = corners == 3   ? aiPrimitiveType_TRIANGLE
+                       : corners == 2 ? aiPrimitiveType_LINE
+                                      : aiPrimitiveType_POINT;
   m->mNumFaces = in.ConsumeIntegralInRange(1u, kMaxFaces);
   m->mFaces = new aiFace[m->mNumFaces];
   for (unsigned f = 0; f < m->mNumFaces; ++f) {

@@ -50,8 +50,9 @@ def hierarchy(b):
     mesh = b.add_mesh([quad, b.primitive(QUAD, [0, 1, 1, 2], mode=LINES)])
     child = b.add_node(mesh=mesh, matrix=np.diag([1.0, 2.0, 1.0, 1.0]))
     eye = b.add_node(camera=b.add_perspective_camera(0.8), translation=(0, 0, 5))
-    root = b.add_node(mesh=mesh, translation=(1, 2, 3), rotation=(0, 0.382683, 0, 0.92388), scale=(2, 2, 2),
-                      children=[child])
+    root = b.add_node(
+        mesh=mesh, translation=(1, 2, 3), rotation=(0, 0.382683, 0, 0.92388), scale=(2, 2, 2), children=[child]
+    )
     b.add_scene([b.add_node(mesh=mesh)])
     b.add_scene([root, eye, b.add_node(camera=b.add_orthographic_camera())], default=True)
 
@@ -61,23 +62,33 @@ def layouts(b):
     position, normal = b.add_interleaved([QUAD, np.tile(np.float32([0, 1, 0]), (4, 1))], byte_stride=32)
     sparse = b.add_sparse(3, indices=[1, 2], values=[[1, 0, 0], [0, 1, 0]], base=None, index_type=UNSIGNED_BYTE)
     moved = b.add_sparse(4, indices=[3], values=[[0, 2, 0]], base=QUAD)
-    mesh = b.add_mesh([
-        b.primitive(position_accessor=position, normal_accessor=normal, indices=QUAD_INDICES),
-        b.primitive(position_accessor=sparse),
-        b.primitive(position_accessor=moved, indices=QUAD_INDICES),
-    ])
+    mesh = b.add_mesh(
+        [
+            b.primitive(position_accessor=position, normal_accessor=normal, indices=QUAD_INDICES),
+            b.primitive(position_accessor=sparse),
+            b.primitive(position_accessor=moved, indices=QUAD_INDICES),
+        ]
+    )
     b.add_scene([b.add_node(mesh=mesh)])
 
 
 def strips_and_fans(b):
     """A strip and a fan, each indexed and not."""
     pentagon = np.float32([[0, 0, 0], [1, 0, 0], [1.3, 1, 0], [0.5, 1.6, 0], [-0.3, 1, 0]])
-    b.add_scene([b.add_node(mesh=b.add_mesh([
-        b.primitive(pentagon, [0, 1, 4, 2, 3], mode=TRIANGLE_STRIP, index_type=UNSIGNED_BYTE),
-        b.primitive(pentagon, mode=TRIANGLE_STRIP),
-        b.primitive(pentagon, [0, 1, 2, 3, 4], mode=TRIANGLE_FAN, index_type=UNSIGNED_SHORT),
-        b.primitive(pentagon, mode=TRIANGLE_FAN),
-    ]))])
+    b.add_scene(
+        [
+            b.add_node(
+                mesh=b.add_mesh(
+                    [
+                        b.primitive(pentagon, [0, 1, 4, 2, 3], mode=TRIANGLE_STRIP, index_type=UNSIGNED_BYTE),
+                        b.primitive(pentagon, mode=TRIANGLE_STRIP),
+                        b.primitive(pentagon, [0, 1, 2, 3, 4], mode=TRIANGLE_FAN, index_type=UNSIGNED_SHORT),
+                        b.primitive(pentagon, mode=TRIANGLE_FAN),
+                    ]
+                )
+            )
+        ]
+    )
 
 
 def transformed_mask(b, tmp):
@@ -93,8 +104,9 @@ def encoded_copies(source, out):
     if not GLTF_TRANSFORM.exists():
         sys.exit(f"{GLTF_TRANSFORM} is missing: `make test` installs it")
     for command in ("quantize", "draco", "meshopt"):
-        subprocess.run([str(GLTF_TRANSFORM), command, str(source), str(out / f"{command}.glb")], check=True,
-                       capture_output=True)
+        subprocess.run(
+            [str(GLTF_TRANSFORM), command, str(source), str(out / f"{command}.glb")], check=True, capture_output=True
+        )
 
 
 def masked(b, where, tmp):
@@ -104,10 +116,12 @@ def masked(b, where, tmp):
     texture = b.add_texture(image, wrap_s=CLAMP_TO_EDGE, wrap_t=MIRRORED_REPEAT)
     material = b.add_material(alpha_mode="MASK", alpha_cutoff=0.5, base_color_factor=(1, 1, 1, 0.9), texture=texture)
     uv_type = UNSIGNED_BYTE if where == "bufferView" else FLOAT  # normalized bytes, or floats
-    mesh = b.add_mesh([
-        b.primitive(QUAD, QUAD_INDICES, texcoords=QUAD_UV, texcoord_type=uv_type, material=material),
-        b.primitive(TRIANGLE, material=b.add_material(alpha_mode="MASK", base_color_factor=(1, 1, 1, 0.2))),
-    ])
+    mesh = b.add_mesh(
+        [
+            b.primitive(QUAD, QUAD_INDICES, texcoords=QUAD_UV, texcoord_type=uv_type, material=material),
+            b.primitive(TRIANGLE, material=b.add_material(alpha_mode="MASK", base_color_factor=(1, 1, 1, 0.2))),
+        ]
+    )
     b.add_scene([b.add_node(mesh=mesh)])
 
 

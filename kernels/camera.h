@@ -5,8 +5,8 @@
 // The direction through the point `in_pixel` ((0.5, 0.5): the centre) of pixel
 // `pixel` (row by row from the top left); film_scale is tan(vfov/2) times
 // (width/height, 1).
-static inline float3 camera_ray_direction(float3 forward, float3 right, float3 up, float2 film_scale,
-                                          uint width, uint height, uint pixel, float2 in_pixel) {
+static inline float3 camera_ray_direction(float3 forward, float3 right, float3 up, float2 film_scale, uint width,
+                                          uint height, uint pixel, float2 in_pixel) {
   const float u = (((float)(pixel % width) + in_pixel.x) / (float)width) * 2.0f - 1.0f;
   const float v = 1.0f - (((float)(pixel / width) + in_pixel.y) / (float)height) * 2.0f;
   return normalize(forward + u * film_scale.x * right + v * film_scale.y * up);

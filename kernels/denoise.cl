@@ -63,8 +63,7 @@ ALWAYS_INLINE float blurred_variance(const Images* images, int x, int y, int col
 ALWAYS_INLINE float power(float x, uint n) {
   float result = 1.0f;
 #pragma unroll
-  for (int bit = 0; bit < MBAO_NORMAL_EXPONENT_BITS; ++bit, x *= x)
-    result *= (n >> bit) & 1u ? x : 1.0f;
+  for (int bit = 0; bit < MBAO_NORMAL_EXPONENT_BITS; ++bit, x *= x) result *= (n >> bit) & 1u ? x : 1.0f;
   return result;
 }
 
@@ -108,18 +107,20 @@ ALWAYS_INLINE void filter_pixel(const Images* images, FilterWeights f, int x, in
       weights += hw;
       variance_sum += hw * hw * images->variance[q];
     }
-  const int hit = gt[pixel] > 0.0f;  // a miss keeps its value
+  const int hit = gt[pixel] > 0.0f;                                  // a miss keeps its value
   ao_out[pixel] = hit ? clamp(sum / weights, 0.0f, 1.0f) : value_p;  // a weighted mean: only rounding leaves [0, 1]
   variance_out[pixel] = hit ? variance_sum / (weights * weights) : images->variance[pixel];
 }
 
-#define ATROUS_PARAMS                                                                                         \
-  __global const float *gbuffer, __global const float *ao, __global const float *variance, uint width,       \
-      uint height, uint step, float sigma_plane, uint sigma_normal, float sigma_value, __global float *ao_out, \
+#define ATROUS_PARAMS                                                                                               \
+  __global const float *gbuffer, __global const float *ao, __global const float *variance, uint width, uint height, \
+      uint step, float sigma_plane, uint sigma_normal, float sigma_value, __global float *ao_out,                   \
       __global float *variance_out
 
-#define ATROUS_IMAGES {gbuffer, ao, variance, (int)width, (int)height}
-#define ATROUS_WEIGHTS {sigma_plane, sigma_value, sigma_normal}
+#define ATROUS_IMAGES \
+  { gbuffer, ao, variance, (int)width, (int)height }
+#define ATROUS_WEIGHTS \
+  { sigma_plane, sigma_value, sigma_normal }
 
 // Columns [2 step, width - 2 step), one work item for each of their pixels.
 __kernel void denoise_atrous_interior(ATROUS_PARAMS) {

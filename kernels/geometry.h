@@ -24,13 +24,9 @@
 // Bound on the rounding error of n float operations, relative to the result:
 // gamma(n) = n u / (1 - n u) with u = 2^-24 (Higham; pbrt's notation).
 #define MBAO_UNIT_ROUNDOFF (0.5f * FLT_EPSILON)
-static inline float error_gamma(int n) {
-  return (n * MBAO_UNIT_ROUNDOFF) / (1.0f - n * MBAO_UNIT_ROUNDOFF);
-}
+static inline float error_gamma(int n) { return (n * MBAO_UNIT_ROUNDOFF) / (1.0f - n * MBAO_UNIT_ROUNDOFF); }
 
-static inline float component(float3 v, int axis) {
-  return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
-}
+static inline float component(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
 typedef struct Hit {
   float t;
@@ -64,7 +60,7 @@ static inline Hit hit_of_bits(uint4 bits) {
 // Per-ray setup of the watertight test (Woop, Benthin and Wald, JCGT 2013): the
 // ray is turned into +z of a sheared frame where the triangle test is 2D.
 typedef struct WatertightRay {
-  uint kx, ky, kz;  // the axes that become x, y and z of the ray's frame
+  uint kx, ky, kz;                     // the axes that become x, y and z of the ray's frame
   float origin_x, origin_y, origin_z;  // the origin's coordinates along kx, ky and kz
   float shear_x, shear_y, shear_z;
   float edge_error;  // see edge_errors
@@ -137,7 +133,8 @@ typedef struct FrameTriangle {
   float4 z;     // along it
 } FrameTriangle;
 
-static inline FrameTriangle triangle_in_ray_frame(const WatertightRay* ray, MBAO_TRIANGLE_SPACE const TriangleCoordinates* t) {
+static inline FrameTriangle triangle_in_ray_frame(const WatertightRay* ray,
+                                                  MBAO_TRIANGLE_SPACE const TriangleCoordinates* t) {
   FrameTriangle f;
   f.z = triangle_along(t, ray->kz) - ray->origin_z;
   f.x = (triangle_along(t, ray->kx) - ray->origin_x) - ray->shear_x * f.z;
@@ -177,8 +174,9 @@ static inline float edge_function_in_double(const WatertightRay* ray, float3 p, 
 
 // The edge functions whose sign float leaves unknown, recomputed in double from
 // the corners themselves.
-static inline float3 edge_functions_in_double(const WatertightRay* ray, MBAO_TRIANGLE_SPACE const TriangleCoordinates* t,
-                                              float3 e, int3 unknown) {
+static inline float3 edge_functions_in_double(const WatertightRay* ray,
+                                              MBAO_TRIANGLE_SPACE const TriangleCoordinates* t, float3 e,
+                                              int3 unknown) {
   const float4 kx = triangle_along(t, ray->kx), ky = triangle_along(t, ray->ky), kz = triangle_along(t, ray->kz);
   const float3 p0 = (float3)(kx.x, ky.x, kz.x), p1 = (float3)(kx.y, ky.y, kz.y), p2 = (float3)(kx.z, ky.z, kz.z);
   if (unknown.x) e.x = edge_function_in_double(ray, p1, p2);
@@ -243,8 +241,8 @@ static inline int intersect_triangle(const WatertightRay* ray, MBAO_TRIANGLE_SPA
 // every component through a chain of selects. A slab the ray does not move
 // across (1 / dir infinite) bounds no distance; the ray misses the box unless
 // its origin lies in that slab.
-static inline int clip_to_box(float3 origin, float3 dir, float3 inv_dir, float3 lo, float3 hi,
-                              float t_max, float* t_enter, float* t_exit) {
+static inline int clip_to_box(float3 origin, float3 dir, float3 inv_dir, float3 lo, float3 hi, float t_max,
+                              float* t_enter, float* t_exit) {
   const int3 parallel = dir == 0.0f;
   if (any_lane(parallel & ((origin < lo) | (origin > hi)))) return 0;
   const float3 to_lo = (lo - origin) * inv_dir, to_hi = (hi - origin) * inv_dir;

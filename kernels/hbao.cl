@@ -36,9 +36,9 @@ static inline PixelRays pixel_rays(float2 film_scale, uint width, uint height) {
 // Access (1 = open) and coverage per pixel, one work item per pixel on a grid
 // of columns x rows. Directions and the first step are jittered per pixel by
 // the seed.
-__kernel void hbao(__global const float* gbuffer, uint width, uint height, float4 right, float4 up,
-                   float4 forward, float2 film_scale, float radius, float sin_bias, float falloff,
-                   uint directions, uint steps, uint2 seed, __global float* ao, __global uchar* coverage) {
+__kernel void hbao(__global const float* gbuffer, uint width, uint height, float4 right, float4 up, float4 forward,
+                   float2 film_scale, float radius, float sin_bias, float falloff, uint directions, uint steps,
+                   uint2 seed, __global float* ao, __global uchar* coverage) {
   // Work items past the image's edge take its last pixel and store nothing: every
   // work item of a group must reach the barriers.
   const uint x = min((uint)get_global_id(0), width - 1), y = min((uint)get_global_id(1), height - 1);
@@ -79,8 +79,8 @@ __kernel void hbao(__global const float* gbuffer, uint width, uint height, float
         const float round_x = (float)x + along * step_x + 0.5f, round_y = (float)y + along * step_y + 0.5f;
         const int at_x = convert_int(round_x), at_y = convert_int(round_y);
         // Once a direction's steps leave the image they stay out: masked, as the end of the direction.
-        const int inside = k < steps && round_x >= 0.0f && round_x < (float)width && round_y >= 0.0f &&
-                           round_y < (float)height;
+        const int inside =
+            k < steps && round_x >= 0.0f && round_x < (float)width && round_y >= 0.0f && round_y < (float)height;
         const float seen_depth = depths[inside ? at_y * (int)width + at_x : (int)pixel];
         const float dx = ((float)at_x * rays.x_scale + rays.x_offset) * seen_depth - px;
         const float dy = ((float)at_y * rays.y_scale + rays.y_offset) * seen_depth - py;

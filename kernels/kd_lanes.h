@@ -51,8 +51,8 @@ typedef struct Lanes {
 
 // Lane k holds bit k.
 static inline uint16 lane_bit_values(void) {
-  return (uint16)(1u << 0, 1u << 1, 1u << 2, 1u << 3, 1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 8, 1u << 9,
-                  1u << 10, 1u << 11, 1u << 12, 1u << 13, 1u << 14, 1u << 15);
+  return (uint16)(1u << 0, 1u << 1, 1u << 2, 1u << 3, 1u << 4, 1u << 5, 1u << 6, 1u << 7, 1u << 8, 1u << 9, 1u << 10,
+                  1u << 11, 1u << 12, 1u << 13, 1u << 14, 1u << 15);
 }
 
 // Bit k set where lane k of `mask` is true. Vector operations, not a loop over
@@ -71,7 +71,7 @@ static inline uint lane_bits(int16 mask) {
 static inline uint lowest_lane(uint bits) { return popcount(~bits & (bits - 1u)); }
 
 // Lane k of the mask wherever bit k of `bits` is set (lane_bits undone).
-static inline int16 lane_mask(uint bits) { return ((uint16)(bits) & lane_bit_values()) != 0u; }
+static inline int16 lane_mask(uint bits) { return ((uint16)(bits)&lane_bit_values()) != 0u; }
 
 static inline uint16 lane_indices(void) {
   return (uint16)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 10u, 11u, 12u, 13u, 14u, 15u);
@@ -286,10 +286,9 @@ static void trace_in_lanes(const SceneView* scene, const RayStream* stream, uint
 // [j * rays_per_item, (j + 1) * rays_per_item) of the `count`. Programs built
 // with MBAO_COUNT_TRAVERSAL keep each ray's counts in ray_counts and add them
 // to traversal_totals, either of which may be NULL.
-__kernel void trace_rays_in_lanes(MBAO_SCENE_PARAMS, __global const float4* origins,
-                                  __global const float4* directions, uint count, int any_hit,
-                                  uint rays_per_item, __global uint4* hits, __global uint4* ray_counts,
-                                  __global ulong* traversal_totals) {
+__kernel void trace_rays_in_lanes(MBAO_SCENE_PARAMS, __global const float4* origins, __global const float4* directions,
+                                  uint count, int any_hit, uint rays_per_item, __global uint4* hits,
+                                  __global uint4* ray_counts, __global ulong* traversal_totals) {
   const uint first = get_global_id(0) * rays_per_item;
   if (first >= count) return;
   const SceneView scene = MBAO_SCENE_VIEW();

@@ -42,8 +42,8 @@ typedef struct PacketHits {
 // Corner `corner`'s coordinate along each lane's `axis` (0, 1 or 2).
 static inline float16 corner_along(MBAO_TRIANGLE_SPACE const TriangleCoordinates* t, uint16 axis, int corner) {
   MBAO_TRIANGLE_SPACE const float* along = (MBAO_TRIANGLE_SPACE const float*)t->along;
-  return select(select((float16)(along[corner]), (float16)(along[4 + corner]), axis == 1u), (float16)(along[8 + corner]),
-                axis == 2u);
+  return select(select((float16)(along[corner]), (float16)(along[4 + corner]), axis == 1u),
+                (float16)(along[8 + corner]), axis == 2u);
 }
 
 // intersect_triangle for the `active` lanes against one triangle: per lane the
@@ -72,8 +72,7 @@ static inline uint packet_intersect(const SceneView* scene, const PacketFrames* 
   out->b1 = b1;
   out->b2 = b2;
 #if MBAO_USE_FP64
-  const float16 across0 = fabs(x[0]) + fabs(y[0]), across1 = fabs(x[1]) + fabs(y[1]),
-                across2 = fabs(x[2]) + fabs(y[2]);
+  const float16 across0 = fabs(x[0]) + fabs(y[0]), across1 = fabs(x[1]) + fabs(y[1]), across2 = fabs(x[2]) + fabs(y[2]);
   const int16 unknown = (fabs(e0) <= f->edge_error * (across1 + across2)) |
                         (fabs(e1) <= f->edge_error * (across2 + across0)) |
                         (fabs(e2) <= f->edge_error * (across0 + across1));

@@ -56,7 +56,7 @@
 
 // What a walk cost, counted only in programs built with MBAO_COUNT_TRAVERSAL.
 typedef struct TraversalCounts {
-  uint nodes;      // nodes fetched, interior and leaf
+  uint nodes;  // nodes fetched, interior and leaf
   uint leaves;
   uint triangles;  // ray/triangle tests
   uint restarts;   // descents from the root or push-down node after the first
@@ -96,8 +96,8 @@ static inline TraversalCounts no_traversal_counts(void) {
 
 // Tests the triangles of a leaf against the ray, keeping the closest hit in
 // *best (ties to the lower triangle id). Returns 1 when any_hit and a hit was found.
-static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, KdNode leaf, int any_hit,
-                            Hit* best, TraversalCounts* counts) {
+static inline int test_leaf(const SceneView* scene, const WatertightRay* ray, KdNode leaf, int any_hit, Hit* best,
+                            TraversalCounts* counts) {
   const uint first_entry = kd_first_index(leaf);
   const uint end_entry = first_entry + kd_triangle_count(leaf);
   MBAO_COUNT(counts, triangles, end_entry - first_entry);
@@ -177,10 +177,10 @@ static inline int far_stack_pop(FarStack* stack, uint* node, float* t_hi) {
 
 // What a descent carries from step to step.
 typedef struct Descent {
-  float t_hi;       // the end of the interval still to walk in the current node
-  float far_bound;  // a plane at or before this distance sends the walk to the far child alone
+  float t_hi;                  // the end of the interval still to walk in the current node
+  float far_bound;             // a plane at or before this distance sends the walk to the far child alone
   uint whole_interval_inside;  // so far, the walk's whole remaining interval lies in the current node's cell
-  uint start_node;  // push-down: where the next descent starts
+  uint start_node;             // push-down: where the next descent starts
 } Descent;
 
 // One step down from interior node `node` (at `index`): returns the child the
@@ -302,8 +302,8 @@ static inline uint descend_from_origin(const RayOrigin* origin, const float2* ax
 // arithmetic instead of following it (docs/traversal.md has the
 // measurements). They are written out in the loop: in a function of their own
 // they made Sponza's frames 1.03 and 1.07 of these (two runs of paired frames).
-static inline int trace_ray_from(const SceneView* scene, const RayOrigin* origin, float3 dir, float t_max,
-                                 int any_hit, Hit* hit, TraversalCounts* counts) {
+static inline int trace_ray_from(const SceneView* scene, const RayOrigin* origin, float3 dir, float t_max, int any_hit,
+                                 Hit* hit, TraversalCounts* counts) {
   *hit = no_hit();
   const float3 point = origin->point;
   // From +0 where a component is -0: the descent reads which way the ray heads
@@ -312,16 +312,14 @@ static inline int trace_ray_from(const SceneView* scene, const RayOrigin* origin
   // split plane (t_split NaN) goes below.
   const float3 inv_dir = 1.0f / (dir + 0.0f);
   float t_enter, t_exit;
-  if (!clip_to_box(point, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, t_max, &t_enter, &t_exit))
-    return 0;
+  if (!clip_to_box(point, dir, inv_dir, scene->bounds_lo, scene->bounds_hi, t_max, &t_enter, &t_exit)) return 0;
   const WatertightRay ray = make_watertight_ray(point, dir, scene->bounds_lo, scene->bounds_hi);
   // Per axis, for the descent: the origin and 1 / dir in one vector that a
   // step loads by its axis. Picking a vector component by a run-time axis
   // costs a chain of selects; separate arrays cost a load each, and the
   // compiler kept their addresses in spill slots. The sign of 1 / dir says
   // whether the ray heads down: dir + 0 is never -0.
-  const float2 axis_ray[3] = {(float2)(point.x, inv_dir.x), (float2)(point.y, inv_dir.y),
-                              (float2)(point.z, inv_dir.z)};
+  const float2 axis_ray[3] = {(float2)(point.x, inv_dir.x), (float2)(point.y, inv_dir.y), (float2)(point.z, inv_dir.z)};
 
   Hit best = no_hit();
   best.t = t_max;

@@ -7,8 +7,7 @@
 // The random numbers of one decision, addressed by what the decision is about:
 // the pixel, its camera sample, the bounce (0 for the camera ray) and the node
 // of the estimator's tree within that bounce.
-static inline Philox4x32 random_block(uint pixel, uint camera_sample, uint bounce, uint node,
-                                      uint2 seed) {
+static inline Philox4x32 random_block(uint pixel, uint camera_sample, uint bounce, uint node, uint2 seed) {
   Philox4x32 counter;
   counter.v[0] = pixel;
   counter.v[1] = camera_sample;

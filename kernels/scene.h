@@ -14,12 +14,12 @@
 
 typedef struct SceneView {
   __global const KdNode* nodes;
-  __global const uint* leaf_entries;       // the node array as words, each leaf's entries after it
+  __global const uint* leaf_entries;              // the node array as words, each leaf's entries after it
   __global const TriangleCoordinates* triangles;  // relative to Scene::render_origin; NULL where indexed
-  __global const float* vertex_positions;  // x, y, z per vertex, in world space (only where indexed)
-  __global const uint* triangle_vertices;  // 3 vertex ids per triangle (where indexed or with normals)
-  __global const float4* vertex_normals;   // NULL: geometric normals everywhere
-  __global const uint* triangle_masks;     // per triangle: a masked_triangles index or MBAO_NOT_MASKED
+  __global const float* vertex_positions;         // x, y, z per vertex, in world space (only where indexed)
+  __global const uint* triangle_vertices;         // 3 vertex ids per triangle (where indexed or with normals)
+  __global const float4* vertex_normals;          // NULL: geometric normals everywhere
+  __global const uint* triangle_masks;            // per triangle: a masked_triangles index or MBAO_NOT_MASKED
   __global const MaskedTriangle* masked_triangles;
   __global const MaskTexture* mask_textures;
   __global const uchar* mask_texels;
@@ -29,11 +29,11 @@ typedef struct SceneView {
 
 // Every kernel that traces takes the scene as its first parameters, in this
 // order; buffers a scene does not need are NULL.
-#define MBAO_SCENE_PARAMS                                                                              \
-  __global const KdNode *kd_nodes, __global const TriangleCoordinates *triangles,                      \
-      __global const float *vertex_positions, __global const uint *triangle_vertices,                  \
-      __global const float4 *vertex_normals, __global const uint *triangle_masks,                      \
-      __global const MaskedTriangle *masked_triangles, __global const MaskTexture *mask_textures,      \
+#define MBAO_SCENE_PARAMS                                                                         \
+  __global const KdNode *kd_nodes, __global const TriangleCoordinates *triangles,                 \
+      __global const float *vertex_positions, __global const uint *triangle_vertices,             \
+      __global const float4 *vertex_normals, __global const uint *triangle_masks,                 \
+      __global const MaskedTriangle *masked_triangles, __global const MaskTexture *mask_textures, \
       __global const uchar *mask_texels, float4 bounds_lo, float4 bounds_hi, float4 render_origin
 
 #define MBAO_SCENE_VIEW()                                                                                   \

@@ -81,10 +81,10 @@ static inline Surface make_surface(const SceneView* scene, Hit hit, float3 incom
   // The host uploads vertex normals only where the render shades with them.
   if (scene->vertex_normals) {
     const uint v = 3 * hit.triangle;
-    const float3 ns = interpolated_normal(scene->vertex_normals[scene->triangle_vertices[v]].xyz,
-                                          scene->vertex_normals[scene->triangle_vertices[v + 1]].xyz,
-                                          scene->vertex_normals[scene->triangle_vertices[v + 2]].xyz, b0,
-                                          hit.b1, hit.b2);
+    const float3 ns =
+        interpolated_normal(scene->vertex_normals[scene->triangle_vertices[v]].xyz,
+                            scene->vertex_normals[scene->triangle_vertices[v + 1]].xyz,
+                            scene->vertex_normals[scene->triangle_vertices[v + 2]].xyz, b0, hit.b1, hit.b2);
     // A zero interpolated normal means "no normal here": keep the geometric one.
     if (any(ns != 0.0f)) s.shading_normal = dot(ns, ng) < 0.0f ? -ns : ns;
   }

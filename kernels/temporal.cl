@@ -84,8 +84,7 @@ __kernel void temporal_accumulate(__global const float* gbuffer, __global float*
                                   uint has_history, __global const float* previous_gbuffer,
                                   __global const float* previous_ao, __global const float* previous_variance,
                                   __global const uint* previous_length, MBAO_CAMERA_PARAMS uint max_length,
-                                  __global float* next_ao, __global float* next_variance,
-                                  __global uint* next_length) {
+                                  __global float* next_ao, __global float* next_variance, __global uint* next_length) {
   const uint pixel = get_global_id(0), pixels = width * height;
   if (pixel >= pixels) return;
   const Surfel p = surfel_at(gbuffer, pixels, pixel);
@@ -93,8 +92,9 @@ __kernel void temporal_accumulate(__global const float* gbuffer, __global float*
   float a = c, u = v;
   uint n = p.t > 0.0f ? 1u : 0u;
   if (has_history && n) {
-    const PreviousFrame previous = {previous_gbuffer, previous_ao, previous_variance, previous_length, eye.xyz,
-                                    forward.xyz, right.xyz, up.xyz, film_scale, width, height};
+    const PreviousFrame previous = {
+        previous_gbuffer, previous_ao, previous_variance, previous_length, eye.xyz, forward.xyz,
+        right.xyz,        up.xyz,      film_scale,        width,           height};
     const Reprojected history = reproject(&previous, p);
     if (history.weight > 0.0f) {
       n = min((uint)history.length + 1u, max_length);

@@ -5,9 +5,8 @@
 
 // directions[i].w is the ray's t_max. Each hit is stored as (t, triangle, b1, b2)
 // bits; programs built with MBAO_COUNT_TRAVERSAL also store each ray's counts.
-__kernel void trace_rays(MBAO_SCENE_PARAMS, __global const float4* origins,
-                         __global const float4* directions, uint count, int any_hit,
-                         __global uint4* hits, __global uint4* ray_counts) {
+__kernel void trace_rays(MBAO_SCENE_PARAMS, __global const float4* origins, __global const float4* directions,
+                         uint count, int any_hit, __global uint4* hits, __global uint4* ray_counts) {
   const uint i = get_global_id(0);
   if (i >= count) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -17,4 +16,3 @@ __kernel void trace_rays(MBAO_SCENE_PARAMS, __global const float4* origins,
   hits[i] = bits_of_hit(hit);
   if (MBAO_COUNT_TRAVERSAL) ray_counts[i] = (uint4)(counts.nodes, counts.leaves, counts.triangles, counts.restarts);
 }
-

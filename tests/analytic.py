@@ -59,6 +59,6 @@ def one_pixel_access(scene, eye, target, **settings):
 def assert_within_standard_errors(estimate, expected, samples, k=4.0):
     """A mean of `samples` Bernoulli(expected) outcomes lies within k standard errors."""
     standard_error = math.sqrt(expected * (1.0 - expected) / samples)
-    assert abs(estimate - expected) <= k * standard_error, (
-        f"{estimate} is {abs(estimate - expected) / standard_error:.1f} standard errors from {expected}"
-    )
+    assert (
+        abs(estimate - expected) <= k * standard_error
+    ), f"{estimate} is {abs(estimate - expected) / standard_error:.1f} standard errors from {expected}"

@@ -81,8 +81,13 @@ def installed_home(home):
     """The environment of a Blender whose user folder is `home`, the add-on
     installed and enabled there by the README's command."""
     environment = dict(os.environ, BLENDER_USER_SCRIPTS=str(home / "scripts"), BLENDER_USER_CONFIG=str(home / "config"))
-    installed = subprocess.run([sys.executable, "-m", "mbao", "blender", "--install"], env=environment,
-                               capture_output=True, text=True, timeout=300)
+    installed = subprocess.run(
+        [sys.executable, "-m", "mbao", "blender", "--install"],
+        env=environment,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert installed.returncode == 0, installed.stderr
     assert (home / "scripts" / "addons" / "mbao_bake" / "location.json").is_file()
     return environment
@@ -92,7 +97,13 @@ def blender(environment, tmp_path, body):
     """Runs PRELUDE + body in Blender, with the user's preferences (the add-on enabled)."""
     script = tmp_path / "script.py"
     script.write_text(PRELUDE + textwrap.dedent(body))
-    run = subprocess.run(["blender", "-b", "--python-exit-code", "1", "--python", str(script)], env=environment,
-                         cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    run = subprocess.run(
+        ["blender", "-b", "--python-exit-code", "1", "--python", str(script)],
+        env=environment,
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert run.returncode == 0, run.stdout[-6000:] + run.stderr[-6000:]
     return run.stdout

@@ -45,6 +45,7 @@ def dask_client():
     port 8787 on every interface) listens on loopback, on a port of its own for
     each pytest worker."""
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address="127.0.0.1:0") as cluster, distributed.Client(cluster) as client:
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0"
+    ) as cluster, distributed.Client(cluster) as client:
         yield client

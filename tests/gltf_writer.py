@@ -150,9 +150,20 @@ class GltfBuilder:
 
     # -- meshes, nodes, scenes, cameras ------------------------------------
 
-    def primitive(self, positions=None, indices=None, normals=None, index_type=UNSIGNED_INT, mode=None,
-                  position_accessor=None, normal_accessor=None, texcoords=None, texcoord_type=FLOAT,
-                  texcoord_set=0, material=None):
+    def primitive(
+        self,
+        positions=None,
+        indices=None,
+        normals=None,
+        index_type=UNSIGNED_INT,
+        mode=None,
+        position_accessor=None,
+        normal_accessor=None,
+        texcoords=None,
+        texcoord_type=FLOAT,
+        texcoord_set=0,
+        material=None,
+    ):
         """A primitive dict (not yet in a mesh). positions/normals are (N, 3)
         arrays, or pass ready accessors; indices a flat or (M, 3) array stored
         as index_type, or None for a non-indexed primitive. mode None: omitted (TRIANGLES).
@@ -222,8 +233,9 @@ class GltfBuilder:
     def add_mesh(self, primitives):
         return self._append("meshes", {"primitives": list(primitives)})
 
-    def add_node(self, mesh=None, camera=None, matrix=None, translation=None, rotation=None, scale=None,
-                 children=None, name=None):
+    def add_node(
+        self, mesh=None, camera=None, matrix=None, translation=None, rotation=None, scale=None, children=None, name=None
+    ):
         """A node; rotation is a quaternion (x, y, z, w); children are node indices."""
         node = {}
         if name is not None:

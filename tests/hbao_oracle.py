@@ -15,8 +15,12 @@ def philox4x32_10(counter, key):
     k0, k1 = np.uint64(key[0]), np.uint64(key[1])
     for _ in range(10):
         product0, product1 = np.uint64(M0) * x[0], np.uint64(M1) * x[2]
-        x = [(product1 >> np.uint64(32)) ^ x[1] ^ k0, product1 & MASK, (product0 >> np.uint64(32)) ^ x[3] ^ k1,
-             product0 & MASK]
+        x = [
+            (product1 >> np.uint64(32)) ^ x[1] ^ k0,
+            product1 & MASK,
+            (product0 >> np.uint64(32)) ^ x[3] ^ k1,
+            product0 & MASK,
+        ]
         k0, k1 = (k0 + np.uint64(W0)) & MASK, (k1 + np.uint64(W1)) & MASK
     return x
 

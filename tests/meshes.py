@@ -5,9 +5,12 @@ import numpy as np
 # The 6 faces of the unit cube as quads, counter-clockwise seen from inside: the
 # triangles face in (SPEC 6.1), which only a bake tells apart.
 _CUBE_FACES = [
-    [0, 2, 3, 1], [4, 5, 7, 6],  # x = 0, x = 1
-    [0, 1, 5, 4], [2, 6, 7, 3],  # y = 0, y = 1
-    [0, 4, 6, 2], [1, 3, 7, 5],  # z = 0, z = 1
+    [0, 2, 3, 1],
+    [4, 5, 7, 6],  # x = 0, x = 1
+    [0, 1, 5, 4],
+    [2, 6, 7, 3],  # y = 0, y = 1
+    [0, 4, 6, 2],
+    [1, 3, 7, 5],  # z = 0, z = 1
 ]
 
 
@@ -34,7 +37,9 @@ def merge(*meshes):
 
 def box_grid(n, size=0.6):
     """n^3 closed boxes on the integer grid: many shared planes, edges on split candidates."""
-    return merge(*[box((x, y, z), (x + size, y + size, z + size)) for x in range(n) for y in range(n) for z in range(n)])
+    return merge(
+        *[box((x, y, z), (x + size, y + size, z + size)) for x in range(n) for y in range(n) for z in range(n)]
+    )
 
 
 def plane(half_size, y=0.0, divisions=1):
@@ -43,7 +48,11 @@ def plane(half_size, y=0.0, divisions=1):
     xx, zz = np.meshgrid(s, s, indexing="ij")
     vertices = np.column_stack([xx.ravel(), np.full(xx.size, y), zz.ravel()])
     k = divisions + 1
-    quads = [[i * k + j, i * k + j + 1, (i + 1) * k + j + 1, (i + 1) * k + j] for i in range(divisions) for j in range(divisions)]
+    quads = [
+        [i * k + j, i * k + j + 1, (i + 1) * k + j + 1, (i + 1) * k + j]
+        for i in range(divisions)
+        for j in range(divisions)
+    ]
     return vertices, quads_to_triangles(quads)
 
 
@@ -61,14 +70,19 @@ def sphere(radius=1.0, center=(0.0, 0.0, 0.0), rings=24, segments=48):
     theta = np.linspace(0.0, np.pi, rings + 1)[1:-1]
     phi = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
     t, p = np.meshgrid(theta, phi, indexing="ij")
-    ring_points = np.column_stack([np.sin(t).ravel() * np.cos(p).ravel(), np.cos(t).ravel(), np.sin(t).ravel() * np.sin(p).ravel()])
+    ring_points = np.column_stack(
+        [np.sin(t).ravel() * np.cos(p).ravel(), np.cos(t).ravel(), np.sin(t).ravel() * np.sin(p).ravel()]
+    )
     normals = np.vstack([[0, 1, 0], ring_points, [0, -1, 0]])
     top, bottom = 0, len(normals) - 1
     ring = lambda r, s: 1 + r * segments + s % segments
     triangles = [[top, ring(0, s + 1), ring(0, s)] for s in range(segments)]
     for r in range(rings - 2):
         for s in range(segments):
-            triangles += [[ring(r, s), ring(r, s + 1), ring(r + 1, s + 1)], [ring(r, s), ring(r + 1, s + 1), ring(r + 1, s)]]
+            triangles += [
+                [ring(r, s), ring(r, s + 1), ring(r + 1, s + 1)],
+                [ring(r, s), ring(r + 1, s + 1), ring(r + 1, s)],
+            ]
     triangles += [[bottom, ring(rings - 2, s), ring(rings - 2, s + 1)] for s in range(segments)]
     return np.asarray(center) + radius * normals, np.array(triangles), normals
 
@@ -86,12 +100,43 @@ def icosphere(radius=1.0, center=(0.0, 0.0, 0.0), subdivisions=2):
     facing out. Unlike the UV sphere it has no coplanar neighbours, so rounding
     its vertices to float32 keeps it convex."""
     g = (1.0 + 5.0**0.5) / 2.0
-    vertices = [[-1, g, 0], [1, g, 0], [-1, -g, 0], [1, -g, 0], [0, -1, g], [0, 1, g],
-                [0, -1, -g], [0, 1, -g], [g, 0, -1], [g, 0, 1], [-g, 0, -1], [-g, 0, 1]]
+    vertices = [
+        [-1, g, 0],
+        [1, g, 0],
+        [-1, -g, 0],
+        [1, -g, 0],
+        [0, -1, g],
+        [0, 1, g],
+        [0, -1, -g],
+        [0, 1, -g],
+        [g, 0, -1],
+        [g, 0, 1],
+        [-g, 0, -1],
+        [-g, 0, 1],
+    ]
     vertices = [np.array(v, float) / np.linalg.norm(v) for v in vertices]
-    faces = [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2],
-             [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5],
-             [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]]
+    faces = [
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ]
     for _ in range(subdivisions):
         midpoints = {}
 

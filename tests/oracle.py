@@ -111,7 +111,9 @@ class BruteForce:
         triangle = np.empty(n, np.int32)
         t_buffer = cl.Buffer(self.context, cl.mem_flags.WRITE_ONLY, t.nbytes)
         triangle_buffer = cl.Buffer(self.context, cl.mem_flags.WRITE_ONLY, triangle.nbytes)
-        self.program.closest(self.queue, (n,), None, self.corners, np.uint32(self.triangle_count), o, d, t_buffer, triangle_buffer)
+        self.program.closest(
+            self.queue, (n,), None, self.corners, np.uint32(self.triangle_count), o, d, t_buffer, triangle_buffer
+        )
         cl.enqueue_copy(self.queue, t, t_buffer)
         cl.enqueue_copy(self.queue, triangle, triangle_buffer)
         return t, triangle.astype(np.int64)
@@ -121,7 +123,9 @@ class BruteForce:
         n, o, d = self._rays(origins, directions, t_max)
         t = np.empty(n, np.float32)
         t_buffer = cl.Buffer(self.context, cl.mem_flags.WRITE_ONLY, t.nbytes)
-        which = cl.Buffer(self.context, cl.mem_flags.READ_ONLY | cl.mem_flags.COPY_HOST_PTR, hostbuf=np.asarray(triangles, np.int32))
+        which = cl.Buffer(
+            self.context, cl.mem_flags.READ_ONLY | cl.mem_flags.COPY_HOST_PTR, hostbuf=np.asarray(triangles, np.int32)
+        )
         self.program.distance_to(self.queue, (n,), None, self.corners, o, d, which, t_buffer)
         cl.enqueue_copy(self.queue, t, t_buffer)
         return t

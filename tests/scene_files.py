@@ -14,14 +14,18 @@ def write_obj(path, vertices, triangles, normals=None):
 
 
 def write_ply(path, vertices, triangles, binary):
-    header = (f"ply\nformat {'binary_little_endian' if binary else 'ascii'} 1.0\nelement vertex {len(vertices)}\n"
-              "property float x\nproperty float y\nproperty float z\n"
-              f"element face {len(triangles)}\nproperty list uchar int vertex_indices\nend_header\n")
+    header = (
+        f"ply\nformat {'binary_little_endian' if binary else 'ascii'} 1.0\nelement vertex {len(vertices)}\n"
+        "property float x\nproperty float y\nproperty float z\n"
+        f"element face {len(triangles)}\nproperty list uchar int vertex_indices\nend_header\n"
+    )
     if binary:
         body = vertices.astype("<f4").tobytes() + b"".join(struct.pack("<B3i", 3, *t) for t in triangles.tolist())
         path.write_bytes(header.encode() + body)
     else:
-        rows = [f"{x!r} {y!r} {z!r}" for x, y, z in vertices.tolist()] + [f"3 {a} {b} {c}" for a, b, c in triangles.tolist()]
+        rows = [f"{x!r} {y!r} {z!r}" for x, y, z in vertices.tolist()] + [
+            f"3 {a} {b} {c}" for a, b, c in triangles.tolist()
+        ]
         path.write_text(header + "\n".join(rows) + "\n")
 
 

@@ -12,6 +12,7 @@ import pytest
 import mbao
 from analytic import assert_within_standard_errors, one_pixel_access, polygon_occlusion
 from conftest import shared_scene
+
 from gltf_writer import (
     CLAMP_TO_EDGE, MIRRORED_REPEAT, REPEAT, UNSIGNED_BYTE, UNSIGNED_SHORT, GltfBuilder, png_bytes,
 )  # fmt: skip
@@ -37,9 +38,21 @@ def image_with_alpha(alpha, channels):
     return np.concatenate([colour, alpha[:, :, None]], axis=2)
 
 
-def masked_scene(tmp_path, alpha_image, vertices=SQUARE, uv=SQUARE_UV, triangles=SQUARE_TRIANGLES, cutoff=None,
-                 factor=1.0, wrap=(None, None), where="bufferView", container="glb", extra=None,
-                 texcoord_type=np.float32, texture_transform=None):
+def masked_scene(
+    tmp_path,
+    alpha_image,
+    vertices=SQUARE,
+    uv=SQUARE_UV,
+    triangles=SQUARE_TRIANGLES,
+    cutoff=None,
+    factor=1.0,
+    wrap=(None, None),
+    where="bufferView",
+    container="glb",
+    extra=None,
+    texcoord_type=np.float32,
+    texture_transform=None,
+):
     """A glTF file with one MASK-material mesh (and, if given, an opaque one) loaded as a scene;
     texture_transform: the KHR_texture_transform of its texture, or None."""
     builder = GltfBuilder()
@@ -83,7 +96,9 @@ def expected_checker_mask(width, height, blocks=2, period=1.0, margin=0.02):
     inside = (np.abs(x) < 1.0) & (np.abs(y) < 1.0)
     cell_u, cell_v = np.floor(u * blocks), np.floor(v * blocks)
     opaque = inside & ((cell_u + cell_v) % 2 == 0)
-    near_edge = (np.abs(u * blocks - np.round(u * blocks)) < margin) | (np.abs(v * blocks - np.round(v * blocks)) < margin)
+    near_edge = (np.abs(u * blocks - np.round(u * blocks)) < margin) | (
+        np.abs(v * blocks - np.round(v * blocks)) < margin
+    )
     near_edge |= (np.abs(np.abs(x) - 1.0) < 0.02) | (np.abs(np.abs(y) - 1.0) < 0.02)
     return opaque, ~near_edge
 
@@ -97,17 +112,26 @@ def test_camera_rays_pass_through_the_transparent_half(tmp_path, where, containe
     URI or as a file beside the .gltf."""
     alpha = checkerboard(dtype=dtype)
     scene = masked_scene(tmp_path, image_with_alpha(alpha, channels), where=where, container=container)
-    assert scene.alpha_masks == {"textures": 1, "masked_triangles": 2, "texels": 64 * 64, "bytes": scene.alpha_masks["bytes"]}
+    assert scene.alpha_masks == {
+        "textures": 1,
+        "masked_triangles": 2,
+        "texels": 64 * 64,
+        "bytes": scene.alpha_masks["bytes"],
+    }
     result = render_square(scene)
     opaque, clear = expected_checker_mask(48, 48)
     assert opaque[clear].sum() > 300 and (~opaque[clear]).sum() > 300
     np.testing.assert_array_equal(result.mask[clear], opaque[clear])
 
 
-@pytest.mark.parametrize("transform, period, shifted", [
-    ({"offset": [0.5, 0.0]}, 1.0, True),
-    ({"scale": [2.0, 2.0]}, 2.0, False),
-], ids=["offset", "scale"])
+@pytest.mark.parametrize(
+    "transform, period, shifted",
+    [
+        ({"offset": [0.5, 0.0]}, 1.0, True),
+        ({"scale": [2.0, 2.0]}, 2.0, False),
+    ],
+    ids=["offset", "scale"],
+)
 def test_a_texture_transform_moves_the_mask(tmp_path, transform, period, shifted):
     """KHR_texture_transform on the mask texture (SPEC 3.2): the UVs pass
     through its offset, rotation and scale before the lookup; an offset of
@@ -127,11 +151,14 @@ def test_a_texture_transform_rotates_counter_clockwise_in_uv_space(tmp_path):
     then covers the square where u > 0.5 and v < 0.5, its top right."""
     alpha = np.zeros((64, 64), np.uint8)
     alpha[:32, :32] = 255
-    scene = masked_scene(tmp_path, image_with_alpha(alpha, 4),
-                         texture_transform={"rotation": math.pi / 2, "offset": [0.0, 1.0]})
+    scene = masked_scene(
+        tmp_path, image_with_alpha(alpha, 4), texture_transform={"rotation": math.pi / 2, "offset": [0.0, 1.0]}
+    )
     result = render_square(scene)
     x, y = square_coverage(48, 48)
-    clear = (np.abs(x) > 0.05) & (np.abs(y) > 0.05) & (np.abs(np.abs(x) - 1.0) > 0.02) & (np.abs(np.abs(y) - 1.0) > 0.02)
+    clear = (
+        (np.abs(x) > 0.05) & (np.abs(y) > 0.05) & (np.abs(np.abs(x) - 1.0) > 0.02) & (np.abs(np.abs(y) - 1.0) > 0.02)
+    )
     top_right = (x > 0) & (x < 1) & (y > 0) & (y < 1)
     assert top_right[clear].sum() > 100
     np.testing.assert_array_equal(result.mask[clear], top_right[clear])
@@ -252,11 +279,12 @@ def test_only_mask_textures_are_decoded(tmp_path):
 def png_header_only(width, height, colour_type, bit_depth=8):
     """A PNG that declares width x height texels but holds a single
     zlib-compressed byte of them."""
+
     def chunk(kind, data):
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
     header = struct.pack(">IIBBBBB", width, height, bit_depth, colour_type, 0, 0, 0)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(b"\0"))
-            + chunk(b"IEND", b""))
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(b"\0")) + chunk(b"IEND", b"")
 
 
 GREY_ALPHA, RGB = 4, 2  # PNG colour types

@@ -143,9 +143,10 @@ def test_a_closed_convex_mesh_with_smooth_normals_is_open_everywhere(bounces):
     vertices, indices, normals = sphere(2.0, (1.0, -1.0, 0.5))
     box_vertices, box_indices = box((-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
     box_indices = box_indices[:, ::-1]  # the box's triangles face out
-    for scene, eye, target in ((mbao.Mesh(vertices, indices, normals), (1.0, 2.0, 7.0), (1.0, -1.0, 0.5)),
-                               (mbao.Mesh(box_vertices, box_indices, box_vertices / math.sqrt(3.0)),
-                                (2.5, 3.0, 4.0), (0.0, 0.0, 0.0))):
+    for scene, eye, target in (
+        (mbao.Mesh(vertices, indices, normals), (1.0, 2.0, 7.0), (1.0, -1.0, 0.5)),
+        (mbao.Mesh(box_vertices, box_indices, box_vertices / math.sqrt(3.0)), (2.5, 3.0, 4.0), (0.0, 0.0, 0.0)),
+    ):
         camera = mbao.Camera(eye, target, vfov_deg=45.0)
         result = mbao.render(scene, camera=camera, width=24, height=24, bounces=bounces, samples=8)
         assert result.mask.sum() > 100

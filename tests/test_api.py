@@ -204,7 +204,7 @@ def test_kd_tree_arrays(cornell):
     counts, firsts = nodes[leaves, 0] >> 2, nodes[leaves, 1]
     assert np.all(firsts == 2 * (leaves + 1))  # each leaf's entries follow it
     words = nodes.ravel()
-    entries = np.concatenate([words[first:first + count] for first, count in zip(firsts, counts)])
+    entries = np.concatenate([words[first : first + count] for first, count in zip(firsts, counts)])
     assert len(entries) == tree["stats"]["leaf_references"]
     assert entries.max() < cornell.triangle_count  # no masks: no flags
     # Every triangle is in some leaf.
@@ -244,8 +244,11 @@ BAD_ARGUMENTS = [
     (dict(engine=dict(traversal="kd")), ValueError, r"traversal.*auto.*pushdown.*restart.*short-stack.*stack.*lanes"),
     (dict(engine=dict(organisation="queue")), ValueError, r"organisation.*megakernel.*wavefront"),
     (dict(engine=dict(organisation="wavefront"), estimator="path"), ValueError, r"wavefront.*branching.*path"),
-    (dict(engine=dict(traversal="lanes", organisation="megakernel")), ValueError,
-     r"lanes.*wavefront.*not \"megakernel\""),
+    (
+        dict(engine=dict(traversal="lanes", organisation="megakernel")),
+        ValueError,
+        r"lanes.*wavefront.*not \"megakernel\"",
+    ),
     (dict(engine=dict(traversal="lanes"), estimator="path"), ValueError, r"lanes.*branching estimator only"),
     (dict(engine=dict(traversal_stats=1)), TypeError, r"traversal_stats"),
     (dict(seed=-1), ValueError, r"seed.*(2\*\*64|2\^64)"),
@@ -261,7 +264,9 @@ BAD_ARGUMENTS = [
 
 
 @pytest.mark.parametrize(
-    "arguments, error, message", BAD_ARGUMENTS, ids=[",".join(f"{k}={v!r}" for k, v in a.items()) for (a, _, _) in BAD_ARGUMENTS]
+    "arguments, error, message",
+    BAD_ARGUMENTS,
+    ids=[",".join(f"{k}={v!r}" for k, v in a.items()) for (a, _, _) in BAD_ARGUMENTS],
 )
 def test_bad_argument_is_refused_by_name(cornell, arguments, error, message):
     settings = dict(width=1, height=1)
@@ -326,7 +331,9 @@ def test_the_cores_settings_classes_are_their_tables(cls, table):
     again = eval("mbao." + repr(made))
     assert pickle.loads(pickle.dumps(made)) is not made
     assert [getattr(again, s["name"]) for s in specs] == [getattr(made, s["name"]) for s in specs]
-    assert [getattr(pickle.loads(pickle.dumps(made)), s["name"]) for s in specs] == [getattr(made, s["name"]) for s in specs]
+    assert [getattr(pickle.loads(pickle.dumps(made)), s["name"]) for s in specs] == [
+        getattr(made, s["name"]) for s in specs
+    ]
 
 
 @pytest.mark.parametrize("table", ["render", "hbao", "bake", "denoise", "temporal"])
@@ -344,7 +351,10 @@ def test_a_camera_has_a_real_signature_and_a_repr_that_makes_it_again():
     assert list(signature.parameters) == ["eye", "target", "up", "vfov_deg", "max_distance"]
     camera = mbao.Camera((0.0, 1.0, 5.0), (0.0, 0.0, 0.0))
     assert [camera.up, camera.vfov_deg, camera.max_distance] == [
-        tuple(signature.parameters["up"].default), signature.parameters["vfov_deg"].default, None]
+        tuple(signature.parameters["up"].default),
+        signature.parameters["vfov_deg"].default,
+        None,
+    ]
     suggesting = mbao.Camera((0.0, 1.0, 5.0), (0.0, 0.0, 0.0), max_distance=2.5)
     again = eval("mbao." + repr(suggesting))
     assert (again.eye, again.target, again.max_distance) == (suggesting.eye, suggesting.target, 2.5)
@@ -398,14 +408,25 @@ def test_paths_are_taken_where_a_scene_or_a_camera_is(as_path):
     expected = mbao.render(scene, camera=camera, **settings)
     by_path = mbao.render(as_path(folder / "scene.glb"), camera=as_path(folder / "camera.json"), **settings)
     np.testing.assert_array_equal(by_path.ao, expected.ao)
-    reference = mbao.reference(as_path(folder / "scene.glb"), camera=as_path(folder / "camera.json"), width=6,
-                               height=5, target_error=1.0, min_passes=2, samples=4, progress=False)
+    reference = mbao.reference(
+        as_path(folder / "scene.glb"),
+        camera=as_path(folder / "camera.json"),
+        width=6,
+        height=5,
+        target_error=1.0,
+        min_passes=2,
+        samples=4,
+        progress=False,
+    )
     assert reference.settings["scene"] == scene.name and reference.ao.shape == (5, 6)
-    rows = mbao.convergence(as_path(folder / "scene.glb"), ["b1"], reference, sample_counts=(1,), progress=False,
-                            plot=False)
+    rows = mbao.convergence(
+        as_path(folder / "scene.glb"), ["b1"], reference, sample_counts=(1,), progress=False, plot=False
+    )
     assert len(rows) == 1
     t, triangle, _ = mbao.trace(as_path(folder / "scene.glb"), [camera.eye], [np.subtract(camera.target, camera.eye)])
-    np.testing.assert_array_equal(triangle, mbao.trace(scene, [camera.eye], [np.subtract(camera.target, camera.eye)])[1])
+    np.testing.assert_array_equal(
+        triangle, mbao.trace(scene, [camera.eye], [np.subtract(camera.target, camera.eye)])[1]
+    )
 
 
 def test_bad_device_index_lists_the_devices(cornell, device):
@@ -442,6 +463,7 @@ def test_exploding_branching_work_points_to_the_path_estimator(cornell):
 
 
 # -- backgrounds (SPEC 2) --------------------------------------------------------------------
+
 
 def test_coverage_is_the_fraction_of_camera_samples_that_hit():
     """A plane's edge across the image: pixels on it are hit by some of their 16
@@ -483,6 +505,7 @@ def test_save_image_writes_a_straight_alpha_in_png_and_a_coverage_channel_in_exr
 
 
 # -- the radius (SPEC 1) --------------------------------------------------------------------
+
 
 def test_the_radius_is_the_one_given_else_the_cameras_else_unlimited(cornell):
     camera = mbao.Camera(eye=(0, 1, 3.5), target=(0, 1, 0), max_distance=0.5)

@@ -22,11 +22,14 @@ def corners(scene):
     return scene.vertices[scene.indices]
 
 
-@pytest.mark.parametrize("name, write", [
-    ("bunny.obj", lambda p, v, t: write_obj(p, v, t)),
-    ("bunny.ply", lambda p, v, t: write_ply(p, v, t, binary=False)),
-    ("bunny_binary.ply", lambda p, v, t: write_ply(p, v, t, binary=True)),
-])
+@pytest.mark.parametrize(
+    "name, write",
+    [
+        ("bunny.obj", lambda p, v, t: write_obj(p, v, t)),
+        ("bunny.ply", lambda p, v, t: write_ply(p, v, t, binary=False)),
+        ("bunny_binary.ply", lambda p, v, t: write_ply(p, v, t, binary=True)),
+    ],
+)
 def test_the_bunny_in_other_formats_has_the_glbs_triangles(tmp_path, bunny, name, write):
     """The same triangles, corner for corner: exactly from binary PLY, within
     one unit in the last place from text (Assimp's decimal parser rounds so)."""
@@ -44,8 +47,7 @@ def test_a_ply_renders_as_its_glb_does(tmp_path, bunny):
     """With the same triangles and geometric normals (the PLY has no others), the same image."""
     write_ply(tmp_path / "bunny.ply", bunny.vertices, bunny.indices, binary=True)
     settings = dict(width=32, height=32, bounces=2, seed=1, camera=bunny.default_camera(32, 32), normals="geometric")
-    np.testing.assert_array_equal(mbao.render(tmp_path / "bunny.ply", **settings).ao,
-                                  mbao.render(bunny, **settings).ao)
+    np.testing.assert_array_equal(mbao.render(tmp_path / "bunny.ply", **settings).ao, mbao.render(bunny, **settings).ao)
 
 
 def test_normals_are_read_where_the_file_has_them(tmp_path):
@@ -56,8 +58,6 @@ def test_normals_are_read_where_the_file_has_them(tmp_path):
     assert mbao.load(tmp_path / "with.obj", normals=False).normals is None
     write_obj(tmp_path / "without.obj", vertices, np.array([[0, 1, 2]]))
     assert mbao.load(tmp_path / "without.obj").normals is None
-
-
 
 
 def test_nodes_place_their_meshes(tmp_path):
@@ -90,21 +90,31 @@ CAMERA_ONLY_COLLADA = b"""<?xml version="1.0" encoding="utf-8"?>
 """
 
 
-@pytest.mark.parametrize("name, content, message", [
-    ("truncated.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                      b"property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\0\0",
-     "out of range"),
-    ("bad_index.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 7\n", "vertex index out of range"),
-    ("garbage.fbx", b"garbage", "FBX"),
-    ("truncated.stl", b"solid x\nfacet normal 0 0 1\n outer loop\n vertex 0 0 0\n", "STL"),
-    ("noise.dae", bytes(range(256)) * 2, "XML"),
-    ("empty.obj", b"", "too small"),
-    ("lines_only.obj", b"v 0 0 0\nv 1 0 0\nl 1 2\n", "no triangles"),
-    ("readme.obj", b"This is a text file, not a model.\nIt has a few lines of words.\n", r"readme.obj: no meshes in it"),
-    ("points.obj", b"v 0 0 0\nv 1 0 0\n", "points.obj: a mesh in it has vertices but no faces"),
-    # Without meshes Assimp would build stand-in pyramids from the nodes and flag the scene incomplete.
-    ("camera_only.dae", CAMERA_ONLY_COLLADA, "camera_only.dae: no meshes in it"),
-])
+@pytest.mark.parametrize(
+    "name, content, message",
+    [
+        (
+            "truncated.ply",
+            b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            b"property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\0\0",
+            "out of range",
+        ),
+        ("bad_index.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 7\n", "vertex index out of range"),
+        ("garbage.fbx", b"garbage", "FBX"),
+        ("truncated.stl", b"solid x\nfacet normal 0 0 1\n outer loop\n vertex 0 0 0\n", "STL"),
+        ("noise.dae", bytes(range(256)) * 2, "XML"),
+        ("empty.obj", b"", "too small"),
+        ("lines_only.obj", b"v 0 0 0\nv 1 0 0\nl 1 2\n", "no triangles"),
+        (
+            "readme.obj",
+            b"This is a text file, not a model.\nIt has a few lines of words.\n",
+            r"readme.obj: no meshes in it",
+        ),
+        ("points.obj", b"v 0 0 0\nv 1 0 0\n", "points.obj: a mesh in it has vertices but no faces"),
+        # Without meshes Assimp would build stand-in pyramids from the nodes and flag the scene incomplete.
+        ("camera_only.dae", CAMERA_ONLY_COLLADA, "camera_only.dae: no meshes in it"),
+    ],
+)
 def test_a_bad_file_raises_load_error_naming_it(tmp_path, name, content, message):
     path = tmp_path / name
     path.write_bytes(content)
@@ -123,8 +133,11 @@ def test_a_file_whose_extension_names_no_format_is_read_by_its_content(tmp_path,
 
 def test_a_file_that_is_neither_gltf_nor_of_a_format_assimp_recognises_says_both(tmp_path):
     (tmp_path / "notes").write_text("Not a model.\n")
-    with pytest.raises(mbao.LoadError, match=r"notes: neither a GLB file .* nor glTF JSON .*; nor did Assimp "
-                                             r"recognise its content: .*notes: No suitable reader"):
+    with pytest.raises(
+        mbao.LoadError,
+        match=r"notes: neither a GLB file .* nor glTF JSON .*; nor did Assimp "
+        r"recognise its content: .*notes: No suitable reader",
+    ):
         mbao.load(tmp_path / "notes")
 
 
@@ -134,9 +147,11 @@ def test_a_file_that_makes_assimp_abort_is_a_load_error(tmp_path, capfd):
     an error naming the file, with the assertion, instead of losing its own
     process, and nothing reaches stderr."""
     path = tmp_path / "aborts.ply"
-    path.write_bytes(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                     b"property(float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                     b"0\x000 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+    path.write_bytes(
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        b"property(float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        b"0\x000 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+    )
     with pytest.raises(mbao.LoadError, match=r"aborts.ply: the importer stopped on it \(signal 6.*ai_assert"):
         mbao.load(path)
     assert capfd.readouterr().err == ""
@@ -163,29 +178,40 @@ def masked_obj(tmp_path, material_lines, images):
     return mbao.load(tmp_path / "square.obj")
 
 
-@pytest.mark.parametrize("material, images", [
-    (["map_Kd colour.png"], {"colour.png": "rgba"}),  # the diffuse map's alpha
-    (["map_d opacity.png"], {"opacity.png": "grey"}),  # an opacity map's grey
-    (["map_Kd colour.png", "map_d opacity.png"], {"colour.png": "opaque rgb", "opacity.png": "grey"}),
-], ids=["map_Kd alpha", "map_d grey", "map_d over an opaque map_Kd"])
+@pytest.mark.parametrize(
+    "material, images",
+    [
+        (["map_Kd colour.png"], {"colour.png": "rgba"}),  # the diffuse map's alpha
+        (["map_d opacity.png"], {"opacity.png": "grey"}),  # an opacity map's grey
+        (["map_Kd colour.png", "map_d opacity.png"], {"colour.png": "opaque rgb", "opacity.png": "grey"}),
+    ],
+    ids=["map_Kd alpha", "map_d grey", "map_d over an opaque map_Kd"],
+)
 def test_an_obj_material_cuts_its_surface_as_a_gltf_mask_does(tmp_path, material, images):
     from test_alpha_masks import checkerboard, expected_checker_mask, image_with_alpha, render_square
 
     alpha = checkerboard()
-    pixels = {"rgba": image_with_alpha(alpha, 4), "grey": alpha,
-              "opaque rgb": np.full(alpha.shape + (3,), 200, np.uint8)}
+    pixels = {
+        "rgba": image_with_alpha(alpha, 4),
+        "grey": alpha,
+        "opaque rgb": np.full(alpha.shape + (3,), 200, np.uint8),
+    }
     scene = masked_obj(tmp_path, material, {name: pixels[kind] for name, kind in images.items()})
     assert scene.alpha_masks["textures"] == 1 and scene.alpha_masks["masked_triangles"] == 2
     opaque, clear = expected_checker_mask(48, 48)
     np.testing.assert_array_equal(render_square(scene).mask[clear], opaque[clear])
 
 
-@pytest.mark.parametrize("reference, place", [
-    (r"C:\Users\artist\textures\cut.png", "cut.png"),  # another machine's drive: the file name beside the model
-    (r"textures\cut.png", "textures/cut.png"),  # Windows' separators
-    ("//textures/cut.png", "textures/cut.png"),  # Blender's "relative to the .blend"
-    ("/no/such/folder/cut.png", "cut.png"),  # an absolute path that is not here
-], ids=["drive letter", "backslashes", "blender relative", "absolute elsewhere"])
+@pytest.mark.parametrize(
+    "reference, place",
+    [
+        (r"C:\Users\artist\textures\cut.png", "cut.png"),  # another machine's drive: the file name beside the model
+        (r"textures\cut.png", "textures/cut.png"),  # Windows' separators
+        ("//textures/cut.png", "textures/cut.png"),  # Blender's "relative to the .blend"
+        ("/no/such/folder/cut.png", "cut.png"),  # an absolute path that is not here
+    ],
+    ids=["drive letter", "backslashes", "blender relative", "absolute elsewhere"],
+)
 def test_an_image_path_from_another_machine_or_tool_is_found_as_it_means(tmp_path, reference, place):
     """SPEC 3.2: as Blender and Assimp's viewer find them, relative to the model, else beside it."""
     from test_alpha_masks import checkerboard
@@ -235,17 +261,23 @@ def test_a_file_whose_every_material_is_below_half_opacity_loads_opaque_with_a_w
     """Leaving nothing helps no one, and Collada exporters often write transparency 0 for opaque (Assimp's own
     teapots.DAE): every opacity is taken as 1, and the warning names the materials."""
     path = plane_and_triangle_obj(tmp_path, "glass", "mist", "newmtl glass\nd 0.0\nnewmtl mist\nd 0.2\n")
-    with pytest.warns(UserWarning, match=r"every triangle is in a material of opacity below 0.5 \('glass', 'mist'\), "
-                                         r"which would leave nothing; their opacity is taken as 1"):
+    with pytest.warns(
+        UserWarning,
+        match=r"every triangle is in a material of opacity below 0.5 \('glass', 'mist'\), "
+        r"which would leave nothing; their opacity is taken as 1",
+    ):
         scene = mbao.load(path)
     assert scene.triangle_count == 3  # the plane's two and the triangle
 
 
 def test_a_mask_image_that_is_not_there_is_named_and_its_surface_is_opaque(tmp_path):
     (tmp_path / "lost.mtl").write_text("newmtl lost\nmap_d missing.png\n")
-    (tmp_path / "lost.obj").write_text("mtllib lost.mtl\nusemtl lost\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\n"
-                                       "vt 0 1\nf 1/1 2/2 3/3\n")
-    expected = r"lost.obj: material 'lost''s image missing.png: cannot read .*missing.png: no such file; the surface is opaque"
+    (tmp_path / "lost.obj").write_text(
+        "mtllib lost.mtl\nusemtl lost\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\n" "vt 0 1\nf 1/1 2/2 3/3\n"
+    )
+    expected = (
+        r"lost.obj: material 'lost''s image missing.png: cannot read .*missing.png: no such file; the surface is opaque"
+    )
     with pytest.warns(UserWarning, match=expected):
         scene = mbao.load(tmp_path / "lost.obj")
     assert scene.triangle_count == 1 and scene.alpha_masks is None
@@ -263,8 +295,11 @@ def test_a_map_whose_alpha_is_on_one_side_of_the_cutoff_everywhere_is_no_mask(tm
         scene = masked_obj(tmp_path, ["map_Kd colour.png"], {"colour.png": rgba})
         assert scene.triangle_count == triangles and scene.alpha_masks is None
     else:
-        with pytest.raises(mbao.LoadError, match=r"no triangles in it are left: the alpha of their materials' images "
-                                                 r"\('\w+'\) is below 0.5 everywhere"):
+        with pytest.raises(
+            mbao.LoadError,
+            match=r"no triangles in it are left: the alpha of their materials' images "
+            r"\('\w+'\) is below 0.5 everywhere",
+        ):
             masked_obj(tmp_path, ["map_Kd colour.png"], {"colour.png": rgba})
 
 
@@ -277,7 +312,8 @@ def two_material_obj(tmp_path):
         "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -1 0 0\nv 1 0 0\nv 1 1 0\nv -1 1 0\n"
         "vt 0 0\nvt 0.5 0\nvt 0.5 0.25\nvt 0 0.25\n"
         "usemtl floor\nf 1/1 3/3 2/2\nf 1/1 4/4 3/3\n"
-        "usemtl wall\nf 5 6 7\nf 5 7 8\n")
+        "usemtl wall\nf 5 6 7\nf 5 7 8\n"
+    )
     return tmp_path / "two.obj"
 
 
@@ -311,8 +347,9 @@ def test_an_assimp_format_bakes_into_its_own_uvs_and_keeps_them_beside_generated
     with pytest.raises(ValueError, match=r"material \d+ \('wall'\) has no UV set"):
         mbao.bake(path, target="texture", resolution=8, samples=2, progress=False)
     output = tmp_path / "generated.gltf"
-    result = mbao.bake_file(path, output, target="texture", texcoord="generate", resolution=32, samples=2,
-                            progress=False)
+    result = mbao.bake_file(
+        path, output, target="texture", texcoord="generate", resolution=32, samples=2, progress=False
+    )
     document = GltfDocument(output)
     names = [material["name"] for material in document.doc["materials"]]
     assert {"floor", "wall"} <= set(names)
@@ -343,22 +380,27 @@ def test_bake_file_keeps_an_assimp_formats_base_colours(tmp_path):
     texels = np.random.default_rng(3).integers(0, 256, (4, 6, 3), dtype=np.uint8)
     (tmp_path / "floor.tga").write_bytes(tga_bytes(texels))
     (tmp_path / "wall.png").write_bytes(png_bytes(np.full((2, 2), 200, np.uint8), tmp_path))
-    (tmp_path / "scene.mtl").write_text("newmtl floor\nKd 0.8 0.4 0.2\nmap_Kd floor.tga\n"
-                                        "newmtl wall\nKd 0.1 0.2 0.3\nd 0.9\nmap_Kd wall.png\n"
-                                        "newmtl roof\nKd 0.5 0.5 0.5\nmap_Kd missing.png\n")
+    (tmp_path / "scene.mtl").write_text(
+        "newmtl floor\nKd 0.8 0.4 0.2\nmap_Kd floor.tga\n"
+        "newmtl wall\nKd 0.1 0.2 0.3\nd 0.9\nmap_Kd wall.png\n"
+        "newmtl roof\nKd 0.5 0.5 0.5\nmap_Kd missing.png\n"
+    )
     (tmp_path / "scene.obj").write_text(
         "mtllib scene.mtl\n"
         "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -1 0 0\nv 1 0 0\nv 1 1 0\nv -1 1 0\n"
         "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
         "usemtl floor\nf 1/1 3/3 2/2\nf 1/1 4/4 3/3\n"
         "usemtl wall\nf 5 6 7\nf 5 7 8\n"
-        "usemtl roof\nf 8/1 7/2 6/3\n")
+        "usemtl roof\nf 8/1 7/2 6/3\n"
+    )
     with pytest.warns(UserWarning) as warned:
         mbao.bake_file(tmp_path / "scene.obj", tmp_path / "out.glb", samples=2, progress=False)
     messages = [str(w.message) for w in warned]
     assert any("material 'roof''s base colour image missing.png" in m and "without it" in m for m in messages)
-    assert any("material 'wall''s base colour image is looked up in TEXCOORD_0, which 1 of its primitives lack"
-               in m for m in messages)
+    assert any(
+        "material 'wall''s base colour image is looked up in TEXCOORD_0, which 1 of its primitives lack" in m
+        for m in messages
+    )
     document = GltfDocument(tmp_path / "out.glb")
     materials = {m["name"]: m["pbrMetallicRoughness"] for m in document.doc["materials"] if "name" in m}
     np.testing.assert_allclose(materials["floor"]["baseColorFactor"], [0.8, 0.4, 0.2, 1.0], rtol=1e-6)
@@ -369,7 +411,7 @@ def test_bake_file_keeps_an_assimp_formats_base_colours(tmp_path):
     assert image["mimeType"] == "image/png" and materials["floor"]["baseColorTexture"]["texCoord"] == 0
     view = document.doc["bufferViews"][image["bufferView"]]
     start = view.get("byteOffset", 0)
-    (tmp_path / "written.png").write_bytes(document.buffer_data(view["buffer"])[start:start + view["byteLength"]])
+    (tmp_path / "written.png").write_bytes(document.buffer_data(view["buffer"])[start : start + view["byteLength"]])
     written = oiio.ImageBuf(str(tmp_path / "written.png")).get_pixels(oiio.UINT8)
     np.testing.assert_array_equal(written, texels)
     assert validation_errors(tmp_path / "out.glb") == []

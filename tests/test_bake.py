@@ -96,8 +96,7 @@ def test_a_floor_under_a_parallel_disk():
     result = bake(vertices, indices, bounces=1, samples=samples, directions=1)
 
     polygon = disk_vertices[1:]
-    expected = hat_weighted_mean(lambda p: 1.0 - polygon_occlusion(p, (0.0, 1.0, 0.0), polygon),
-                                 floor[0], floor[1:13])
+    expected = hat_weighted_mean(lambda p: 1.0 - polygon_occlusion(p, (0.0, 1.0, 0.0), polygon), floor[0], floor[1:13])
     at_centre = 1.0 - polygon_occlusion(np.zeros(3), (0.0, 1.0, 0.0), polygon)
     assert abs(at_centre - height**2 / (height**2 + radius**2)) < 2e-3  # the 64-gon is nearly the circle
     # With one direction, each estimate is 0 or 1 with mean `expected`: a Bernoulli variable.
@@ -145,8 +144,9 @@ ENGINES = [
 ]
 
 
-@pytest.mark.parametrize("estimator, engine", ENGINES,
-                         ids=["path-megakernel", "branching-megakernel", "lanes", "short-stack-tiles"])
+@pytest.mark.parametrize(
+    "estimator, engine", ENGINES, ids=["path-megakernel", "branching-megakernel", "lanes", "short-stack-tiles"]
+)
 def test_a_bake_is_a_function_of_the_seed_and_settings(estimator, engine):
     """The same seed gives the same bits whatever the walk, the organisation or
     the tiles; another seed gives other values (SPEC 6.6)."""
@@ -180,21 +180,24 @@ def test_triangles_not_baked_still_occlude():
     vertices, indices = merge((floor, floor_indices), box((-1.0, -1.0, -1.0), (1.0, 1.0, 1.0)))
     floor_triangles = np.arange(len(floor_indices))
     alone = bake(vertices, indices, bounces=2, samples=16, triangles=floor_triangles)
-    np.testing.assert_array_equal(alone.values[:len(floor)], 0.0)
-    np.testing.assert_array_equal(alone.values[len(floor):], 1.0)
-    np.testing.assert_array_equal(alone.standard_error[len(floor):], 0.0)
+    np.testing.assert_array_equal(alone.values[: len(floor)], 0.0)
+    np.testing.assert_array_equal(alone.values[len(floor) :], 1.0)
+    np.testing.assert_array_equal(alone.standard_error[len(floor) :], 0.0)
     everything = bake(vertices, indices, bounces=2, samples=16)
     np.testing.assert_array_equal(everything.values, 0.0)
     assert alone.stats["rays_secondary"] * len(vertices) == everything.stats["rays_secondary"] * len(floor)
 
 
-@pytest.mark.parametrize("triangles, message", [
-    ([], "triangles must be a non-empty list of triangle indices"),
-    ([0.5], "triangles must be a non-empty list of triangle indices"),
-    ([[0, 1]], "triangles must be a non-empty list"),
-    ([2], r"triangles: 2 is not a triangle of the scene, whose triangles are 0 to 1"),
-    ([-1], r"triangles: -1 is not a triangle"),
-])
+@pytest.mark.parametrize(
+    "triangles, message",
+    [
+        ([], "triangles must be a non-empty list of triangle indices"),
+        ([0.5], "triangles must be a non-empty list of triangle indices"),
+        ([[0, 1]], "triangles must be a non-empty list"),
+        ([2], r"triangles: 2 is not a triangle of the scene, whose triangles are 0 to 1"),
+        ([-1], r"triangles: -1 is not a triangle"),
+    ],
+)
 def test_bad_triangles_are_named(triangles, message):
     with pytest.raises(ValueError, match=message):
         bake(*plane(1.0), samples=2, triangles=triangles)
@@ -209,17 +212,20 @@ def test_a_bake_counts_its_rays_and_refuses_too_many():
         bake(vertices, indices, bounces=2, samples=16, max_rays=1000)
 
 
-@pytest.mark.parametrize("arguments, message", [
-    (dict(samples=1), r"samples must be in \[2, 65536\]"),
-    (dict(samples=1 << 17), r"samples must be in \[2, 65536\]"),
-    (dict(target="faces"), "target must be one of 'vertices'"),
-    (dict(directions=0), r"directions must be in \[1, 1048576\]"),
-    (dict(estimator="paths"), "estimator"),
-    (dict(estimator="branching", bounces=17), "bounces"),
-    (dict(bounces=0), "bounces"),
-    (dict(rho=1.5), "rho"),
-    (dict(max_distance=-1.0), "max_distance"),
-])
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (dict(samples=1), r"samples must be in \[2, 65536\]"),
+        (dict(samples=1 << 17), r"samples must be in \[2, 65536\]"),
+        (dict(target="faces"), "target must be one of 'vertices'"),
+        (dict(directions=0), r"directions must be in \[1, 1048576\]"),
+        (dict(estimator="paths"), "estimator"),
+        (dict(estimator="branching", bounces=17), "bounces"),
+        (dict(bounces=0), "bounces"),
+        (dict(rho=1.5), "rho"),
+        (dict(max_distance=-1.0), "max_distance"),
+    ],
+)
 def test_bad_arguments_name_themselves(arguments, message):
     with pytest.raises(ValueError, match=message):
         bake(*plane(1.0), **arguments)
@@ -242,23 +248,32 @@ def test_a_bake_takes_its_radius_by_renders_rule(tmp_path):
     vertices, indices = floor_under_a_ceiling()
     scene = mbao.Mesh(vertices, indices)
     camera = mbao.Camera([0, 0.5, 5], [0, 0.5, 0], max_distance=0.5)
-    (tmp_path / "camera.json").write_text(json.dumps(
-        {"eye": [0, 0.5, 5], "target": [0, 0.5, 0], "up": [0, 1, 0], "vfov_deg": 60, "max_distance": 0.5}))
+    (tmp_path / "camera.json").write_text(
+        json.dumps({"eye": [0, 0.5, 5], "target": [0, 0.5, 0], "up": [0, 1, 0], "vfov_deg": 60, "max_distance": 0.5})
+    )
     b = GltfBuilder()
-    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(vertices, indices)])),
-                 b.add_node(camera=b.add_perspective_camera(0.9, extras={"max_distance": 0.5}), translation=(0, 0.5, 5))])
+    b.add_scene(
+        [
+            b.add_node(mesh=b.add_mesh([b.primitive(vertices, indices)])),
+            b.add_node(camera=b.add_perspective_camera(0.9, extras={"max_distance": 0.5}), translation=(0, 0.5, 5)),
+        ]
+    )
     with_camera = b.write(tmp_path / "with_camera.glb")
 
-    limited = [mbao.bake(scene, samples=16, max_distance=0.5, progress=False),
-               mbao.bake(scene, samples=16, camera=camera, progress=False),
-               mbao.bake(scene, samples=16, camera=tmp_path / "camera.json", progress=False),
-               mbao.bake(with_camera, samples=16, progress=False)]
+    limited = [
+        mbao.bake(scene, samples=16, max_distance=0.5, progress=False),
+        mbao.bake(scene, samples=16, camera=camera, progress=False),
+        mbao.bake(scene, samples=16, camera=tmp_path / "camera.json", progress=False),
+        mbao.bake(with_camera, samples=16, progress=False),
+    ]
     assert [radius_of(r) for r in limited] == [(0.5, "settings")] + [(0.5, "camera")] * 3
     for result in limited:
         np.testing.assert_array_equal(result.values[:9], 1.0)
 
-    unlimited = [mbao.bake(scene, samples=16, progress=False),
-                 mbao.bake(with_camera, samples=16, max_distance=math.inf, progress=False)]
+    unlimited = [
+        mbao.bake(scene, samples=16, progress=False),
+        mbao.bake(with_camera, samples=16, max_distance=math.inf, progress=False),
+    ]
     assert [radius_of(r) for r in unlimited] == [(math.inf, "none"), (math.inf, "settings")]
     for result in unlimited:
         assert result.values[:9].max() < 0.1
@@ -267,7 +282,9 @@ def test_a_bake_takes_its_radius_by_renders_rule(tmp_path):
 def test_a_closed_scene_baked_without_a_radius_warns_as_a_render_does():
     vertices, indices = box((-1.0, -1.5, -2.0), (1.0, 1.5, 2.0))
     grid = mbao.Mesh(*merge(*[(v + (4.0 * k, 0.0, 0.0), i) for k, (v, i) in enumerate([(vertices, indices)] * 16)]))
-    with pytest.warns(UserWarning, match="of the vertices are below 0.01 with max_distance=inf: the scene looks closed"):
+    with pytest.warns(
+        UserWarning, match="of the vertices are below 0.01 with max_distance=inf: the scene looks closed"
+    ):
         mbao.bake(grid, samples=4, progress=False)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -283,10 +300,12 @@ def test_bake_and_render_default_to_the_same_bounces():
     """SPEC 1: b is 1 unless asked for, on the command line too."""
     from mbao.cli import _parser
 
-    defaults = {inspect.signature(mbao.bake).parameters["bounces"].default,
-                inspect.signature(mbao.render).parameters["bounces"].default,
-                _parser().parse_args(["bake", "in.glb", "-o", "out.glb"]).bounces,
-                _parser().parse_args(["render"]).bounces}
+    defaults = {
+        inspect.signature(mbao.bake).parameters["bounces"].default,
+        inspect.signature(mbao.render).parameters["bounces"].default,
+        _parser().parse_args(["bake", "in.glb", "-o", "out.glb"]).bounces,
+        _parser().parse_args(["render"]).bounces,
+    }
     assert defaults == {1}
 
 
@@ -319,8 +338,7 @@ def test_ctrl_c_stops_a_bake_between_tiles_and_the_next_one_works():
     flight, and the bakes after it work, bit for bit alike."""
     vertices, indices = outward_box_grid()
     settings = dict(bounces=3, samples=256, engine=mbao.Engine(tile_pixels=8))
-    tiles_done = interrupt_after_the_first_tile(lambda progress: bake(vertices, indices, progress=progress,
-                                                                      **settings))
+    tiles_done = interrupt_after_the_first_tile(lambda progress: bake(vertices, indices, progress=progress, **settings))
     total = next(iter(tiles_done.values()))
     assert len(tiles_done) < total, "the bake ran to its end before it saw the interrupt"
     small = dict(bounces=2, samples=8)

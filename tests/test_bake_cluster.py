@@ -19,10 +19,18 @@ SETTINGS = dict(bounces=2, samples=16, seed=3, progress=False)
 
 def test_any_split_of_a_bakes_positions_is_the_whole_bake():
     scene = mbao.cornell_box()
-    given = dict(bounces=2, estimator="path", rho=1.0, max_distance=float("inf"), normals="shading", seed=3,
-                 max_rays=_core.DEFAULT_MAX_RAYS)
-    values = dict({name: checked(RENDER[name], value) for name, value in given.items()}, samples=4,
-                  **engine_values(mbao.Engine()))
+    given = dict(
+        bounces=2,
+        estimator="path",
+        rho=1.0,
+        max_distance=float("inf"),
+        normals="shading",
+        seed=3,
+        max_rays=_core.DEFAULT_MAX_RAYS,
+    )
+    values = dict(
+        {name: checked(RENDER[name], value) for name, value in given.items()}, samples=4, **engine_values(mbao.Engine())
+    )
     every_other = np.arange(0, scene.triangle_count, 2, dtype=np.uint32)
     whole, whole_error, _ = _core.bake_vertices(scene, every_other, resolve(None), values, 16, None)
     positions = _core.vertex_bake_positions(scene, every_other, 16)
@@ -30,7 +38,8 @@ def test_any_split_of_a_bakes_positions_is_the_whole_bake():
         mean, second_moment = np.empty(positions, np.float32), np.empty(positions, np.float32)
         for first, end in zip(cuts, cuts[1:]):
             mean[first:end], second_moment[first:end], _ = _core.trace_vertex_bake(
-                scene, every_other, resolve(None), values, 16, first, end, None)
+                scene, every_other, resolve(None), values, 16, first, end, None
+            )
         values_, errors = _core.finish_vertex_bake(scene, every_other, 16, mean, second_moment)
         np.testing.assert_array_equal(values_, whole)
         np.testing.assert_array_equal(errors, whole_error)
@@ -61,7 +70,7 @@ def test_a_texture_bake_on_a_cluster_is_the_local_one(dask_client, small_parts, 
     floor, floor_indices = plane(half_size, divisions=6)
     vertices, indices = merge((floor, floor_indices), disk(0.8, 1.0, 32))
     texcoords = np.zeros((len(vertices), 2))
-    texcoords[:len(floor)] = (np.asarray(floor)[:, [0, 2]] + half_size) / (2 * half_size)
+    texcoords[: len(floor)] = (np.asarray(floor)[:, [0, 2]] + half_size) / (2 * half_size)
     scene = mbao.Mesh(vertices, indices, texcoords=texcoords)
     settings = dict(SETTINGS, target="texture", resolution=32, texcoord=texcoord)
     here = mbao.bake(scene, **settings)

@@ -17,6 +17,7 @@ from mbao._gltf import GltfDocument
 from mbao.check import validation_report
 from test_bake_gltf import floor_and_wall
 
+
 def validation_errors(path):
     """The glTF-Validator's errors on `path`, as (code, pointer) pairs, from the
     report `python -m mbao check` reads (which fails naming how to install the
@@ -61,10 +62,10 @@ def test_a_vertex_bake_adds_occlusion_and_keeps_everything_else(tmp_path):
     kept = without(after.doc, added)
     for key, items in before.doc.items():
         if key in ("buffers", "bufferViews", "accessors"):  # grown by the new data, the old entries kept
-            assert kept[key][:len(items)] == items if key != "buffers" else len(kept[key]) == len(items)
+            assert kept[key][: len(items)] == items if key != "buffers" else len(kept[key]) == len(items)
         else:
             assert kept[key] == items, key
-    assert after.bin[:len(before.bin)] == before.bin
+    assert after.bin[: len(before.bin)] == before.bin
     scene = mbao.load(output, texcoords=True)
     for placed in scene.uv_sets["primitives"]:
         accessor = after.doc["meshes"][placed["mesh"]]["primitives"][placed["primitive"]]["attributes"]["_OCCLUSION"]
@@ -80,8 +81,11 @@ def test_a_mesh_that_two_nodes_place_gets_a_copy_per_node(tmp_path):
     floor = b.add_mesh([b.primitive(*plane(1.0, divisions=2))])
     vertices, indices = plane(1.2, y=0.2)
     ceiling = b.add_mesh([b.primitive(vertices, indices[:, ::-1])])  # facing down
-    nodes = [b.add_node(mesh=floor), b.add_node(mesh=floor, translation=(10, 0, 0)),
-             b.add_node(mesh=ceiling, translation=(10, 0, 0))]
+    nodes = [
+        b.add_node(mesh=floor),
+        b.add_node(mesh=floor, translation=(10, 0, 0)),
+        b.add_node(mesh=ceiling, translation=(10, 0, 0)),
+    ]
     b.add_scene(nodes, default=True)
     source, output = b.write(tmp_path / "instances.glb"), tmp_path / "baked.glb"
     mbao.bake_file(source, output, bounces=1, samples=64, progress=False)
@@ -90,8 +94,10 @@ def test_a_mesh_that_two_nodes_place_gets_a_copy_per_node(tmp_path):
     assert len(after.doc["meshes"]) == 3 and after.doc["nodes"][0]["mesh"] == 0
     copy_of_floor = after.doc["nodes"][1]["mesh"]
     assert copy_of_floor == 2 and after.doc["nodes"][2]["mesh"] == 1
+
     def occlusion(mesh):
         return accessor_values(after, after.doc["meshes"][mesh]["primitives"][0]["attributes"]["_OCCLUSION"])
+
     np.testing.assert_array_equal(occlusion(0), 1.0)
     assert occlusion(copy_of_floor).max() < 0.5
 
@@ -103,8 +109,9 @@ def test_vertex_colors_multiply_the_occlusion_into_color_0(tmp_path):
     floor, indices = plane(1.0, divisions=2)
     colors = np.tile(np.array([[255, 128, 0, 200]], np.uint8), (len(floor), 1))
     painted = b.primitive(floor, indices)
-    painted["attributes"]["COLOR_0"] = b.add_accessor(b.add_buffer_view(colors.tobytes()), 5121, len(floor), 4,
-                                                      normalized=True)
+    painted["attributes"]["COLOR_0"] = b.add_accessor(
+        b.add_buffer_view(colors.tobytes()), 5121, len(floor), 4, normalized=True
+    )
     wall = np.array([[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0], [0.5, 1.0, 0.0], [-0.5, 1.0, 0.0]])
     bare = b.primitive(wall, [[0, 1, 2], [0, 2, 3]])
     b.add_scene([b.add_node(mesh=b.add_mesh([painted, bare]))], default=True)
@@ -113,13 +120,17 @@ def test_vertex_colors_multiply_the_occlusion_into_color_0(tmp_path):
     assert validation_errors(output) == []
     after = GltfDocument(output)
     primitives = after.doc["meshes"][0]["primitives"]
+
     def color(primitive):
         accessor = after.doc["accessors"][primitive["attributes"]["COLOR_0"]]
         return accessor_rows(after, primitive["attributes"]["COLOR_0"], int(accessor["type"][-1]))
+
     ao = result.values.astype(np.float32)
-    np.testing.assert_allclose(color(primitives[0]), np.column_stack([ao[:9] * 1.0, ao[:9] * (128 / 255),
-                                                                       ao[:9] * 0.0, np.full(9, 200 / 255)]),
-                               rtol=1e-6)
+    np.testing.assert_allclose(
+        color(primitives[0]),
+        np.column_stack([ao[:9] * 1.0, ao[:9] * (128 / 255), ao[:9] * 0.0, np.full(9, 200 / 255)]),
+        rtol=1e-6,
+    )
     np.testing.assert_allclose(color(primitives[1]), np.column_stack([ao[9:]] * 3), rtol=1e-6)
     with pytest.raises(ValueError, match='vertex_colors=True .* needs target="vertices"'):
         mbao.bake_file(source, tmp_path / "x.glb", target="texture", vertex_colors=True)
@@ -134,8 +145,9 @@ def test_a_texture_bake_points_each_material_at_its_texture(tmp_path, bit_depth)
     before.doc["materials"][0]["occlusionTexture"]["strength"] = 0.7
     before.write(tmp_path / "with_strength.glb")
     source, output = tmp_path / "with_strength.glb", tmp_path / "baked.glb"
-    result = mbao.bake_file(source, output, target="texture", resolution=(16, 8), samples=8, bit_depth=bit_depth,
-                            progress=False)
+    result = mbao.bake_file(
+        source, output, target="texture", resolution=(16, 8), samples=8, bit_depth=bit_depth, progress=False
+    )
     assert validation_errors(output) == []
     assert result.stats["replaced_occlusion"] == [0]
     after = GltfDocument(output)
@@ -149,7 +161,7 @@ def test_a_texture_bake_points_each_material_at_its_texture(tmp_path, bit_depth)
         image = after.doc["images"][gltf_texture["source"]]
         view = after.doc["bufferViews"][image["bufferView"]]
         png = tmp_path / f"occlusion{material}.png"
-        png.write_bytes(after.bin[view["byteOffset"]:view["byteOffset"] + view["byteLength"]])
+        png.write_bytes(after.bin[view["byteOffset"] : view["byteOffset"] + view["byteLength"]])
         decoded = oiio.ImageBuf(str(png))
         assert decoded.spec().format == (oiio.UINT16 if bit_depth == 16 else oiio.UINT8)
         pixels = decoded.get_pixels(oiio.FLOAT)
@@ -174,7 +186,9 @@ def test_a_gltf_with_external_files_is_written_to_another_folder(tmp_path):
     b = GltfBuilder()
     b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(*plane(1.0, divisions=2))]))], default=True)
     source = b.write(tmp_path / "external.gltf", container="gltf+bin")
-    assert any("uri" in buffer and not buffer["uri"].startswith("data:") for buffer in GltfDocument(source).doc["buffers"])
+    assert any(
+        "uri" in buffer and not buffer["uri"].startswith("data:") for buffer in GltfDocument(source).doc["buffers"]
+    )
     (tmp_path / "out").mkdir()
     output = tmp_path / "out" / "baked.gltf"
     result = mbao.bake_file(source, output, samples=4, progress=False)
@@ -183,11 +197,14 @@ def test_a_gltf_with_external_files_is_written_to_another_folder(tmp_path):
     assert result.values.shape == (9,)
 
 
-@pytest.mark.parametrize("output, message", [
-    ("baked.gltf", r"must be a \.glb file, as the input"),
-    ("floor_and_wall.glb", "is the input"),
-    ("missing/baked.glb", "cannot write in"),
-])
+@pytest.mark.parametrize(
+    "output, message",
+    [
+        ("baked.gltf", r"must be a \.glb file, as the input"),
+        ("floor_and_wall.glb", "is the input"),
+        ("missing/baked.glb", "cannot write in"),
+    ],
+)
 def test_outputs_that_cannot_be_written_are_refused_before_the_bake(tmp_path, output, message):
     source = floor_and_wall(tmp_path)
     with pytest.raises(ValueError, match=message):
@@ -199,8 +216,9 @@ def test_generated_uvs_are_written_as_the_next_free_set_with_seams_split(tmp_pat
     triangles keep their order and corners, and each corner's new UV is the one
     baked into (SPEC 6.5)."""
     source, output = floor_and_wall(tmp_path), tmp_path / "baked.glb"
-    result = mbao.bake_file(source, output, target="texture", texcoord="generate", resolution=64, samples=4,
-                            progress=False)
+    result = mbao.bake_file(
+        source, output, target="texture", texcoord="generate", resolution=64, samples=4, progress=False
+    )
     assert validation_errors(output) == []
     before, after = mbao.load(source, texcoords=True), mbao.load(output, texcoords=True)
     np.testing.assert_array_equal(after.vertices[after.indices], before.vertices[before.indices])
@@ -234,8 +252,9 @@ def test_generated_uvs_of_a_mesh_two_nodes_place_go_into_a_copy_each(tmp_path):
     floor = b.add_mesh([b.primitive(*plane(1.0, divisions=2))])
     b.add_scene([b.add_node(mesh=floor), b.add_node(mesh=floor, translation=(10, 0, 0))], default=True)
     source, output = b.write(tmp_path / "instances.glb"), tmp_path / "baked.glb"
-    result = mbao.bake_file(source, output, target="texture", texcoord="generate", resolution=32, samples=2,
-                            progress=False)
+    result = mbao.bake_file(
+        source, output, target="texture", texcoord="generate", resolution=32, samples=2, progress=False
+    )
     assert validation_errors(output) == []
     document = GltfDocument(output)
     assert [node["mesh"] for node in document.doc["nodes"]] == [0, 1]
@@ -251,8 +270,7 @@ def test_generated_uvs_of_a_mesh_two_nodes_place_go_into_a_copy_each(tmp_path):
 def test_the_damaged_helmet_baked_into_generated_uvs_is_valid(tmp_path):
     source = shared_scene("damaged_helmet") / "scene.glb"
     output = tmp_path / "helmet.glb"
-    mbao.bake_file(source, output, target="texture", texcoord="generate", resolution=256, samples=2,
-                   progress=False)
+    mbao.bake_file(source, output, target="texture", texcoord="generate", resolution=256, samples=2, progress=False)
     assert validation_errors(output) == []
     document = GltfDocument(output)
     assert document.doc["materials"][0]["occlusionTexture"]["texCoord"] == 2
@@ -269,45 +287,151 @@ def test_the_damaged_helmet_baked_per_vertex_keeps_its_materials_and_images(tmp_
     before, after = GltfDocument(source), GltfDocument(output)
     for key in ("materials", "textures", "images", "samplers", "nodes"):
         assert after.doc[key] == before.doc[key], key
-    assert after.bin[:len(before.bin)] == before.bin
+    assert after.bin[: len(before.bin)] == before.bin
 
 
 def test_the_command_line_bakes_a_file(tmp_path):
     source = floor_and_wall(tmp_path)
     output = tmp_path / "baked.glb"
-    run = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(output), "--target", "texture",
-                          "--resolution", "16", "--samples", "4", "--quiet"], capture_output=True, text=True)
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mbao",
+            "bake",
+            str(source),
+            "-o",
+            str(output),
+            "--target",
+            "texture",
+            "--resolution",
+            "16",
+            "--samples",
+            "4",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert run.returncode == 0, run.stderr
     assert "replaced     material 0's occlusion texture" in run.stdout and f"wrote        {output}" in run.stdout
     assert validation_errors(output) == []
-    generated = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "g.glb"),
-                                "--target", "texture", "--texcoord", "generate", "--resolution", "32", "16",
-                                "--samples", "2", "--quiet"], capture_output=True, text=True)
+    generated = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mbao",
+            "bake",
+            str(source),
+            "-o",
+            str(tmp_path / "g.glb"),
+            "--target",
+            "texture",
+            "--texcoord",
+            "generate",
+            "--resolution",
+            "32",
+            "16",
+            "--samples",
+            "2",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert generated.returncode == 0, generated.stderr
     assert "32x16 into generated UVs" in generated.stdout and validation_errors(tmp_path / "g.glb") == []
-    colored = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "c.glb"),
-                              "--vertex-colors", "--samples", "2", "--quiet"], capture_output=True, text=True)
+    colored = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mbao",
+            "bake",
+            str(source),
+            "-o",
+            str(tmp_path / "c.glb"),
+            "--vertex-colors",
+            "--samples",
+            "2",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert colored.returncode == 0, colored.stderr
     assert "darkens direct light too" in colored.stdout and validation_errors(tmp_path / "c.glb") == []
     assert "radius       inf (no camera suggests one)" in colored.stdout
-    (tmp_path / "camera.json").write_text('{"eye": [0, 1, 3], "target": [0, 0, 0], "up": [0, 1, 0], "vfov_deg": 60, "max_distance": 0.25}')
-    limited = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "l.glb"),
-                              "--camera", str(tmp_path / "camera.json"), "--samples", "2", "--quiet"],
-                             capture_output=True, text=True)
+    (tmp_path / "camera.json").write_text(
+        '{"eye": [0, 1, 3], "target": [0, 0, 0], "up": [0, 1, 0], "vfov_deg": 60, "max_distance": 0.25}'
+    )
+    limited = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mbao",
+            "bake",
+            str(source),
+            "-o",
+            str(tmp_path / "l.glb"),
+            "--camera",
+            str(tmp_path / "camera.json"),
+            "--samples",
+            "2",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert limited.returncode == 0, limited.stderr
     assert "radius       0.25 (camera.json)" in limited.stdout
-    obj = subprocess.run([sys.executable, "-m", "mbao", "bake", str(floor_and_wall_obj(tmp_path)), "-o",
-                          str(tmp_path / "o.gltf"), "--samples", "2", "--quiet"], capture_output=True, text=True)
+    obj = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mbao",
+            "bake",
+            str(floor_and_wall_obj(tmp_path)),
+            "-o",
+            str(tmp_path / "o.gltf"),
+            "--samples",
+            "2",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert obj.returncode == 0, obj.stderr
     assert validation_errors(tmp_path / "o.gltf") == []
-    obj_texture = subprocess.run([sys.executable, "-m", "mbao", "bake", str(floor_and_wall_obj(tmp_path)), "-o",
-                                  str(tmp_path / "ot.glb"), "--target", "texture", "--texcoord", "generate",
-                                  "--resolution", "32", "--samples", "2", "--quiet"], capture_output=True, text=True)
+    obj_texture = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mbao",
+            "bake",
+            str(floor_and_wall_obj(tmp_path)),
+            "-o",
+            str(tmp_path / "ot.glb"),
+            "--target",
+            "texture",
+            "--texcoord",
+            "generate",
+            "--resolution",
+            "32",
+            "--samples",
+            "2",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert obj_texture.returncode == 0, obj_texture.stderr
     # Assimp gives an OBJ without materials one (its DefaultMaterial), which the file written keeps.
     assert "material 0   32x32 into generated UVs" in obj_texture.stdout and "material -1" not in obj_texture.stdout
-    refused = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "x.gltf")],
-                             capture_output=True, text=True)
+    refused = subprocess.run(
+        [sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "x.gltf")],
+        capture_output=True,
+        text=True,
+    )
     assert refused.returncode == 2 and refused.stderr.startswith("mbao: output") and "must be a .glb" in refused.stderr
 
 
@@ -346,8 +470,9 @@ def test_a_texture_bake_of_another_format_without_uvs_needs_generated_ones(tmp_p
     source = floor_and_wall_obj(tmp_path)
     with pytest.raises(ValueError, match='floor_and_wall.obj: it has no UV sets; bake it with texcoord="generate"'):
         mbao.bake_file(source, tmp_path / "t.glb", target="texture")
-    mbao.bake_file(source, tmp_path / "t.glb", target="texture", texcoord="generate", resolution=32, samples=2,
-                   progress=False)
+    mbao.bake_file(
+        source, tmp_path / "t.glb", target="texture", texcoord="generate", resolution=32, samples=2, progress=False
+    )
     assert validation_errors(tmp_path / "t.glb") == []
     material = GltfDocument(tmp_path / "t.glb").doc["materials"][0]
     assert material["occlusionTexture"]["texCoord"] == 0
@@ -358,8 +483,26 @@ def test_the_command_line_bakes_on_a_dask_scheduler_the_same_file(tmp_path, dask
     outputs = {}
     for name, extra in (("here", []), ("cluster", ["--scheduler", dask_client.scheduler.address])):
         outputs[name] = tmp_path / f"{name}.glb"
-        run = subprocess.run([sys.executable, "-m", "mbao", "bake", str(source), "-o", str(outputs[name]),
-                              "--target", "texture", "--resolution", "16", "--samples", "4", "--quiet", *extra],
-                             capture_output=True, text=True)
+        run = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "mbao",
+                "bake",
+                str(source),
+                "-o",
+                str(outputs[name]),
+                "--target",
+                "texture",
+                "--resolution",
+                "16",
+                "--samples",
+                "4",
+                "--quiet",
+                *extra,
+            ],
+            capture_output=True,
+            text=True,
+        )
         assert run.returncode == 0, run.stderr
     assert outputs["cluster"].read_bytes() == outputs["here"].read_bytes()

@@ -100,8 +100,11 @@ def test_a_closed_box_bakes_to_zero_inside_through_generated_uvs():
 
 def test_charts_that_fit_only_closer_are_packed_so_with_a_warning_naming_the_resolution_that_keeps_the_padding():
     sphere = icosphere(1.0, subdivisions=2)
-    with pytest.warns(UserWarning, match=r"generated charts fit 16 x 16 texels only \d texels? apart, not padding=4, "
-                                         r"at .* texels per unit; resolution=(\d+) keeps them 4 apart") as caught:
+    with pytest.warns(
+        UserWarning,
+        match=r"generated charts fit 16 x 16 texels only \d texels? apart, not padding=4, "
+        r"at .* texels per unit; resolution=(\d+) keeps them 4 apart",
+    ) as caught:
         texture = generated(*sphere, resolution=16, padding=4)
     assert texture.stats["chart_padding"] < 4 and texture.stats["claimed_twice"] == 0
     keeping = int(re.search(r"resolution=(\d+)", str(caught[0].message)).group(1))
@@ -115,8 +118,9 @@ def test_charts_that_fit_only_closer_are_packed_so_with_a_warning_naming_the_res
 
 
 def test_charts_that_cannot_fit_even_touching_are_refused():
-    with pytest.raises(ValueError, match=r"charts do not fit 4 x 4 texels even at a texel each and touching; "
-                                         r"raise the resolution"):
+    with pytest.raises(
+        ValueError, match=r"charts do not fit 4 x 4 texels even at a texel each and touching; " r"raise the resolution"
+    ):
         generated(*icosphere(1.0, subdivisions=2), resolution=4, padding=4)
 
 

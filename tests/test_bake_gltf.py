@@ -30,8 +30,9 @@ def floor_and_wall(tmp_path):
     b.doc["materials"][wall_material]["name"] = "wall"
     floor_primitive = b.primitive(floor, floor_indices, texcoords=2.0 * once, material=floor_material)
     floor_primitive["attributes"]["TEXCOORD_1"] = b.add_texcoords(once)
-    wall_primitive = b.primitive(wall, [[0, 1, 2], [0, 2, 3]], texcoords=wall[:, :2] * [1.0, 0.5] + [0.5, 0.0],
-                                 material=wall_material)
+    wall_primitive = b.primitive(
+        wall, [[0, 1, 2], [0, 2, 3]], texcoords=wall[:, :2] * [1.0, 0.5] + [0.5, 0.0], material=wall_material
+    )
     b.add_scene([b.add_node(mesh=b.add_mesh([floor_primitive, wall_primitive]))], default=True)
     return b.write(tmp_path / "floor_and_wall.glb")
 
@@ -43,12 +44,15 @@ def test_load_reads_uv_sets_only_when_asked(tmp_path):
     floor_vertices = 25
     assert [s.shape for s in uv_sets["sets"]] == [(29, 2), (29, 2)]
     assert np.isfinite(uv_sets["sets"][0]).all()
-    assert np.isfinite(uv_sets["sets"][1][:floor_vertices]).all() and np.isnan(uv_sets["sets"][1][floor_vertices:]).all()
+    assert (
+        np.isfinite(uv_sets["sets"][1][:floor_vertices]).all() and np.isnan(uv_sets["sets"][1][floor_vertices:]).all()
+    )
     np.testing.assert_array_equal(uv_sets["triangle_materials"], [0] * 32 + [1] * 2)
     assert uv_sets["materials"][0]["occlusion_texcoord"] == 1
     assert uv_sets["materials"][0]["wrap"] == ("mirrored-repeat", "mirrored-repeat")
-    assert uv_sets["materials"][1] == dict(name="wall", occlusion_texcoord=None, wrap=("repeat", "repeat"),
-                                           base_color=None)  # read for bake_file from other formats only
+    assert uv_sets["materials"][1] == dict(
+        name="wall", occlusion_texcoord=None, wrap=("repeat", "repeat"), base_color=None
+    )  # read for bake_file from other formats only
 
 
 def test_each_material_is_baked_into_its_own_set(tmp_path):
@@ -96,6 +100,9 @@ def test_the_damaged_helmets_mirrored_uvs_are_refused():
     nearly every covered texel is claimed twice; only texels on the charts'
     borders, which one half reaches at fewer sample points, escape."""
     path = shared_scene("damaged_helmet") / "scene.glb"
-    with pytest.raises(mbao.Error, match=r"material 0 \('Material_MR'\), UV set TEXCOORD_1: (9[0-9]|100)\.\d% of.*"
-                                         r"bake into a new UV set of mbao's \(texcoord=\"generate\"\)"):
+    with pytest.raises(
+        mbao.Error,
+        match=r"material 0 \('Material_MR'\), UV set TEXCOORD_1: (9[0-9]|100)\.\d% of.*"
+        r"bake into a new UV set of mbao's \(texcoord=\"generate\"\)",
+    ):
         mbao.bake(path, target="texture", resolution=512, samples=2, progress=False)

@@ -31,7 +31,7 @@ def floor_with_a_box(lo=0.0, hi=1.0, box_at=(0.0, 0.0)):
     block, block_indices = box((x - 0.5, 0.0, z - 0.5), (x + 0.5, 1.0, z + 0.5))
     vertices, indices = merge((floor, floor_indices), (block, block_indices[:, ::-1]))
     texcoords = np.full((len(vertices), 2), 0.5)
-    texcoords[:len(floor)] = floor_uvs(floor, 2.0, lo, hi)
+    texcoords[: len(floor)] = floor_uvs(floor, 2.0, lo, hi)
     return vertices, indices, texcoords
 
 
@@ -55,17 +55,25 @@ def test_the_texel_under_a_parallel_disk():
     disk_vertices, disk_indices = disk(radius, height, 64)
     vertices, indices = merge((floor, floor_indices), (disk_vertices, disk_indices))
     texcoords = np.zeros((len(vertices), 2))
-    texcoords[:len(floor)] = floor_uvs(floor, half_size)
+    texcoords[: len(floor)] = floor_uvs(floor, half_size)
     samples = 20000
     # One direction per estimate: each is 0 or 1, a Bernoulli variable.
-    texture = bake(vertices, indices, texcoords, resolution=resolution, samples=samples, bounces=1,
-                   directions=1).textures[0]
+    texture = bake(
+        vertices, indices, texcoords, resolution=resolution, samples=samples, bounces=1, directions=1
+    ).textures[0]
 
     texel = 2.0 * half_size / resolution
     nodes, weights = np.polynomial.legendre.leggauss(8)
-    expected = sum(wi * wj * (1.0 - polygon_occlusion(np.array([xi * texel / 2, 0.0, zj * texel / 2]), (0, 1, 0),
-                                                        disk_vertices[1:]))
-                   for xi, wi in zip(nodes, weights) for zj, wj in zip(nodes, weights)) / 4.0
+    expected = (
+        sum(
+            wi
+            * wj
+            * (1.0 - polygon_occlusion(np.array([xi * texel / 2, 0.0, zj * texel / 2]), (0, 1, 0), disk_vertices[1:]))
+            for xi, wi in zip(nodes, weights)
+            for zj, wj in zip(nodes, weights)
+        )
+        / 4.0
+    )
     middle = resolution // 2
     assert abs(expected - height**2 / (height**2 + radius**2)) < 5e-3
     assert_within_standard_errors(float(texture.image[middle, middle]), expected, samples)
@@ -83,7 +91,7 @@ def test_texels_and_vertices_agree_on_the_surfaces_mean():
     texel_error = math.sqrt(np.sum(texture.standard_error.astype(float) ** 2)) / texture.image.size
 
     floor_vertices = len(plane(2.0, divisions=16)[0])
-    floor_triangles = indices[:2 * 16 * 16]
+    floor_triangles = indices[: 2 * 16 * 16]
     corners = vertices[floor_triangles]
     areas = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
     weights = np.zeros(floor_vertices)
@@ -119,13 +127,19 @@ def test_uvs_beyond_the_unit_square_follow_the_wrap_mode():
     assert clamped[:4, :4].all() and clamped.sum() == 16
 
 
-@pytest.mark.parametrize("texcoords, fraction", [
-    (lambda v: np.abs(v[:, [0, 2]]), "100.0%"),  # mirrored halves: both halves of the plane share one quarter
-    (lambda v: (v[:, [0, 2]] + 1.0), "100.0%"),  # tiled: the UVs span [0, 2]^2, each texel four times
-])
+@pytest.mark.parametrize(
+    "texcoords, fraction",
+    [
+        (lambda v: np.abs(v[:, [0, 2]]), "100.0%"),  # mirrored halves: both halves of the plane share one quarter
+        (lambda v: (v[:, [0, 2]] + 1.0), "100.0%"),  # tiled: the UVs span [0, 2]^2, each texel four times
+    ],
+)
 def test_uvs_that_claim_a_texel_twice_are_refused(texcoords, fraction):
     vertices, indices = plane(1.0, divisions=8)
-    with pytest.raises(mbao.Error, match=f"the mesh, UV set TEXCOORD_0: {fraction} of its .* covered texels are claimed by more than one"):
+    with pytest.raises(
+        mbao.Error,
+        match=f"the mesh, UV set TEXCOORD_0: {fraction} of its .* covered texels are claimed by more than one",
+    ):
         bake(vertices, indices, texcoords(vertices), resolution=16, samples=2)
 
 
@@ -151,13 +165,16 @@ def test_dilation_fills_padding_texels_from_the_nearest_covered():
     assert image[5, 1] == 1.0 and error[5, 1] == 0.0 and image[0, 0] == 1.0
 
 
-@pytest.mark.parametrize("arguments, error, message", [
-    (dict(resolution=0), ValueError, r"resolution must be in \[1, 16384\]"),
-    (dict(resolution=(8, 8, 8)), ValueError, "resolution must be an int or"),
-    (dict(padding=65), ValueError, r"padding must be in \[0, 64\]"),
-    (dict(wrap="wrap"), ValueError, "wrap must be one of"),
-    (dict(texcoord=1), ValueError, "texcoord must be None or 0 for an mbao.Mesh"),
-])
+@pytest.mark.parametrize(
+    "arguments, error, message",
+    [
+        (dict(resolution=0), ValueError, r"resolution must be in \[1, 16384\]"),
+        (dict(resolution=(8, 8, 8)), ValueError, "resolution must be an int or"),
+        (dict(padding=65), ValueError, r"padding must be in \[0, 64\]"),
+        (dict(wrap="wrap"), ValueError, "wrap must be one of"),
+        (dict(texcoord=1), ValueError, "texcoord must be None or 0 for an mbao.Mesh"),
+    ],
+)
 def test_bad_texture_arguments_name_themselves(arguments, error, message):
     vertices, indices = plane(1.0)
     with pytest.raises(error, match=message):
@@ -178,8 +195,12 @@ def bilinear(image, standard_error, uv):
     x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
     fx, fy = x - x0, y - y0
     value = variance = 0.0
-    for i, j, w in ((x0, y0, (1 - fx) * (1 - fy)), (x0 + 1, y0, fx * (1 - fy)), (x0, y0 + 1, (1 - fx) * fy),
-                    (x0 + 1, y0 + 1, fx * fy)):
+    for i, j, w in (
+        (x0, y0, (1 - fx) * (1 - fy)),
+        (x0 + 1, y0, fx * (1 - fy)),
+        (x0, y0 + 1, (1 - fx) * fy),
+        (x0 + 1, y0 + 1, fx * fy),
+    ):
         texel = np.clip(j, 0, height - 1), np.clip(i, 0, width - 1)
         value = value + w * image[texel]
         variance = variance + w**2 * standard_error[texel] ** 2
@@ -199,8 +220,9 @@ def test_a_baked_texture_looked_up_at_the_cameras_hits_matches_the_render():
     vertices, indices, texcoords = floor_with_a_box(box_at=box_at)
     scene = mbao.Mesh(vertices, indices, texcoords=texcoords)
     resolution, samples, r = 64, 256, 256
-    texture = mbao.bake(scene, target="texture", resolution=resolution, samples=samples, bounces=1,
-                        progress=False).textures[0]
+    texture = mbao.bake(
+        scene, target="texture", resolution=resolution, samples=samples, bounces=1, progress=False
+    ).textures[0]
     camera = mbao.Camera((0.3, 5.0, 3.0), (0.0, 0.0, 0.0), vfov_deg=40.0)
     width = height = 48
     render = mbao.render(scene, camera=camera, width=width, height=height, bounces=1, samples=r)
@@ -230,8 +252,10 @@ def test_a_uv_set_without_area_is_refused_before_tracing():
     """SPEC 6.3: UVs collapsed onto a line leave nothing to bake into."""
     vertices, indices = plane(1.0, divisions=2)
     on_a_line = np.column_stack([(vertices[:, 0] + 1) / 2, np.zeros(len(vertices))])
-    with pytest.raises(ValueError, match=r"the mesh, UV set TEXCOORD_0: the UVs of all its 8 triangles have no area "
-                                         r".*texcoord=\"generate\""):
+    with pytest.raises(
+        ValueError,
+        match=r"the mesh, UV set TEXCOORD_0: the UVs of all its 8 triangles have no area " r".*texcoord=\"generate\"",
+    ):
         bake(vertices, indices, on_a_line, resolution=16, samples=2)
 
 

@@ -10,7 +10,10 @@ from blender_harness import blender
 def test_the_operators_settings_are_mbao_bakes(blender_home, tmp_path):
     """Named as mbao.bake's arguments, with its defaults: the estimator's in
     Blender's capitals, and no radius as a distance of 0."""
-    blender(blender_home, tmp_path, """
+    blender(
+        blender_home,
+        tmp_path,
+        """
         import inspect
         parameters = inspect.signature(mbao.bake).parameters
         properties = bpy.ops.mbao.bake.get_rna_type().properties
@@ -21,7 +24,8 @@ def test_the_operators_settings_are_mbao_bakes(blender_home, tmp_path):
         scene_settings = bpy.context.scene.mbao_bake.bl_rna.properties
         assert {p.identifier for p in scene_settings} - {"rna_type", "name"} == \
             {p.identifier for p in properties} - {"rna_type"}
-    """)
+    """,
+    )
 
 
 @pytest.mark.parametrize("run_in", ["BLENDER", "CHILD"])
@@ -29,7 +33,10 @@ def test_a_vertex_bake_is_mbao_bakes_values(blender_home, tmp_path, run_in):
     """The cube baked among the plane: its color attribute holds mbao.bake's
     values of the cube's triangles, the plane occluding, bit for bit, in
     Blender's process and in a child process alike; the standard error beside."""
-    blender(blender_home, tmp_path, f"""
+    blender(
+        blender_home,
+        tmp_path,
+        f"""
         bpy.context.preferences.addons["mbao_bake"].preferences.run_in = {run_in!r}
         cube, plane = cube_on_a_plane()
         result = bpy.ops.mbao.bake(bounces=2, samples=32, seed=5, max_distance=3.0, standard_error=True)
@@ -53,26 +60,34 @@ def test_a_vertex_bake_is_mbao_bakes_values(blender_home, tmp_path, run_in):
         assert np.array_equal(colors(cube, "corners")[:, 0], baked[loop_vertices, 0])
         nodes = cube.active_material.node_tree.nodes  # the preview: the attribute as the base colour
         assert [n.attribute_name for n in nodes if n.type == "ATTRIBUTE"] == ["corners"]
-    """)
+    """,
+    )
 
 
 def test_a_mirrored_object_is_baked_on_its_front(blender_home, tmp_path):
     """The plane scaled by -1 along x still faces up in Blender; baked under the
     cube, it is occluded (its winding is flipped back in world space, else it
     would face down, onto nothing)."""
-    blender(blender_home, tmp_path, """
+    blender(
+        blender_home,
+        tmp_path,
+        """
         cube, plane = cube_on_a_plane(cuts=1)
         plane.scale = (-1.0, 1.0, 1.0)
         select(plane)
         assert bpy.ops.mbao.bake(samples=16) == {"FINISHED"}
         assert colors(plane, "mbao_ao")[:, 0].min() < 1.0
-    """)
+    """,
+    )
 
 
 def test_what_is_visible_occludes_instances_included(blender_home, tmp_path):
     """A hidden cube over the plane occludes nothing; a collection's instance
     there does, as Blender shows it, though its source lies far away."""
-    blender(blender_home, tmp_path, """
+    blender(
+        blender_home,
+        tmp_path,
+        """
         cube, plane = cube_on_a_plane(cuts=1)
         cube.hide_set(True)
         select(plane)
@@ -91,7 +106,8 @@ def test_what_is_visible_occludes_instances_included(blender_home, tmp_path):
         select(plane)
         assert bpy.ops.mbao.bake(samples=16, max_distance=2.0) == {"FINISHED"}
         assert colors(plane, "mbao_ao")[:, 0].min() < 1.0
-    """)
+    """,
+    )
 
 
 def test_an_image_bake_fills_the_covered_texels_and_pads_the_rest(blender_home, tmp_path):
@@ -99,7 +115,10 @@ def test_an_image_bake_fills_the_covered_texels_and_pads_the_rest(blender_home, 
     with padding 2: the image is mbao.bake's texture of the floor's UVs, bit for
     bit (covered texels, their dilation, and 1 beyond); saved as an 8-bit PNG
     beside the .blend, it reads back within the PNG's rounding."""
-    blender(blender_home, tmp_path, """
+    blender(
+        blender_home,
+        tmp_path,
+        """
         cube, plane = cube_on_a_plane(cuts=1)
         uvs = np.empty(len(plane.data.loops) * 2, np.float32)
         plane.data.uv_layers.active.data.foreach_get("uv", uvs)
@@ -139,13 +158,17 @@ def test_an_image_bake_fills_the_covered_texels_and_pads_the_rest(blender_home, 
         back = np.empty(32 * 32 * 4, np.float32)
         saved.pixels.foreach_get(back)
         assert np.abs(back.reshape(32, 32, 4)[..., 0] - texture.image).max() <= 0.5 / 255 + 1e-6
-    """)
+    """,
+    )
 
 
 def test_bad_settings_are_reported_not_raised(blender_home, tmp_path):
     """Each refusal is an error report naming the problem (a RuntimeError
     "Error: ..." to a script), never a traceback from inside the add-on."""
-    blender(blender_home, tmp_path, """
+    blender(
+        blender_home,
+        tmp_path,
+        """
         cube, plane = cube_on_a_plane(cuts=1)
         refused("samples must be in [2, 65536], got 0", samples=0)
         refused("bounces", bounces=0)
@@ -166,14 +189,18 @@ def test_bad_settings_are_reported_not_raised(blender_home, tmp_path):
         bpy.ops.object.modifier_add(type="SUBSURF")
         refused("modifiers make", target="COLOR_ATTRIBUTE")
         assert "mbao_ao" not in cube.data.color_attributes
-    """)
+    """,
+    )
 
 
 @pytest.mark.parametrize("run_in", ["BLENDER", "CHILD"])
 def test_cancelling_leaves_the_attribute_as_it_was(blender_home, tmp_path, run_in):
     """Esc cancels the bake's job: here as the bake starts, in either place it
     runs. Nothing is written: the attribute keeps its values."""
-    blender(blender_home, tmp_path, f"""
+    blender(
+        blender_home,
+        tmp_path,
+        f"""
         import mbao_bake.jobs
         bpy.context.preferences.addons["mbao_bake"].preferences.run_in = {run_in!r}
         cube, plane = cube_on_a_plane()
@@ -188,4 +215,5 @@ def test_cancelling_leaves_the_attribute_as_it_was(blender_home, tmp_path, run_i
         mbao_bake.jobs.BakeJob.__init__ = start_then_cancel
         assert bpy.ops.mbao.bake(samples=65536, seed=1) == {{"CANCELLED"}}
         assert np.array_equal(colors(cube, "mbao_ao"), kept)
-    """)
+    """,
+    )

@@ -12,7 +12,10 @@ from blender_harness import blender
 
 
 def test_the_addon_registers_and_unregisters(blender_home, tmp_path):
-    blender(blender_home, tmp_path, """
+    blender(
+        blender_home,
+        tmp_path,
+        """
         import addon_utils
         assert addon_utils.check("mbao_bake") == (True, True)  # enabled by the installer, and loaded
         assert hasattr(bpy.types, "MBAO_OT_bake") and hasattr(bpy.types.Scene, "mbao_bake")
@@ -21,30 +24,40 @@ def test_the_addon_registers_and_unregisters(blender_home, tmp_path):
         assert not hasattr(bpy.types, "MBAO_OT_bake") and not hasattr(bpy.types.Scene, "mbao_bake")
         addon_utils.enable("mbao_bake")
         assert hasattr(bpy.types, "MBAO_OT_bake")
-    """)
+    """,
+    )
 
 
 def test_the_zip_installs_from_blenders_preferences(tmp_path):
     """`python -m mbao blender --zip` writes what Preferences > Add-ons > Install
     takes; installed and enabled so, it bakes."""
     archive = tmp_path / "mbao_bake.zip"
-    written = subprocess.run([sys.executable, "-m", "mbao", "blender", "--zip", str(archive)], capture_output=True,
-                             text=True, timeout=60)
+    written = subprocess.run(
+        [sys.executable, "-m", "mbao", "blender", "--zip", str(archive)], capture_output=True, text=True, timeout=60
+    )
     assert written.returncode == 0, written.stderr
     home = tmp_path / "home"
     environment = dict(os.environ, BLENDER_USER_SCRIPTS=str(home / "scripts"), BLENDER_USER_CONFIG=str(home / "config"))
-    blender(environment, tmp_path, f"""
+    blender(
+        environment,
+        tmp_path,
+        f"""
         bpy.ops.preferences.addon_install(filepath={str(archive)!r})
         bpy.ops.preferences.addon_enable(module="mbao_bake")
         cube, plane = cube_on_a_plane(cuts=1)
         assert bpy.ops.mbao.bake(samples=4) == {{"FINISHED"}}
         assert "mbao_ao" in cube.data.color_attributes
-    """)
+    """,
+    )
 
 
 def test_the_command_says_what_is_wrong(tmp_path):
-    run = subprocess.run([sys.executable, "-m", "mbao", "blender", "--install", "--blender", str(tmp_path / "none")],
-                         capture_output=True, text=True, timeout=60)
+    run = subprocess.run(
+        [sys.executable, "-m", "mbao", "blender", "--install", "--blender", str(tmp_path / "none")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert run.returncode == 2
     assert f"no Blender at '{tmp_path / 'none'}'" in run.stderr
     run = subprocess.run([sys.executable, "-m", "mbao", "blender"], capture_output=True, text=True, timeout=60)
@@ -158,7 +171,21 @@ def test_from_the_ui_it_bakes_beside_it_and_esc_cancels(blender_home, tmp_path):
     nothing written, and a bake left to finish writes what a script's does."""
     script = tmp_path / "windowed.py"
     script.write_text(WINDOWED)
-    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", "blender", "--enable-event-simulate",
-                          "--python", str(script)], env=blender_home, cwd=tmp_path, capture_output=True, text=True,
-                         timeout=300)
+    run = subprocess.run(
+        [
+            "xvfb-run",
+            "-a",
+            "-s",
+            "-screen 0 1280x800x24",
+            "blender",
+            "--enable-event-simulate",
+            "--python",
+            str(script),
+        ],
+        env=blender_home,
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert "WINDOWED TEST PASSED" in run.stdout, run.stdout[-6000:] + run.stderr[-6000:]

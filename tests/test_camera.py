@@ -9,8 +9,10 @@ from analytic import spec_ray_directions
 def inside_triangle(points, a, b, c):
     """Which points (in the triangle's plane) lie inside, and how far from its edges."""
     n = np.cross(b - a, c - a)
-    edges = [np.einsum("...i,i->...", np.cross(q - p, points - p), n) / np.linalg.norm(n) / np.linalg.norm(q - p)
-             for p, q in ((a, b), (b, c), (c, a))]
+    edges = [
+        np.einsum("...i,i->...", np.cross(q - p, points - p), n) / np.linalg.norm(n) / np.linalg.norm(q - p)
+        for p, q in ((a, b), (b, c), (c, a))
+    ]
     distance = np.min(np.abs(edges), axis=0)
     return np.all(np.array(edges) > 0, axis=0), distance
 
@@ -78,14 +80,19 @@ def test_camera_frame_frames_the_whole_scene_whatever_camera_it_has(tmp_path):
 
     vertices, indices = merge(box((-4.0, 0.0, -1.0), (-3.0, 1.0, 0.0)), box((3.0, 0.0, -1.0), (4.0, 2.0, 0.0)))
     b = GltfBuilder()
-    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(vertices, indices)])),
-                 b.add_node(camera=b.add_perspective_camera(0.3), translation=(3.5, 1.0, 3.0))])
+    b.add_scene(
+        [
+            b.add_node(mesh=b.add_mesh([b.primitive(vertices, indices)])),
+            b.add_node(camera=b.add_perspective_camera(0.3), translation=(3.5, 1.0, 3.0)),
+        ]
+    )
     scene = mbao.load(b.write(tmp_path / "close_up.glb"))
     width, height = 48, 32
     assert scene.default_camera(width, height).eye == scene.camera.eye  # the file's camera is the default
     framed = mbao.render(scene, camera="frame", width=width, height=height)
     np.testing.assert_array_equal(
-        framed.ao, mbao.render(scene, camera=scene.framing_camera(width, height), width=width, height=height).ao)
+        framed.ao, mbao.render(scene, camera=scene.framing_camera(width, height), width=width, height=height).ao
+    )
     rows, columns = np.nonzero(framed.mask)
     assert rows.min() > 0 and columns.min() > 0 and rows.max() < height - 1 and columns.max() < width - 1
     assert columns.min() < width / 3 and columns.max() > 2 * width / 3  # both boxes, left and right

@@ -14,14 +14,34 @@ from test_bake_gltf import floor_and_wall
 
 
 def check(path, **environment):
-    return subprocess.run([sys.executable, "-m", "mbao", "check", str(path)], capture_output=True, text=True,
-                          env=dict(os.environ, **environment), timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "mbao", "check", str(path)],
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, **environment),
+        timeout=300,
+    )
 
 
 def baked(tmp_path, *arguments):
     output = tmp_path / "baked.glb"
-    run = subprocess.run([sys.executable, "-m", "mbao", "bake", str(floor_and_wall(tmp_path)), "-o", str(output),
-                          "--samples", "2", "--quiet", *arguments], capture_output=True, text=True)
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mbao",
+            "bake",
+            str(floor_and_wall(tmp_path)),
+            "-o",
+            str(output),
+            "--samples",
+            "2",
+            "--quiet",
+            *arguments,
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert run.returncode == 0, run.stderr
     return output
 

@@ -88,8 +88,20 @@ def test_render_cornell_box_to_png(tmp_path, device):
 def test_render_denoised_with_its_variance_beside(tmp_path):
     """--denoise filters the image (SPEC 7.3); --variance writes each pixel's
     variance, here the filtered one, as float EXR beside it."""
-    proc = run_mbao("render", "--width", 32, "--height", 24, "--bounces", 2, "--denoise", "--variance", "-o",
-                    "out.png", cwd=tmp_path)
+    proc = run_mbao(
+        "render",
+        "--width",
+        32,
+        "--height",
+        24,
+        "--bounces",
+        2,
+        "--denoise",
+        "--variance",
+        "-o",
+        "out.png",
+        cwd=tmp_path,
+    )
     assert proc.returncode == 0, proc.stderr
     report = output_lines(proc.stdout)
     assert re.search(r"[\d.]+ ms of it denoising", report["frame"])
@@ -149,8 +161,12 @@ def test_help_gives_every_setting_its_default_and_the_engine_options_a_group(tmp
     for spec in mbao._core.setting_specs():
         flag = "--" + spec["name"].replace("_", "-")
         assert flag in (render_part if spec["group"] == "render" else engine_part), flag
-    for default in ("(default: 512, allowed [1, 16384])", "(default: 1, allowed [1, 65536])",
-                    "(default: 4, allowed [1, 1048576])", "(default: 0, allowed [0, 2^64))"):
+    for default in (
+        "(default: 512, allowed [1, 16384])",
+        "(default: 1, allowed [1, 65536])",
+        "(default: 4, allowed [1, 1048576])",
+        "(default: 0, allowed [0, 2^64))",
+    ):
         assert default in render_part, default
 
 
@@ -159,8 +175,23 @@ def test_orbit_writes_the_sequence_as_a_looping_gif(tmp_path):
     row may be merged by Pillow, but the loop's length is frames / fps."""
     from PIL import Image, ImageSequence
 
-    proc = run_mbao("orbit", "--frames", 6, "--fps", 20, "--width", 24, "--height", 16, "--bounces", 2,
-                    "--temporal", "-o", "turn.gif", cwd=tmp_path)
+    proc = run_mbao(
+        "orbit",
+        "--frames",
+        6,
+        "--fps",
+        20,
+        "--width",
+        24,
+        "--height",
+        16,
+        "--bounces",
+        2,
+        "--temporal",
+        "-o",
+        "turn.gif",
+        cwd=tmp_path,
+    )
     assert proc.returncode == 0, proc.stderr
     assert output_lines(proc.stdout)["wrote"].startswith("turn.gif")
     gif = Image.open(tmp_path / "turn.gif")
@@ -177,8 +208,9 @@ def test_orbit_cameras_turn_the_eye_about_the_target():
 
     start = mbao.Camera((0.0, 1.0, 2.0), (0.0, 1.0, 0.0), vfov_deg=45.0, max_distance=3.0)
     quarter_turns = orbit_cameras(start, 4)
-    np.testing.assert_allclose([c.eye for c in quarter_turns],
-                               [(0, 1, 2), (2, 1, 0), (0, 1, -2), (-2, 1, 0)], atol=1e-6)
+    np.testing.assert_allclose(
+        [c.eye for c in quarter_turns], [(0, 1, 2), (2, 1, 0), (0, 1, -2), (-2, 1, 0)], atol=1e-6
+    )
     assert all(c.target == start.target and c.vfov_deg == 45.0 and c.max_distance == 3.0 for c in quarter_turns)
     with pytest.raises(ValueError, match="frames must be an integer >= 1"):
         orbit_cameras(start, 0)
@@ -231,8 +263,7 @@ def test_a_closed_scene_is_warned_about_in_one_line(tmp_path):
     b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(*box((0, 0, 0), (1, 1, 1)))]))], default=True)
     scene = b.write(tmp_path / "closed.gltf")
     inside = tmp_path / "inside.json"
-    inside.write_text(json.dumps({"eye": [0.5, 0.5, 0.5], "target": [1.0, 0.6, 0.2], "up": [0, 1, 0],
-                                  "vfov_deg": 90}))
+    inside.write_text(json.dumps({"eye": [0.5, 0.5, 0.5], "target": [1.0, 0.6, 0.2], "up": [0, 1, 0], "vfov_deg": 90}))
     proc = run_mbao("render", scene, "--camera", inside, "--width", 16, "--height", 16, "-o", "x.png", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     lines = proc.stderr.strip().splitlines()
@@ -249,18 +280,43 @@ def test_a_bakes_errors_and_warnings_name_flags_not_python_arguments(tmp_path):
     b = GltfBuilder()
     mirrored = b.primitive(vertices, indices, texcoords=np.abs(vertices[:, [0, 2]]))
     b.add_scene([b.add_node(mesh=b.add_mesh([mirrored]))], default=True)
-    refused = run_mbao("bake", b.write(tmp_path / "mirrored.glb"), "-o", "out.glb", "--target", "texture",
-                       "--resolution", 16, "--samples", 2, cwd=tmp_path)
+    refused = run_mbao(
+        "bake",
+        b.write(tmp_path / "mirrored.glb"),
+        "-o",
+        "out.glb",
+        "--target",
+        "texture",
+        "--resolution",
+        16,
+        "--samples",
+        2,
+        cwd=tmp_path,
+    )
     assert refused.returncode == 2 and "(--texcoord generate)" in refused.stderr, refused.stderr
     assert "(--target vertices)" in refused.stderr and "=" not in refused.stderr.split("them;")[1]
 
     b = GltfBuilder()
     b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(*icosphere(1.0, subdivisions=2))]))], default=True)
-    packed = run_mbao("bake", b.write(tmp_path / "sphere.glb"), "-o", "out.glb", "--target", "texture", "--texcoord",
-                      "generate", "--resolution", 16, "--samples", 2, cwd=tmp_path)
+    packed = run_mbao(
+        "bake",
+        b.write(tmp_path / "sphere.glb"),
+        "-o",
+        "out.glb",
+        "--target",
+        "texture",
+        "--texcoord",
+        "generate",
+        "--resolution",
+        16,
+        "--samples",
+        2,
+        cwd=tmp_path,
+    )
     assert packed.returncode == 0, packed.stderr
-    assert re.search(r"^mbao: warning: .* not --padding 4, .*; --resolution \d+ keeps them 4 apart$", packed.stderr,
-                     re.MULTILINE), packed.stderr
+    assert re.search(
+        r"^mbao: warning: .* not --padding 4, .*; --resolution \d+ keeps them 4 apart$", packed.stderr, re.MULTILINE
+    ), packed.stderr
 
 
 def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
@@ -276,8 +332,20 @@ def test_same_settings_give_the_same_image_as_the_api(tmp_path, gltf_scene):
 def test_camera_frame_renders_from_the_framing_camera(tmp_path, gltf_scene, command):
     scene, _, _ = gltf_scene
     output = "frame.exr" if command == "render" else "frame.gif"
-    proc = run_mbao(command, scene, "--camera", "frame", "--width", 12, "--height", 9, "-o", output,
-                    *(["--frames", 2] if command == "orbit" else []), cwd=tmp_path)
+    proc = run_mbao(
+        command,
+        scene,
+        "--camera",
+        "frame",
+        "--width",
+        12,
+        "--height",
+        9,
+        "-o",
+        output,
+        *(["--frames", 2] if command == "orbit" else []),
+        cwd=tmp_path,
+    )
     assert proc.returncode == 0, proc.stderr
     if command == "render":
         loaded = mbao.load(scene)
@@ -292,8 +360,15 @@ def test_hbao_from_the_command_line_equals_the_api(tmp_path, gltf_scene):
                     "--hbao-falloff", 0.5, "-o", "hbao.exr", cwd=tmp_path)  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     assert "hbao radius=0.8 (--max-distance), directions=4, steps=3" in output_lines(proc.stdout)["settings"]
-    expected = mbao.render(mbao.load(scene), camera=mbao.Camera.load(camera), width=12, height=9, method="hbao",
-                           max_distance=0.8, hbao=mbao.HBAO(directions=4, steps=3, angle_bias_deg=5, falloff=0.5))
+    expected = mbao.render(
+        mbao.load(scene),
+        camera=mbao.Camera.load(camera),
+        width=12,
+        height=9,
+        method="hbao",
+        max_distance=0.8,
+        hbao=mbao.HBAO(directions=4, steps=3, angle_bias_deg=5, falloff=0.5),
+    )
     np.testing.assert_array_equal(read_image(tmp_path / "hbao.exr")[1][..., 0], expected.ao)
 
 
@@ -305,16 +380,36 @@ def test_the_commands_settings_options_are_the_settings_classes_tables(tmp_path,
     for table in tables:
         for spec in mbao._core.setting_specs(table):
             flag = f"--{table}-" + spec["name"].replace("_", "-")
-            assert re.search(re.escape(flag) + r" \S+ " + re.escape(spec["doc"]) + r" \(default: " +
-                             re.escape(str(spec["default"])) + ", allowed " + re.escape(spec["range"]), help_text), flag
+            assert re.search(
+                re.escape(flag)
+                + r" \S+ "
+                + re.escape(spec["doc"])
+                + r" \(default: "
+                + re.escape(str(spec["default"]))
+                + ", allowed "
+                + re.escape(spec["range"]),
+                help_text,
+            ), flag
 
 
 def test_denoise_options_reach_the_filter_and_are_checked_without_denoise(tmp_path):
-    proc = run_mbao("render", "--width", 16, "--height", 12, "--denoise", "--denoise-iterations", 2,
-                    "--denoise-sigma-normal", 0, "-o", "out.exr", cwd=tmp_path)
+    proc = run_mbao(
+        "render",
+        "--width",
+        16,
+        "--height",
+        12,
+        "--denoise",
+        "--denoise-iterations",
+        2,
+        "--denoise-sigma-normal",
+        0,
+        "-o",
+        "out.exr",
+        cwd=tmp_path,
+    )
     assert proc.returncode == 0, proc.stderr
-    expected = mbao.render(mbao.cornell_box(), width=16, height=12,
-                           denoise=mbao.Denoise(iterations=2, sigma_normal=0))
+    expected = mbao.render(mbao.cornell_box(), width=16, height=12, denoise=mbao.Denoise(iterations=2, sigma_normal=0))
     np.testing.assert_array_equal(read_image(tmp_path / "out.exr")[1][..., 0], expected.ao)
     refused = run_mbao("render", "--denoise-iterations", 0, "-o", "out.png", cwd=tmp_path)
     assert refused.returncode != 0 and "denoise iterations must be in [1, 14], got 0" in refused.stderr
@@ -332,14 +427,33 @@ def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_sce
     lines = (tmp_path / "study_error_vs_time.csv").read_text().splitlines()
     assert lines[0] == "method,cost,frame_ms,rmse,bias,block_rmse,noise_floor"
     methods = [line.split(",")[0] for line in lines[1:]]
-    assert methods == [m for m in ("hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit")
-                       for _ in (1, 2)] + ["b2 branching + denoise"]  # from r = 2 only
+    assert methods == [
+        m for m in ("hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit") for _ in (1, 2)
+    ] + [
+        "b2 branching + denoise"
+    ]  # from r = 2 only
 
 
 def test_compare_on_a_dask_scheduler_has_the_local_errors(tmp_path, gltf_scene, dask_client):
     scene, camera, _ = gltf_scene
-    common = ["compare", scene, "--camera", camera, "--width", 16, "--height", 12, "--max-distance", 1.0,
-              "--target-error", 0.05, "--sample-counts", 1, 2, "--quiet"]
+    common = [
+        "compare",
+        scene,
+        "--camera",
+        camera,
+        "--width",
+        16,
+        "--height",
+        12,
+        "--max-distance",
+        1.0,
+        "--target-error",
+        0.05,
+        "--sample-counts",
+        1,
+        2,
+        "--quiet",
+    ]
     tables = {}
     for name, extra in (("here", []), ("cluster", ["--scheduler", dask_client.scheduler.address])):
         proc = run_mbao(*common, "-o", name, *extra, cwd=tmp_path)
@@ -368,8 +482,9 @@ def test_compares_figures_name_the_scene_and_keep_their_panels_one_size():
     assert compare.short_name(Named("../shared/scenes/sibenik/scene.glb")) == "sibenik"
     assert compare.short_name(Named("/data/bunny.ply.glb")) == "bunny.ply"
     assert compare.short_name(Named("cornell_box")) == "cornell_box"
-    figure = compare.figure2(mbao.cornell_box(), None, 0.5, width=16, height=12, samples=2, rho=1.0, seed=0,
-                             device=None)
+    figure = compare.figure2(
+        mbao.cornell_box(), None, 0.5, width=16, height=12, samples=2, rho=1.0, seed=0, device=None
+    )
     panels = figure.axes[:4]
     widths = {round(ax.get_position().width, 6) for ax in panels}
     heights = {round(ax.get_position().height, 6) for ax in panels}
@@ -418,10 +533,14 @@ def test_bad_input_gives_a_one_line_message(tmp_path, args, message):
     assert not (tmp_path / "x.png").exists()
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--fps", "0"], r"fps must be in \(0, 100\]"),
-    (["--temporal", "--samples", "1"], r"temporal accumulation .* samples >= 2"),
-], ids=["0 fps", "temporal with r = 1"])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--fps", "0"], r"fps must be in \(0, 100\]"),
+        (["--temporal", "--samples", "1"], r"temporal accumulation .* samples >= 2"),
+    ],
+    ids=["0 fps", "temporal with r = 1"],
+)
 def test_a_bad_orbit_gives_a_one_line_message_and_no_gif(tmp_path, args, message):
     proc = run_mbao("orbit", *args, "--frames", 2, "--width", 4, "--height", 4, "-o", "x.gif", cwd=tmp_path)
     assert proc.returncode != 0 and "Traceback" not in proc.stderr

@@ -20,8 +20,7 @@ def cornell():
 
 @pytest.fixture(scope="module")
 def reference(cornell):
-    return mbao.reference(cornell, bounces=2, max_distance=300.0, target_error=0.02, samples=32, progress=False,
-                          **SIZE)
+    return mbao.reference(cornell, bounces=2, max_distance=300.0, target_error=0.02, samples=32, progress=False, **SIZE)
 
 
 def rows(table):
@@ -40,7 +39,8 @@ def covered(reference):
 
 def test_one_row_per_method_and_cost(study):
     assert [(r["method"], r["cost"]) for r in study] == [
-        (m, c) for m in ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit"] for c in (1, 8)]
+        (m, c) for m in ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit"] for c in (1, 8)
+    ]
     for row in study:
         assert row["frame_ms"] > 0 and row["rmse"] >= abs(row["bias"]) >= 0
 
@@ -71,8 +71,9 @@ def test_one_bounce_is_darker_than_two(study, reference):
 
 
 def test_equal_time_budgets_average_more_passes_for_more_time(cornell, reference):
-    table = rows(mbao.convergence(cornell, ["b2 path"], reference, time_budgets=(1.0, 50.0), progress=False,
-                                  plot=False))
+    table = rows(
+        mbao.convergence(cornell, ["b2 path"], reference, time_budgets=(1.0, 50.0), progress=False, plot=False)
+    )
     short, long = table
     assert short["cost"] >= 1 and long["cost"] > short["cost"]
     assert long["frame_ms"] >= 50.0 and long["rmse"] < short["rmse"]
@@ -114,20 +115,43 @@ def test_format_convergence_lists_every_row_and_the_noise_floor(study):
 def test_denoised_methods_start_at_two_directions_and_cut_the_error(cornell, reference):
     """A denoised method skips r = 1 (no variance to weigh by, SPEC 7.1), and
     at r = 2 its error is below the raw method's at the same r."""
-    table = rows(mbao.convergence(cornell, ["b2 branching", "b2 branching + denoise"], reference,
-                                  sample_counts=(1, 2), progress=False, plot=False))
+    table = rows(
+        mbao.convergence(
+            cornell,
+            ["b2 branching", "b2 branching + denoise"],
+            reference,
+            sample_counts=(1, 2),
+            progress=False,
+            plot=False,
+        )
+    )
     assert [(r["method"], r["cost"]) for r in table] == [
-        ("b2 branching", 1), ("b2 branching", 2), ("b2 branching + denoise", 2)]
+        ("b2 branching", 1),
+        ("b2 branching", 2),
+        ("b2 branching + denoise", 2),
+    ]
     assert table[2]["rmse"] < table[1]["rmse"]
 
 
 def test_a_still_cameras_accumulated_frames_are_the_averaged_ones(cornell, reference):
     """Up to N frames, temporal accumulation of a still camera is the running
     mean (SPEC 7.4): the same rows as averaging renders with the same seeds."""
-    table = rows(mbao.convergence(cornell, ["b2 branching", "b2 branching + temporal"], reference,
-                                  frame_counts=(1, 3), progress=False, plot=False))
+    table = rows(
+        mbao.convergence(
+            cornell,
+            ["b2 branching", "b2 branching + temporal"],
+            reference,
+            frame_counts=(1, 3),
+            progress=False,
+            plot=False,
+        )
+    )
     assert [(r["method"], r["cost"]) for r in table] == [
-        ("b2 branching", 1), ("b2 branching", 3), ("b2 branching + temporal", 1), ("b2 branching + temporal", 3)]
+        ("b2 branching", 1),
+        ("b2 branching", 3),
+        ("b2 branching + temporal", 1),
+        ("b2 branching + temporal", 3),
+    ]
     for averaged, accumulated in zip(table[:2], table[2:]):
         assert accumulated["rmse"] == pytest.approx(averaged["rmse"], abs=1e-6)
         assert accumulated["block_rmse"] == pytest.approx(averaged["block_rmse"], abs=1e-6)
@@ -137,8 +161,7 @@ def test_temporal_methods_need_frames_or_budgets(cornell, reference):
     with pytest.raises(ValueError, match="accumulates the frames of a sequence: give time_budgets"):
         mbao.convergence(cornell, ["b1 + temporal"], reference, progress=False, plot=False)
     with pytest.raises(ValueError, match="time_budgets or frame_counts, not both"):
-        mbao.convergence(cornell, ["b1"], reference, time_budgets=(1.0,), frame_counts=(1,), progress=False,
-                         plot=False)
+        mbao.convergence(cornell, ["b1"], reference, time_budgets=(1.0,), frame_counts=(1,), progress=False, plot=False)
 
 
 def test_block_error_keeps_a_shift_and_averages_out_alternating_noise():
@@ -184,8 +207,11 @@ def test_a_study_on_a_cluster_has_the_local_errors(cornell, reference, study, da
     """Each method's rows come from a worker: the same images, so the same
     errors, in the methods' order; only the times are the workers'."""
     methods = ["hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit"]
-    on_cluster = rows(mbao.convergence(cornell, methods, reference, sample_counts=(1, 8), progress=False, plot=False,
-                                       client=dask_client))
+    on_cluster = rows(
+        mbao.convergence(
+            cornell, methods, reference, sample_counts=(1, 8), progress=False, plot=False, client=dask_client
+        )
+    )
     timeless = [{k: v for k, v in row.items() if k != "frame_ms"} for row in study]
     assert [{k: v for k, v in row.items() if k != "frame_ms"} for row in on_cluster] == timeless
     assert all(row["frame_ms"] > 0 for row in on_cluster)

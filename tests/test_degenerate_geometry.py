@@ -11,7 +11,18 @@ import numpy as np
 import pytest
 
 import mbao
-from meshes import box, disk, icosphere, merge, needle_fan, plane, quads_to_triangles, shrinking_spiral, t_junction_box, tilted
+from meshes import (
+    box,
+    disk,
+    icosphere,
+    merge,
+    needle_fan,
+    plane,
+    quads_to_triangles,
+    shrinking_spiral,
+    t_junction_box,
+    tilted,
+)
 from exact_oracle import ExactBruteForce
 from test_traversal import TRAVERSALS, assert_any_hit_matches_brute_force, assert_matches_brute_force, random_directions
 
@@ -134,7 +145,9 @@ def test_coplanar_copies_of_a_tilted_plane_see_no_acne():
     (duplicates), once as a 7 x 7 grid whose vertices round differently to
     float32. A ray leaving one copy must not hit another: access exactly 1."""
     normal = (1.0, 2.0, 3.0)
-    scene = mbao.Mesh(*merge(tilted(plane(2.0), normal), tilted(plane(2.0), normal), tilted(plane(2.0, divisions=7), normal)))
+    scene = mbao.Mesh(
+        *merge(tilted(plane(2.0), normal), tilted(plane(2.0), normal), tilted(plane(2.0, divisions=7), normal))
+    )
     n = np.asarray(normal) / np.linalg.norm(normal)
     camera = mbao.Camera(2.0 * n + [0.3, 0.1, 0.0], (0.0, 0.0, 0.0), vfov_deg=60.0)
     for estimator in ESTIMATORS:
@@ -146,7 +159,10 @@ def test_a_closed_box_with_duplicated_faces_and_a_light_in_its_ceiling_is_closed
     """Every face twice and, like the Cornell light, a quad lying in the ceiling:
     exactly 0 everywhere inside; of two copies rays hit the first (an exact tie)."""
     vertices, indices = box((-1.0, -1.5, -2.0), (1.0, 1.5, 2.0))
-    light = ([[-0.3, 1.5, -0.4], [0.3, 1.5, -0.4], [0.3, 1.5, 0.4], [-0.3, 1.5, 0.4]], quads_to_triangles([[0, 1, 2, 3]]))
+    light = (
+        [[-0.3, 1.5, -0.4], [0.3, 1.5, -0.4], [0.3, 1.5, 0.4], [-0.3, 1.5, 0.4]],
+        quads_to_triangles([[0, 1, 2, 3]]),
+    )
     scene = mbao.Mesh(*merge((vertices, indices), (vertices, indices), light))
     camera = mbao.Camera((0.2, -0.3, 0.1), (0.1, 1.5, 0.2), vfov_deg=100.0)
     for estimator in ESTIMATORS:
@@ -181,9 +197,14 @@ def test_no_ray_slips_through_a_t_junction(rng, traversal):
     origins = center + rng.uniform(-1.0, 1.0, (count, 3))
     (a0, b0), (a1, b1) = long_edges
     s = rng.random((count, 1))
-    for targets in (vertices[rng.choice(t_vertices, count)],
-                    np.where(rng.random((count, 1)) < 0.5, vertices[a0] + s * (vertices[b0] - vertices[a0]),
-                             vertices[a1] + s * (vertices[b1] - vertices[a1]))):
+    for targets in (
+        vertices[rng.choice(t_vertices, count)],
+        np.where(
+            rng.random((count, 1)) < 0.5,
+            vertices[a0] + s * (vertices[b0] - vertices[a0]),
+            vertices[a1] + s * (vertices[b1] - vertices[a1]),
+        ),
+    ):
         for any_hit in (False, True):
             triangle = traced_triangles(scene, origins, targets, traversal=traversal, any_hit=any_hit)
             assert np.all(triangle >= 0), f"{np.sum(triangle < 0)} rays escaped"
@@ -312,7 +333,9 @@ def test_normals_count_by_direction_whatever_their_length():
     geometric = mbao.render(leaning_normals_scene(1.0), normals="geometric", **settings).ao
     assert np.abs(unit - geometric).mean() > 0.01  # the lean shows
     for scale in (2.0**-100, 2.0**100):
-        np.testing.assert_array_equal(mbao.render(leaning_normals_scene(scale), **settings).ao, unit, err_msg=f"{scale}")
+        np.testing.assert_array_equal(
+            mbao.render(leaning_normals_scene(scale), **settings).ao, unit, err_msg=f"{scale}"
+        )
 
 
 def test_zero_normals_mean_geometric_normals():

@@ -55,8 +55,9 @@ def test_misses_and_open_surfaces_stay_one():
     background around it is 1 too; the filter keeps both."""
     vertices, indices = plane(1.0)
     camera = mbao.Camera((0.0, 2.0, 1.0), (0.0, 0.0, 0.0), vfov_deg=60.0)
-    result = mbao.render(mbao.Mesh(vertices, indices), camera=camera, width=32, height=32, bounces=2, denoise=True,
-                         variance=True)
+    result = mbao.render(
+        mbao.Mesh(vertices, indices), camera=camera, width=32, height=32, bounces=2, denoise=True, variance=True
+    )
     assert result.mask.any() and not result.mask.all()
     np.testing.assert_array_equal(result.ao, 1.0)
     np.testing.assert_array_equal(result.variance, 0.0)
@@ -68,18 +69,24 @@ EXTENT = 1000.0
 
 
 def _terrace():
-    quads = [[(-EXTENT, 1, -EXTENT), (-EXTENT, 1, EXTENT), (0, 1, EXTENT), (0, 1, -EXTENT)],  # top
-             [(0, 0, -EXTENT), (0, 1, -EXTENT), (0, 1, EXTENT), (0, 0, EXTENT)],  # riser
-             [(0, 0, -EXTENT), (0, 0, EXTENT), (EXTENT, 0, EXTENT), (EXTENT, 0, -EXTENT)]]  # floor
+    quads = [
+        [(-EXTENT, 1, -EXTENT), (-EXTENT, 1, EXTENT), (0, 1, EXTENT), (0, 1, -EXTENT)],  # top
+        [(0, 0, -EXTENT), (0, 1, -EXTENT), (0, 1, EXTENT), (0, 0, EXTENT)],  # riser
+        [(0, 0, -EXTENT), (0, 0, EXTENT), (EXTENT, 0, EXTENT), (EXTENT, 0, -EXTENT)],
+    ]  # floor
     vertices = np.array([corner for quad in quads for corner in quad], float)
-    indices = np.array([[4 * q, 4 * q + 1, 4 * q + 2] for q in range(3)] + [[4 * q, 4 * q + 2, 4 * q + 3] for q in range(3)])
+    indices = np.array(
+        [[4 * q, 4 * q + 1, 4 * q + 2] for q in range(3)] + [[4 * q, 4 * q + 2, 4 * q + 3] for q in range(3)]
+    )
     return mbao.Mesh(vertices, indices)
 
 
 def _within_two_pixels(mask):
     padded = np.pad(mask, 2)
     h, w = mask.shape
-    return np.any([padded[2 + dy:2 + dy + h, 2 + dx:2 + dx + w] for dy in range(-2, 3) for dx in range(-2, 3)], axis=0)
+    return np.any(
+        [padded[2 + dy : 2 + dy + h, 2 + dx : 2 + dx + w] for dy in range(-2, 3) for dx in range(-2, 3)], axis=0
+    )
 
 
 def test_the_edge_of_a_terrace_over_its_riser_keeps_its_contrast():
@@ -98,9 +105,15 @@ def test_the_edge_of_a_terrace_over_its_riser_keeps_its_contrast():
     face = np.where(triangle < 0, -1, triangle % 3).reshape(size, size)  # 0 top, 1 riser, 2 floor
     sides = [(face == 0) & _within_two_pixels(face == 1), (face == 1) & _within_two_pixels(face == 0)]
     assert all(side.sum() >= 20 for side in sides)
-    means = np.array([[image[side].mean() for side in sides] for image in (
-        mbao.render(scene, camera=camera, width=size, height=size, bounces=1, seed=seed, denoise=True).ao
-        for seed in range(16))])
+    means = np.array(
+        [
+            [image[side].mean() for side in sides]
+            for image in (
+                mbao.render(scene, camera=camera, width=size, height=size, bounces=1, seed=seed, denoise=True).ao
+                for seed in range(16)
+            )
+        ]
+    )
     bound = 4 * means.std(axis=0, ddof=1) / np.sqrt(len(means)) + 2e-3
     assert np.all(np.abs(means.mean(axis=0) - [1.0, 0.5]) <= bound), (means.mean(axis=0), bound)
 
@@ -114,24 +127,30 @@ def test_the_filtered_variance_is_smaller():
     assert denoised.variance.mean() < raw.variance.mean() / 4
 
 
-@pytest.mark.parametrize("settings, error, message", [
-    (dict(spp=2), ValueError, "denoise needs spp=1"),
-    (dict(samples=1), ValueError, "samples >= 2"),
-    (dict(method="hbao", bounces=1, max_distance=100.0), ValueError, "HBAO has none"),
-    (dict(denoise="yes"), TypeError, "denoise must be None, True or an mbao.Denoise"),
-])
+@pytest.mark.parametrize(
+    "settings, error, message",
+    [
+        (dict(spp=2), ValueError, "denoise needs spp=1"),
+        (dict(samples=1), ValueError, "samples >= 2"),
+        (dict(method="hbao", bounces=1, max_distance=100.0), ValueError, "HBAO has none"),
+        (dict(denoise="yes"), TypeError, "denoise must be None, True or an mbao.Denoise"),
+    ],
+)
 def test_what_cannot_be_denoised_is_refused(settings, error, message):
     settings = dict(dict(width=8, height=8, denoise=True), **settings)
     with pytest.raises(error, match=message):
         mbao.render(mbao.cornell_box(), **settings)
 
 
-@pytest.mark.parametrize("arguments, message", [
-    (dict(iterations=0), r"iterations must be in \[1, 14\]"),
-    (dict(sigma_plane=0.0), r"sigma_plane must be in \(0, inf\)"),
-    (dict(sigma_normal=-1), r"sigma_normal must be in \[0, 1024\]"),
-    (dict(sigma_value=float("inf")), r"sigma_value must be in \(0, inf\)"),
-])
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (dict(iterations=0), r"iterations must be in \[1, 14\]"),
+        (dict(sigma_plane=0.0), r"sigma_plane must be in \(0, inf\)"),
+        (dict(sigma_normal=-1), r"sigma_normal must be in \[0, 1024\]"),
+        (dict(sigma_value=float("inf")), r"sigma_value must be in \(0, inf\)"),
+    ],
+)
 def test_denoise_settings_name_their_range(arguments, message):
     with pytest.raises(ValueError, match=message):
         mbao.Denoise(**arguments)

@@ -18,8 +18,9 @@ except Exception as error:
 
 def run_in_a_process(**environment):
     """The device list is read once per process: a fresh one sees the environment."""
-    result = subprocess.run([sys.executable, "-c", PROGRAM], env={**os.environ, **environment},
-                            capture_output=True, text=True, timeout=120)
+    result = subprocess.run(
+        [sys.executable, "-c", PROGRAM], env={**os.environ, **environment}, capture_output=True, text=True, timeout=120
+    )
     assert result.returncode == 0, result.stderr
     return result.stdout.strip()
 
@@ -36,4 +37,3 @@ def test_mbao_device_naming_no_device_lists_the_devices_there_are(device, value)
     output = run_in_a_process(MBAO_DEVICE=value)
     assert output.startswith(f'ValueError: MBAO_DEVICE="{value}" names no device')
     assert device.name in output
-

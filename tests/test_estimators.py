@@ -38,8 +38,10 @@ def test_branching_and_path_have_the_same_expectation(cornell, bounces):
     assert variance > 0
 
 
-@pytest.mark.parametrize("estimator, rho, rounding", [("branching", 1.0, 0.0), ("branching", 0.6, 0.0),
-                                                     ("path", 1.0, 0.0), ("path", 0.6, 1e-6)])
+@pytest.mark.parametrize(
+    "estimator, rho, rounding",
+    [("branching", 1.0, 0.0), ("branching", 0.6, 0.0), ("path", 1.0, 0.0), ("path", 0.6, 1e-6)],
+)
 def test_more_bounces_never_lower_the_access(cornell, estimator, rho, rounding):
     """L_b <= L_(b+1): a hit adds rho * L_(b-1) >= 0. With the same seed both
     estimators draw the same directions for the bounces both images have, so it
@@ -108,7 +110,8 @@ def test_the_seed_alone_decides_the_noise(cornell):
 def test_traversals_render_the_same_image(cornell, traversal):
     settings = dict(width=20, height=20, bounces=2, samples=4, seed=5)
     np.testing.assert_array_equal(
-        mbao.render(cornell, engine=mbao.Engine(traversal=traversal), **settings).ao, mbao.render(cornell, **settings).ao
+        mbao.render(cornell, engine=mbao.Engine(traversal=traversal), **settings).ao,
+        mbao.render(cornell, **settings).ao,
     )
 
 
@@ -139,7 +142,9 @@ def test_auto_traversal_is_the_full_stack_on_cpus_and_the_short_stack_elsewhere(
     settings = dict(width=8, height=8, device=device)
     expected = "stack" if device.type == "CPU" else "short-stack"  # the Cornell box's tree is 6 deep
     assert mbao.render(cornell, **settings).stats["traversal_mode"] == expected
-    assert mbao.render(cornell, engine=mbao.Engine(traversal="restart"), **settings).stats["traversal_mode"] == "restart"
+    assert (
+        mbao.render(cornell, engine=mbao.Engine(traversal="restart"), **settings).stats["traversal_mode"] == "restart"
+    )
 
 
 def test_auto_traversal_is_lanes_on_cpus_for_deep_trees_where_the_wavefront_runs(rng):
@@ -173,10 +178,19 @@ def test_stats_name_the_kernels_the_frame_launched(cornell):
     assert mbao.render(cornell, estimator="path", **settings).stats["kernels"] == ["trace_camera_rays", "ao_path"]
     wavefront = dict(settings, engine=mbao.Engine(traversal="stack", organisation="wavefront"))
     assert mbao.render(cornell, **wavefront).stats["kernels"] == [
-        "trace_camera_rays", "wavefront_first_bounce", "wavefront_bounce", "wavefront_finish"]
+        "trace_camera_rays",
+        "wavefront_first_bounce",
+        "wavefront_bounce",
+        "wavefront_finish",
+    ]
     lanes = dict(settings, engine=mbao.Engine(traversal="lanes", organisation="wavefront"))
     assert mbao.render(cornell, **lanes).stats["kernels"] == [
-        "trace_camera_packets", "stream_bounce_rays", "trace_rays_in_lanes", "stream_bounce_hits", "wavefront_finish"]
+        "trace_camera_packets",
+        "stream_bounce_rays",
+        "trace_rays_in_lanes",
+        "stream_bounce_hits",
+        "wavefront_finish",
+    ]
 
 
 def test_camera_samples_average_over_the_pixel():
@@ -195,8 +209,9 @@ def test_camera_samples_average_over_the_pixel():
     scene = mbao.Mesh(vertices, indices)
     width, height, depth, vfov = 16, 6, 2.0, 60.0
     camera = mbao.Camera((0.3, depth, 0.1), (0.3, 0.0, 0.1), up=(0.0, 0.0, -1.0), vfov_deg=vfov)
-    result = mbao.render(scene, camera=camera, width=width, height=height, samples=r, spp=spp, seed=11,
-                         max_distance=radius)
+    result = mbao.render(
+        scene, camera=camera, width=width, height=height, samples=r, spp=spp, seed=11, max_distance=radius
+    )
 
     # SPEC 3.1: right = normalize(cross(forward, up)) = +x here, so image column
     # x covers world x in 0.3 + depth * tan(vfov / 2) * aspect * [u(x), u(x + 1)].

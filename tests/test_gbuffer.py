@@ -70,19 +70,22 @@ def test_each_pixel_holds_its_centre_rays_hit(name):
     np.testing.assert_allclose(g.position.reshape(-1, 3)[hit], points, atol=1e-5 * scale)
     forward, _, _ = camera_basis(camera)
     np.testing.assert_allclose(g.depth.reshape(-1)[hit], (points - camera.eye) @ forward, atol=1e-5 * scale)
-    np.testing.assert_allclose(g.footprint.reshape(-1)[hit],
-                               2 * t[hit] * np.tan(np.radians(camera.vfov_deg) / 2) / HEIGHT, rtol=1e-5)
+    np.testing.assert_allclose(
+        g.footprint.reshape(-1)[hit], 2 * t[hit] * np.tan(np.radians(camera.vfov_deg) / 2) / HEIGHT, rtol=1e-5
+    )
 
     corners = scene.vertices[scene.indices[triangle[hit][same]]]
-    geometric = turned_to(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]),
-                          -directions[hit][same])
+    geometric = turned_to(
+        np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), -directions[hit][same]
+    )
     np.testing.assert_allclose(g.geometric_normal.reshape(-1, 3)[hit][same], geometric, atol=1e-5)
     shading = geometric
     if scene.normals is not None:  # SPEC 3.3: the interpolated vertex normal, on the geometric normal's side
         b = barycentrics[hit][same]
         weights = np.column_stack([1 - b[:, 0] - b[:, 1], b[:, 0], b[:, 1]])
-        shading = turned_to(np.einsum("ij,ijk->ik", weights, scene.normals[scene.indices[triangle[hit][same]]]),
-                            geometric)
+        shading = turned_to(
+            np.einsum("ij,ijk->ik", weights, scene.normals[scene.indices[triangle[hit][same]]]), geometric
+        )
     np.testing.assert_allclose(g.shading_normal.reshape(-1, 3)[hit][same], shading, atol=1e-4)
 
 
@@ -123,7 +126,8 @@ def test_a_gbuffer_far_from_the_origin_is_in_world_units():
     moved = mbao.Mesh(scene.vertices + offset, scene.indices)
     camera = scene.camera
     far_camera = mbao.Camera(np.add(camera.eye, offset), np.add(camera.target, offset), camera.up, camera.vfov_deg)
-    near, far = mbao.gbuffer(scene, width=WIDTH, height=HEIGHT), mbao.gbuffer(moved, camera=far_camera,
-                                                                             width=WIDTH, height=HEIGHT)
+    near, far = mbao.gbuffer(scene, width=WIDTH, height=HEIGHT), mbao.gbuffer(
+        moved, camera=far_camera, width=WIDTH, height=HEIGHT
+    )
     np.testing.assert_array_equal(far.mask, near.mask)
     np.testing.assert_allclose(far.position[far.mask] - offset, near.position[near.mask], atol=0.1)

@@ -73,25 +73,36 @@ def test_camera_is_the_first_perspective_one_of_the_default_scene(tmp_path):
     ortho = b.add_orthographic_camera()
     wide, narrow = b.add_perspective_camera(1.5), b.add_perspective_camera(0.3)
     outside = b.add_node(camera=narrow, translation=(0, 0, 99))  # not in the scene
-    b.add_scene([
-        b.add_node(mesh=mesh),
-        b.add_node(camera=ortho, translation=(0, 0, 7)),
-        b.add_node(children=[b.add_node(camera=wide, translation=(0, 0, 5))]),
-        b.add_node(camera=narrow, translation=(0, 0, 3)),
-    ])
+    b.add_scene(
+        [
+            b.add_node(mesh=mesh),
+            b.add_node(camera=ortho, translation=(0, 0, 7)),
+            b.add_node(children=[b.add_node(camera=wide, translation=(0, 0, 5))]),
+            b.add_node(camera=narrow, translation=(0, 0, 3)),
+        ]
+    )
     assert outside not in b.doc["scenes"][0]["nodes"]
     camera = load_clean(b.write(tmp_path / "cams.gltf")).camera
     np.testing.assert_array_equal(camera.eye, [0, 0, 5])
     assert camera.vfov_deg == pytest.approx(math.degrees(1.5), rel=1e-6)
 
 
-@pytest.mark.parametrize("extras, radius", [({"max_distance": 2.5}, 2.5), ({"max_distance": 0}, None),
-                                            ({"max_distance": "far"}, None), ({"other": 1}, None), (None, None)])
+@pytest.mark.parametrize(
+    "extras, radius",
+    [
+        ({"max_distance": 2.5}, 2.5),
+        ({"max_distance": 0}, None),
+        ({"max_distance": "far"}, None),
+        ({"other": 1}, None),
+        (None, None),
+    ],
+)
 def test_a_cameras_extras_may_suggest_the_radius(tmp_path, extras, radius):
     b = GltfBuilder()
     mesh = b.add_mesh([b.primitive(QUAD, QUAD_INDICES)])
-    b.add_scene([b.add_node(mesh=mesh), b.add_node(camera=b.add_perspective_camera(0.9, extras=extras),
-                                                   translation=(0, 0, 3))])
+    b.add_scene(
+        [b.add_node(mesh=mesh), b.add_node(camera=b.add_perspective_camera(0.9, extras=extras), translation=(0, 0, 3))]
+    )
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         scene = mbao.load(b.write(tmp_path / "radius.gltf"))

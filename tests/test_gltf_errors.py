@@ -136,21 +136,51 @@ def gltf_1(positions, indices):
     data = np.asarray(positions, "<f4").tobytes() + np.asarray(indices, "<u2").tobytes()
     position_bytes = 12 * len(positions)
     return {
-        "asset": {"version": "1.0"}, "scene": "scene", "scenes": {"scene": {"nodes": ["node"]}},
+        "asset": {"version": "1.0"},
+        "scene": "scene",
+        "scenes": {"scene": {"nodes": ["node"]}},
         "nodes": {"node": {"meshes": ["mesh"], "children": []}},
-        "meshes": {"mesh": {"primitives": [{"attributes": {"POSITION": "positions"}, "indices": "indices",
-                                            "mode": 4, "material": "material"}]}},
+        "meshes": {
+            "mesh": {
+                "primitives": [
+                    {"attributes": {"POSITION": "positions"}, "indices": "indices", "mode": 4, "material": "material"}
+                ]
+            }
+        },
         "materials": {"material": {"values": {}}},
         "accessors": {
-            "positions": {"bufferView": "vertices", "byteOffset": 0, "byteStride": 12, "componentType": 5126,
-                          "count": len(positions), "type": "VEC3"},
-            "indices": {"bufferView": "triangles", "byteOffset": 0, "componentType": 5123, "count": len(indices),
-                        "type": "SCALAR"}},
-        "bufferViews": {"vertices": {"buffer": "data", "byteOffset": 0, "byteLength": position_bytes, "target": 34962},
-                        "triangles": {"buffer": "data", "byteOffset": position_bytes,
-                                      "byteLength": len(data) - position_bytes, "target": 34963}},
-        "buffers": {"data": {"uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode(),
-                             "byteLength": len(data), "type": "arraybuffer"}},
+            "positions": {
+                "bufferView": "vertices",
+                "byteOffset": 0,
+                "byteStride": 12,
+                "componentType": 5126,
+                "count": len(positions),
+                "type": "VEC3",
+            },
+            "indices": {
+                "bufferView": "triangles",
+                "byteOffset": 0,
+                "componentType": 5123,
+                "count": len(indices),
+                "type": "SCALAR",
+            },
+        },
+        "bufferViews": {
+            "vertices": {"buffer": "data", "byteOffset": 0, "byteLength": position_bytes, "target": 34962},
+            "triangles": {
+                "buffer": "data",
+                "byteOffset": position_bytes,
+                "byteLength": len(data) - position_bytes,
+                "target": 34963,
+            },
+        },
+        "buffers": {
+            "data": {
+                "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode(),
+                "byteLength": len(data),
+                "type": "arraybuffer",
+            }
+        },
     }
 
 
@@ -165,8 +195,10 @@ def test_gltf_1_loads_through_assimp(tmp_path, version):
     two = load_clean(b.write(tmp_path / "two.gltf"))
     np.testing.assert_array_equal(scene.vertices[scene.indices], two.vertices[two.indices])
     camera = mbao.Camera((0.3, 0.4, 3.0), (0.0, 0.0, 0.0))
-    np.testing.assert_array_equal(mbao.render(scene, camera=camera, width=8, height=8).mask,
-                                  mbao.render(two, camera=camera, width=8, height=8).mask)
+    np.testing.assert_array_equal(
+        mbao.render(scene, camera=camera, width=8, height=8).mask,
+        mbao.render(two, camera=camera, width=8, height=8).mask,
+    )
 
 
 def test_a_2_0_document_that_says_1_0_is_a_load_error_naming_it(tmp_path):
@@ -311,14 +343,14 @@ def test_position_must_be_float_vec3(tmp_path, component_type, components):
 
 
 def test_normal_count_must_match_position_count(tmp_path):
-    path = single_mesh_file(tmp_path / "ncount.gltf",
-                            lambda b: [b.primitive(QUAD, QUAD_INDICES, normals=QUAD_NORMALS[:3])])
+    path = single_mesh_file(
+        tmp_path / "ncount.gltf", lambda b: [b.primitive(QUAD, QUAD_INDICES, normals=QUAD_NORMALS[:3])]
+    )
     assert_load_error(path, "mesh 0 primitive 0")
 
 
 def test_index_count_must_be_a_multiple_of_3(tmp_path):
-    path = single_mesh_file(tmp_path / "i4.gltf",
-                            lambda b: [b.primitive(TRIANGLE), b.primitive(QUAD, [0, 1, 2, 3])])
+    path = single_mesh_file(tmp_path / "i4.gltf", lambda b: [b.primitive(TRIANGLE), b.primitive(QUAD, [0, 1, 2, 3])])
     assert_load_error(path, "mesh 0 primitive 1")
 
 

@@ -37,8 +37,9 @@ except Exception as e:
 def load_in_child(path, timeout=60):
     """What mbao.load(path) gives in a child process: {"type": None, "triangles": n,
     "warnings": [...]}, or the exception's {"type", "message"}."""
-    done = subprocess.run([sys.executable, "-c", CHILD_LOAD, str(path)], capture_output=True, text=True,
-                          timeout=timeout)
+    done = subprocess.run(
+        [sys.executable, "-c", CHILD_LOAD, str(path)], capture_output=True, text=True, timeout=timeout
+    )
     assert done.returncode == 0, f"mbao.load crashed (exit {done.returncode}): {done.stderr[-3000:]}"
     return json.loads(done.stdout.splitlines()[-1])
 
@@ -153,11 +154,11 @@ def external_buffer_file(tmp_path, bin_name):
 
 def mask_image_file(tmp_path, uri):
     b = GltfBuilder()
-    material = b.add_material(alpha_mode="MASK", texture=b.add_texture(b.add_image(b"", where="file",
-                                                                                   file_name=uri)))
+    material = b.add_material(alpha_mode="MASK", texture=b.add_texture(b.add_image(b"", where="file", file_name=uri)))
     b.files.clear()
-    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(QUAD, QUAD_INDICES, texcoords=QUAD[:, :2],
-                                                           material=material)]))])
+    b.add_scene(
+        [b.add_node(mesh=b.add_mesh([b.primitive(QUAD, QUAD_INDICES, texcoords=QUAD[:, :2], material=material)]))]
+    )
     return b.write(tmp_path / "masked.glb")
 
 
@@ -191,8 +192,10 @@ def test_endless_device_as_a_mask_image_is_skipped_not_read(tmp_path):
 
 def test_a_missing_mask_image_is_named_and_its_surface_is_opaque(tmp_path):
     """SPEC 3.2: no load fails for a texture."""
-    with pytest.warns(UserWarning, match=r"masked.glb: material 0's image 0: cannot read .*missing.png: no such file; "
-                                         r"the surface is opaque"):
+    with pytest.warns(
+        UserWarning,
+        match=r"masked.glb: material 0's image 0: cannot read .*missing.png: no such file; " r"the surface is opaque",
+    ):
         scene = mbao.load(mask_image_file(tmp_path, "missing.png"))
     assert scene.triangle_count == 2 and scene.alpha_masks is None
 

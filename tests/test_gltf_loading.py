@@ -130,8 +130,9 @@ def test_external_bin_file_is_read_from_next_to_the_gltf(tmp_path):
 
 
 def test_mesh_without_transform_is_loaded_verbatim(tmp_path, container):
-    path = single_mesh_file(tmp_path / file_name("quad", container),
-                            lambda b: [b.primitive(QUAD, QUAD_INDICES)], container)
+    path = single_mesh_file(
+        tmp_path / file_name("quad", container), lambda b: [b.primitive(QUAD, QUAD_INDICES)], container
+    )
     scene = load_clean(path)
     np.testing.assert_array_equal(scene.vertices, QUAD)
     np.testing.assert_array_equal(scene.indices, QUAD_INDICES)
@@ -256,8 +257,9 @@ def test_nodes_outside_the_default_scene_are_not_loaded(tmp_path):
 @pytest.mark.parametrize("index_type", [UNSIGNED_BYTE, UNSIGNED_SHORT, UNSIGNED_INT])
 def test_8_16_and_32_bit_indices(tmp_path, index_type, container):
     indices = [[0, 1, 2], [2, 3, 0], [3, 2, 1]]
-    path = single_mesh_file(tmp_path / file_name("idx", container),
-                            lambda b: [b.primitive(QUAD, indices, index_type=index_type)], container)
+    path = single_mesh_file(
+        tmp_path / file_name("idx", container), lambda b: [b.primitive(QUAD, indices, index_type=index_type)], container
+    )
     scene = load_clean(path)
     assert scene.indices.dtype == np.uint32
     np.testing.assert_array_equal(scene.indices, indices)
@@ -268,8 +270,9 @@ def test_16_bit_indices_above_255(tmp_path):
     vertices[:, 0] = np.arange(300)
     vertices[1::2, 1] = 1
     indices = [[0, 257, 299], [299, 1, 256]]
-    path = single_mesh_file(tmp_path / "i16.gltf",
-                            lambda b: [b.primitive(vertices, indices, index_type=UNSIGNED_SHORT)])
+    path = single_mesh_file(
+        tmp_path / "i16.gltf", lambda b: [b.primitive(vertices, indices, index_type=UNSIGNED_SHORT)]
+    )
     np.testing.assert_array_equal(load_clean(path).indices, indices)
 
 
@@ -278,8 +281,7 @@ def test_32_bit_indices_above_65535(tmp_path):
     vertices[:, 0] = np.arange(70_000)
     vertices[1::2, 1] = 1
     indices = [[0, 65_537, 69_999]]
-    path = single_mesh_file(tmp_path / "i32.glb",
-                            lambda b: [b.primitive(vertices, indices, index_type=UNSIGNED_INT)])
+    path = single_mesh_file(tmp_path / "i32.glb", lambda b: [b.primitive(vertices, indices, index_type=UNSIGNED_INT)])
     scene = load_clean(path)
     np.testing.assert_array_equal(scene.indices, indices)
     np.testing.assert_array_equal(scene.vertices[scene.indices[0], 0], [0, 65_537, 69_999])
@@ -312,8 +314,11 @@ def test_normals_is_none_when_no_primitive_has_normals(tmp_path):
 
 
 def test_normals_are_loaded_as_float32_rows(tmp_path, container):
-    path = single_mesh_file(tmp_path / file_name("n", container),
-                            lambda b: [b.primitive(QUAD, QUAD_INDICES, normals=QUAD_NORMALS)], container)
+    path = single_mesh_file(
+        tmp_path / file_name("n", container),
+        lambda b: [b.primitive(QUAD, QUAD_INDICES, normals=QUAD_NORMALS)],
+        container,
+    )
     normals = load_clean(path).normals
     assert normals.dtype == np.float32 and normals.shape == (4, 3)
     np.testing.assert_array_equal(normals, QUAD_NORMALS)
@@ -324,8 +329,7 @@ def test_normals_use_the_inverse_transpose_and_are_normalised(tmp_path, rng):
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     # Non-uniform scale: the plain 3x3 would give wrong directions and lengths.
     node = {"translation": (3, 4, 5), "rotation": quaternion((1, 2, 3), 70), "scale": (4, 0.5, -2)}
-    path = single_mesh_file(tmp_path / "n.gltf", lambda b: [b.primitive(QUAD, QUAD_INDICES, normals=normals)],
-                            **node)
+    path = single_mesh_file(tmp_path / "n.gltf", lambda b: [b.primitive(QUAD, QUAD_INDICES, normals=normals)], **node)
     loaded = load_clean(path).normals
     assert_close(loaded, transform_normals(trs_matrix(**node), normals))
     assert_close(np.linalg.norm(loaded, axis=1), np.ones(4))
@@ -384,10 +388,14 @@ def test_points_and_lines_are_skipped_with_a_warning(tmp_path, mode):
     assert [str(w.message) for w in caught] == scene.warnings
 
 
-@pytest.mark.parametrize("mode, expected", [
-    (TRIANGLE_STRIP, [[0, 1, 2], [1, 3, 2], [2, 3, 4]]),  # glTF 2.0 3.7.2.1: p_i = v_i, v_i+(1+i%2), v_i+(2-i%2)
-    (TRIANGLE_FAN, [[1, 2, 0], [2, 3, 0], [3, 4, 0]]),  # p_i = v_i+1, v_i+2, v_0
-], ids=["strip", "fan"])
+@pytest.mark.parametrize(
+    "mode, expected",
+    [
+        (TRIANGLE_STRIP, [[0, 1, 2], [1, 3, 2], [2, 3, 4]]),  # glTF 2.0 3.7.2.1: p_i = v_i, v_i+(1+i%2), v_i+(2-i%2)
+        (TRIANGLE_FAN, [[1, 2, 0], [2, 3, 0], [3, 4, 0]]),  # p_i = v_i+1, v_i+2, v_0
+    ],
+    ids=["strip", "fan"],
+)
 @pytest.mark.parametrize("indexed", [True, False], ids=["indexed", "not indexed"])
 def test_strips_and_fans_are_the_triangles_glTF_defines(tmp_path, mode, expected, indexed):
     """Their corners in glTF's order (`expected` counts in the primitive's

@@ -15,8 +15,9 @@ SIZE = 48
 
 
 def render_hbao(scene, camera, radius, **hbao):
-    return mbao.render(scene, camera=camera, width=SIZE, height=SIZE, method="hbao", max_distance=radius,
-                       hbao=mbao.HBAO(**hbao))
+    return mbao.render(
+        scene, camera=camera, width=SIZE, height=SIZE, method="hbao", max_distance=radius, hbao=mbao.HBAO(**hbao)
+    )
 
 
 @pytest.fixture(scope="module")
@@ -172,12 +173,15 @@ def test_stats_describe_an_hbao_frame(cornell):
     assert result.stats["kernels"] in (["trace_camera_rays"], ["trace_camera_packets"])  # and hbao.cl's pass
 
 
-@pytest.mark.parametrize("arguments, message", [
-    (dict(bounces=2), r"one bounce.*gtao_multibounce"),
-    (dict(max_distance=float("inf")), r"finite max_distance"),
-    (dict(spp=2), r"spp"),
-    (dict(engine=mbao.Engine(organisation="wavefront")), r"organisation"),
-])
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (dict(bounces=2), r"one bounce.*gtao_multibounce"),
+        (dict(max_distance=float("inf")), r"finite max_distance"),
+        (dict(spp=2), r"spp"),
+        (dict(engine=mbao.Engine(organisation="wavefront")), r"organisation"),
+    ],
+)
 def test_bad_hbao_settings(cornell, arguments, message):
     settings = dict(width=8, height=8, method="hbao", max_distance=100.0)
     settings.update(arguments)
@@ -185,12 +189,15 @@ def test_bad_hbao_settings(cornell, arguments, message):
         mbao.render(cornell, **settings)
 
 
-@pytest.mark.parametrize("arguments, message", [
-    (dict(directions=0), r"directions.*\[1, 64\]"),
-    (dict(steps=65), r"steps.*\[1, 64\]"),
-    (dict(angle_bias_deg=90), r"angle_bias_deg.*\[0, 90\)"),
-    (dict(falloff=1.5), r"falloff.*\[0, 1\]"),
-])
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (dict(directions=0), r"directions.*\[1, 64\]"),
+        (dict(steps=65), r"steps.*\[1, 64\]"),
+        (dict(angle_bias_deg=90), r"angle_bias_deg.*\[0, 90\)"),
+        (dict(falloff=1.5), r"falloff.*\[0, 1\]"),
+    ],
+)
 def test_an_hbao_out_of_range_is_refused_where_it_is_made(arguments, message):
     """As Denoise and Temporal are: the error points at the line that made it, not at a later render."""
     with pytest.raises(ValueError, match=message):

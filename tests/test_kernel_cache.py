@@ -42,8 +42,12 @@ def test_a_cold_build_prints_nothing(tmp_path):
     """The compiler's log goes to the logger "mbao", never to stderr: here a
     first render and a denoised one with every cache empty (mbao's and PoCL's)."""
     code = RENDER_ONCE + "mbao.render(mbao.cornell_box(), width=4, height=4, bounces=2, denoise=True)\n"
-    env = dict(os.environ, MBAO_CACHE_DIR=str(tmp_path / "mbao"), POCL_CACHE_DIR=str(tmp_path / "pocl"),
-               XDG_CACHE_HOME=str(tmp_path))
+    env = dict(
+        os.environ,
+        MBAO_CACHE_DIR=str(tmp_path / "mbao"),
+        POCL_CACHE_DIR=str(tmp_path / "pocl"),
+        XDG_CACHE_HOME=str(tmp_path),
+    )
     done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0 and done.stdout.split()[0] == "compiled", done.stderr
     assert done.stderr == ""

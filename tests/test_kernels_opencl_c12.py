@@ -35,9 +35,22 @@ def clang():
 
 def compile_errors(program, options, use_fp64):
     # __OPENCL_VERSION__ is the runtime's (the platform's version), which clang alone does not define.
-    command = [clang(), "-x", "cl", "-cl-std=CL1.2", "-target", "spir64", "-Xclang", "-finclude-default-header",
-               "-fsyntax-only", "-D__OPENCL_VERSION__=120", f"-I{KERNELS}", *options.split(),
-               f"-DMBAO_USE_FP64={use_fp64}", str(KERNELS / program)]
+    command = [
+        clang(),
+        "-x",
+        "cl",
+        "-cl-std=CL1.2",
+        "-target",
+        "spir64",
+        "-Xclang",
+        "-finclude-default-header",
+        "-fsyntax-only",
+        "-D__OPENCL_VERSION__=120",
+        f"-I{KERNELS}",
+        *options.split(),
+        f"-DMBAO_USE_FP64={use_fp64}",
+        str(KERNELS / program),
+    ]
     result = subprocess.run(command, capture_output=True, text=True)
     if result.returncode == 0 and not result.stderr:
         return None
@@ -50,7 +63,6 @@ def test_the_plan_lists_every_program():
     for program in ("render.cl", "trace.cl"):
         walks = {options.split()[0] for options in VARIANTS[program]}
         assert walks == {f"-DMBAO_TRAVERSAL={w}" for w in range(5)}
-
 
 
 def test_docs_count_the_variants_listed():

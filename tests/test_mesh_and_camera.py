@@ -78,8 +78,9 @@ def test_non_contiguous_arrays_are_accepted_by_copying(layout):
     for name in ("vertices", "indices", "normals"):
         np.testing.assert_array_equal(getattr(mesh, name), getattr(expected, name))
     origins, directions = np.tile([0.2, 0.2, 1.0], (3, 1)), np.tile([0.0, 0.0, -1.0], (3, 1))
-    np.testing.assert_array_equal(mbao.trace(mesh, layout(origins), layout(directions))[0],
-                                  mbao.trace(mesh, origins, directions)[0])
+    np.testing.assert_array_equal(
+        mbao.trace(mesh, layout(origins), layout(directions))[0], mbao.trace(mesh, origins, directions)[0]
+    )
 
 
 def test_mesh_arrays_are_read_only():
@@ -104,8 +105,18 @@ BAD_MESHES = [
     ("negative index", dict(indices=[[0, 1, 2], [0, -1, 3]]), ValueError, r"triangle 1.*vertex -1"),
     ("index too large", dict(indices=[[0, 1, 2], [0, 2, 4]]), ValueError, r"triangle 1.*vertex 4"),
     ("no triangles", dict(indices=np.zeros((0, 3), int)), ValueError, r"no triangles"),
-    ("NaN vertex", dict(vertices=np.where(np.arange(12).reshape(4, 3) == 4, np.nan, VERTICES)), ValueError, r"vertex 1"),
-    ("inf vertex", dict(vertices=np.where(np.arange(12).reshape(4, 3) == 9, np.inf, VERTICES)), ValueError, r"vertex 3"),
+    (
+        "NaN vertex",
+        dict(vertices=np.where(np.arange(12).reshape(4, 3) == 4, np.nan, VERTICES)),
+        ValueError,
+        r"vertex 1",
+    ),
+    (
+        "inf vertex",
+        dict(vertices=np.where(np.arange(12).reshape(4, 3) == 9, np.inf, VERTICES)),
+        ValueError,
+        r"vertex 3",
+    ),
 ]
 
 

@@ -15,12 +15,13 @@ from conftest import REPO
 NOTEBOOKS = sorted((REPO / "notebooks").glob("*.ipynb"))
 README = (REPO / "README.md").read_text()
 HEADLESS = re.findall(r"^    (\.venv/bin/python -m nbconvert .*)$", README, re.M)
-KERNEL_INSTALL = '.venv/bin/python -m ipykernel install --user --name mbao'
+KERNEL_INSTALL = ".venv/bin/python -m ipykernel install --user --name mbao"
 
 
 def make(*arguments, env=None, timeout=300):
-    return subprocess.run(["make", "-s", "-C", str(REPO), *arguments], env=env, capture_output=True, text=True,
-                          timeout=timeout)
+    return subprocess.run(
+        ["make", "-s", "-C", str(REPO), *arguments], env=env, capture_output=True, text=True, timeout=timeout
+    )
 
 
 @pytest.fixture(scope="module")

@@ -42,14 +42,14 @@ def test_a_scene_keeps_its_camera():
 
 def test_an_unpickled_scene_renders_the_same_image(sponza):
     settings = dict(width=40, height=30, bounces=2, seed=7, max_distance=300.0)
-    np.testing.assert_array_equal(mbao.render(round_trip(sponza), **settings).ao,
-                                  mbao.render(sponza, **settings).ao)
+    np.testing.assert_array_equal(mbao.render(round_trip(sponza), **settings).ao, mbao.render(sponza, **settings).ao)
 
 
 def test_a_mesh_keeps_its_arrays_and_uvs():
     rng = np.random.default_rng(1)
-    mesh = mbao.Mesh(rng.random((6, 3)), [[0, 1, 2], [3, 4, 5]], normals=rng.random((6, 3)),
-                     texcoords=rng.random((6, 2)))
+    mesh = mbao.Mesh(
+        rng.random((6, 3)), [[0, 1, 2], [3, 4, 5]], normals=rng.random((6, 3)), texcoords=rng.random((6, 2))
+    )
     again = round_trip(mesh)
     assert type(again) is mbao.Mesh
     for name in ("vertices", "indices", "normals", "texcoords"):
@@ -62,11 +62,18 @@ def test_cameras_and_settings():
     camera = mbao.Camera((1.0, 2.0, 3.0), (0.0, 0.5, 0.0), up=(0.0, 0.0, 1.0), vfov_deg=35.0, max_distance=4.0)
     again = round_trip(camera)
     assert (again.eye, again.target, again.up, again.vfov_deg, again.max_distance) == (
-        camera.eye, camera.target, camera.up, camera.vfov_deg, camera.max_distance)
+        camera.eye,
+        camera.target,
+        camera.up,
+        camera.vfov_deg,
+        camera.max_distance,
+    )
     assert round_trip(mbao.Camera((0.0, 0.0, 1.0), (0.0, 0.0, 0.0))).max_distance is None
-    for settings in (mbao.HBAO(directions=5, steps=3, angle_bias_deg=20.0, falloff=0.5),
-                     mbao.Denoise(iterations=3, sigma_plane=2.0, sigma_normal=64, sigma_value=1.5),
-                     mbao.Temporal(max_length=9)):
+    for settings in (
+        mbao.HBAO(directions=5, steps=3, angle_bias_deg=20.0, falloff=0.5),
+        mbao.Denoise(iterations=3, sigma_plane=2.0, sigma_normal=64, sigma_value=1.5),
+        mbao.Temporal(max_length=9),
+    ):
         assert repr(round_trip(settings)) == repr(settings)
 
 

@@ -24,8 +24,9 @@ def cornell():
 
 @pytest.fixture(scope="module")
 def reference(cornell):
-    return mbao.reference(cornell, target_error=0.5, width=8, height=8, samples=4, min_passes=2, max_distance=300.0,
-                          progress=False)
+    return mbao.reference(
+        cornell, target_error=0.5, width=8, height=8, samples=4, min_passes=2, max_distance=300.0, progress=False
+    )
 
 
 def floor():
@@ -35,15 +36,29 @@ def floor():
 # Each long call, run with progress=..., and the total its bar or callable counts to.
 CALLS = {
     "render": (lambda scene, reference, progress: mbao.render(scene, engine=TILED, progress=progress, **SMALL), 4),
-    "render_sequence": (lambda scene, reference, progress: list(mbao.render_sequence(
-        scene, [None], engine=TILED, progress=progress, **SMALL)), 4),
+    "render_sequence": (
+        lambda scene, reference, progress: list(
+            mbao.render_sequence(scene, [None], engine=TILED, progress=progress, **SMALL)
+        ),
+        4,
+    ),
     "bake": (lambda scene, reference, progress: mbao.bake(floor(), samples=2, progress=progress), 1),
-    "render_many": (lambda scene, reference, progress: list(mbao.render_many(
-        [dict(scene=scene, **SMALL)] * 3, progress=progress)), 3),
-    "reference": (lambda scene, reference, progress: mbao.reference(
-        scene, target_error=0.5, width=8, height=8, samples=4, min_passes=2, max_passes=8, progress=progress), 8),
-    "convergence": (lambda scene, reference, progress: mbao.convergence(
-        scene, ["b1", "b2 path"], reference, sample_counts=(1, 2), progress=progress, plot=False), 4),
+    "render_many": (
+        lambda scene, reference, progress: list(mbao.render_many([dict(scene=scene, **SMALL)] * 3, progress=progress)),
+        3,
+    ),
+    "reference": (
+        lambda scene, reference, progress: mbao.reference(
+            scene, target_error=0.5, width=8, height=8, samples=4, min_passes=2, max_passes=8, progress=progress
+        ),
+        8,
+    ),
+    "convergence": (
+        lambda scene, reference, progress: mbao.convergence(
+            scene, ["b1", "b2 path"], reference, sample_counts=(1, 2), progress=progress, plot=False
+        ),
+        4,
+    ),
 }
 
 
@@ -81,16 +96,18 @@ def test_none_shows_no_bar_where_nobody_watches(call, cornell, reference, capsys
 @pytest.mark.parametrize("value", ["yes", 1, [print]])
 def test_anything_else_is_refused_with_the_meanings(call, cornell, reference, value):
     run, _ = CALLS[call]
-    with pytest.raises(TypeError, match=r"progress must be None \(a bar on a terminal for long work\), False, True "
-                                        r"or a callable progress\(done, total\)"):
+    with pytest.raises(
+        TypeError,
+        match=r"progress must be None \(a bar on a terminal for long work\), False, True "
+        r"or a callable progress\(done, total\)",
+    ):
         run(cornell, reference, value)
 
 
 def on_a_terminal(code):
     """What `python -c code` writes to its terminal: stderr and stdout are a pseudo-terminal's."""
     controller, terminal = pty.openpty()
-    process = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.DEVNULL, stdout=terminal,
-                               stderr=terminal)
+    process = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.DEVNULL, stdout=terminal, stderr=terminal)
     os.close(terminal)
     written = b""
     while True:
@@ -106,9 +123,11 @@ def on_a_terminal(code):
     return written.decode(errors="replace")
 
 
-RENDER_TILES = ("import mbao\n"
-                "mbao.render(mbao.cornell_box(), width=16, height=16, samples=2, "
-                "engine=mbao.Engine(tile_pixels=64))\n")
+RENDER_TILES = (
+    "import mbao\n"
+    "mbao.render(mbao.cornell_box(), width=16, height=16, samples=2, "
+    "engine=mbao.Engine(tile_pixels=64))\n"
+)
 
 
 def test_none_shows_a_bar_on_a_terminal_for_work_that_runs_a_while():
@@ -127,8 +146,21 @@ def test_a_bar_does_not_change_the_image(cornell):
 
 @pytest.mark.parametrize("quiet", [False, True])
 def test_the_command_line_render_shows_a_bar_unless_quiet(quiet, tmp_path):
-    argv = ["render", "--width", "16", "--height", "16", "--samples", "2", "--tile-pixels", "64",
-            "-o", str(tmp_path / "ao.png")] + ["--quiet"] * quiet
-    shown = on_a_terminal("import mbao._progress\nmbao._progress.SHOWN_AFTER_S = 0.0\n"
-                          f"from mbao.cli import main\nraise SystemExit(main({argv!r}))\n")
+    argv = [
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--samples",
+        "2",
+        "--tile-pixels",
+        "64",
+        "-o",
+        str(tmp_path / "ao.png"),
+    ] + ["--quiet"] * quiet
+    shown = on_a_terminal(
+        "import mbao._progress\nmbao._progress.SHOWN_AFTER_S = 0.0\n"
+        f"from mbao.cli import main\nraise SystemExit(main({argv!r}))\n"
+    )
     assert ("4/4" in shown) != quiet

@@ -62,7 +62,8 @@ def assert_matches_exact_oracle(scene, oracle, origins, directions, slack=1.0):
         nearer = np.where(t <= expected_t, triangle, expected_triangle)
         at_origin = np.zeros(len(agree), bool)
         at_origin[~agree] = (nearest[~agree] <= tolerance[~agree]) & through_origin(
-            scene, nearer[~agree], origins[~agree].astype(float), tolerance[~agree])
+            scene, nearer[~agree], origins[~agree].astype(float), tolerance[~agree]
+        )
         assert np.all(agree | at_origin), f"{name}: {np.sum(~(agree | at_origin))} rays differ from brute force"
     for name in TRAVERSALS[1:]:
         for a, b in zip(results[TRAVERSALS[0]], results[name]):
@@ -123,8 +124,9 @@ def test_rays_from_vertices_and_edges(scene_and_oracle, rng):
     edge_start = grid[rng.integers(0, len(grid), n)]
     along = rng.integers(0, 3, n)
     edge_points = edge_start.copy()
-    edge_points[np.arange(n), along] += np.where(
-        edge_start[np.arange(n), along] % 1.0 == 0.0, 1.0, -1.0) * 0.6 * rng.random(n).astype(np.float32)
+    edge_points[np.arange(n), along] += (
+        np.where(edge_start[np.arange(n), along] % 1.0 == 0.0, 1.0, -1.0) * 0.6 * rng.random(n).astype(np.float32)
+    )
     for origins in (corners, edge_points):
         for directions in (random_directions(rng, n), signed_axis_directions(rng, n)):
             assert assert_matches_exact_oracle(scene, oracle, origins, directions).mean() > 0.2
@@ -170,8 +172,16 @@ def test_closed_meshes_do_not_leak(name, traversal):
     camera = mbao.Camera(eye, target, vfov_deg=100.0)
     for estimator in ("branching",) if traversal == "lanes" else ESTIMATORS:
         for bounces in (1, 2, 3):
-            result = mbao.render(scene, camera=camera, width=16, height=16, bounces=bounces, samples=4,
-                                 estimator=estimator, engine=mbao.Engine(traversal=traversal))
+            result = mbao.render(
+                scene,
+                camera=camera,
+                width=16,
+                height=16,
+                bounces=bounces,
+                samples=4,
+                estimator=estimator,
+                engine=mbao.Engine(traversal=traversal),
+            )
             assert result.mask.all()
             np.testing.assert_array_equal(result.ao, 0.0, err_msg=f"{estimator}, b = {bounces}")
 
@@ -205,9 +215,13 @@ def test_no_acne_on_flat_surfaces(scale):
             scene = mbao.Mesh(vertices, indices)
             camera = mbao.Camera(scale * (2.0 * n + [0.4, 0.2, 0.1]), (0.0, 0.0, 0.0), vfov_deg=70.0)
             for estimator in ESTIMATORS:
-                result = mbao.render(scene, camera=camera, width=32, height=32, bounces=2, samples=8, estimator=estimator)
+                result = mbao.render(
+                    scene, camera=camera, width=32, height=32, bounces=2, samples=8, estimator=estimator
+                )
                 assert result.mask.all()
-                np.testing.assert_array_equal(result.ao, 1.0, err_msg=f"normal {normal}, {divisions} divisions, {estimator}")
+                np.testing.assert_array_equal(
+                    result.ao, 1.0, err_msg=f"normal {normal}, {divisions} divisions, {estimator}"
+                )
 
 
 @pytest.mark.parametrize("scale", [1e-3, 1.0, 1e3])
@@ -221,9 +235,13 @@ def test_no_acne_on_a_convex_sphere(scale):
         camera = mbao.Camera(center + scale * np.array([0.0, 1.0, 3.0]), center, vfov_deg=45.0)
         for estimator in ESTIMATORS:
             for bounces in (1, 3):
-                result = mbao.render(scene, camera=camera, width=32, height=32, bounces=bounces, samples=8, estimator=estimator)
+                result = mbao.render(
+                    scene, camera=camera, width=32, height=32, bounces=bounces, samples=8, estimator=estimator
+                )
                 assert result.mask.sum() > 200
-                np.testing.assert_array_equal(result.ao[result.mask], 1.0, err_msg=f"{subdivisions}, {estimator}, b = {bounces}")
+                np.testing.assert_array_equal(
+                    result.ao[result.mask], 1.0, err_msg=f"{subdivisions}, {estimator}, b = {bounces}"
+                )
 
 
 @pytest.mark.parametrize("scale", [1e-15, 1e15])

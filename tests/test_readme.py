@@ -38,12 +38,12 @@ class Example:
 
 def examples(document):
     text = document.read_text()
-    return [Example(document, text.count("\n", 0, match.start()) + 1, match.group(1))
-            for match in BLOCK.finditer(text)]
+    return [Example(document, text.count("\n", 0, match.start()) + 1, match.group(1)) for match in BLOCK.finditer(text)]
 
 
-EXAMPLES = [example for path in [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]
-            for example in examples(path)]
+EXAMPLES = [
+    example for path in [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))] for example in examples(path)
+]
 
 
 @dataclasses.dataclass
@@ -61,8 +61,9 @@ def run(command, cwd, timeout_s=TIMEOUT_S):
     """Runs `command` in a session of its own, so that at the timeout every process it started (Dask's
     workers too) is killed with it and none outlives the test."""
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=PACKAGE_ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    with subprocess.Popen(command, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                          start_new_session=True) as process:
+    with subprocess.Popen(
+        command, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
+    ) as process:
         try:
             stdout, stderr = process.communicate(timeout=timeout_s)
             return Finished(process.returncode, stdout, stderr)
@@ -107,6 +108,7 @@ def test_the_readmes_command_lines_run_as_written(tmp_path, arguments):
 
 # The harness itself: an example sees what a user's script sees, and one that hangs fails.
 
+
 def test_an_example_runs_as_the_main_script_in_an_empty_folder(tmp_path):
     code = 'import os, sys\nassert __name__ == "__main__" and sys.argv == ["example.py"]\nprint(os.listdir("."))\n'
     finished = run_as_a_script(code, tmp_path)
@@ -115,10 +117,12 @@ def test_an_example_runs_as_the_main_script_in_an_empty_folder(tmp_path):
 
 
 def test_an_example_that_hangs_is_killed_with_its_processes(tmp_path):
-    code = ("import subprocess, sys, time\n"
-            "child = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(600)'])\n"
-            "print(child.pid, flush=True)\n"
-            "time.sleep(600)\n")
+    code = (
+        "import subprocess, sys, time\n"
+        "child = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(600)'])\n"
+        "print(child.pid, flush=True)\n"
+        "time.sleep(600)\n"
+    )
     finished = run_as_a_script(code, tmp_path, timeout_s=5)
     assert finished.returncode is None
     assert ends_within(int(finished.stdout), seconds=5)

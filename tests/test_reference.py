@@ -33,8 +33,10 @@ def test_reference_agrees_with_the_branching_estimator(cornell, converged):
     the covered pixels (independent random numbers per pixel), the mean
     difference has a standard error sqrt(sum of those) / n."""
     image = mbao.render(cornell, camera=mbao.reference_camera(converged), samples=16, seed=1, **SETTINGS)
-    passes = [mbao.render(cornell, camera=mbao.reference_camera(converged), samples=16, seed=2 + k, **SETTINGS).ao
-              for k in range(4)]
+    passes = [
+        mbao.render(cornell, camera=mbao.reference_camera(converged), samples=16, seed=2 + k, **SETTINGS).ao
+        for k in range(4)
+    ]
     branching_variance = np.var(passes, axis=0, ddof=1)  # per-pixel variance of one branching image
     mask = converged.mask
     difference = (image.ao - converged.ao)[mask].astype(np.float64)
@@ -65,8 +67,9 @@ def test_reference_is_saved_as_exr_only(tmp_path, converged):
 
 def test_unreachable_target_stops_at_max_passes_with_a_warning(cornell):
     with pytest.warns(UserWarning, match="after 3 passes"):
-        result = mbao.reference(cornell, target_error=1e-9, min_passes=2, max_passes=3, progress=False,
-                                width=8, height=8, samples=4)
+        result = mbao.reference(
+            cornell, target_error=1e-9, min_passes=2, max_passes=3, progress=False, width=8, height=8, samples=4
+        )
     assert result.settings["passes"] == 3 and not result.settings["converged"]
 
 
@@ -81,14 +84,17 @@ def test_progress_bar_reports_passes(cornell, capsys):
     assert f"{result.settings['passes']}/" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("arguments, error, message", [
-    (dict(target_error=0), ValueError, "target_error"),
-    (dict(target_error=-1), ValueError, "target_error"),
-    (dict(min_passes=1), ValueError, "min_passes"),
-    (dict(min_passes=8, max_passes=4), ValueError, "max_passes"),
-    (dict(progress="yes"), TypeError, "progress"),
-    (dict(width=0), ValueError, "width"),
-])
+@pytest.mark.parametrize(
+    "arguments, error, message",
+    [
+        (dict(target_error=0), ValueError, "target_error"),
+        (dict(target_error=-1), ValueError, "target_error"),
+        (dict(min_passes=1), ValueError, "min_passes"),
+        (dict(min_passes=8, max_passes=4), ValueError, "max_passes"),
+        (dict(progress="yes"), TypeError, "progress"),
+        (dict(width=0), ValueError, "width"),
+    ],
+)
 def test_bad_reference_arguments(cornell, arguments, error, message):
     with pytest.raises(error, match=message):
         mbao.reference(cornell, **arguments)
@@ -121,8 +127,16 @@ def test_gtao_fit_broadcasts_albedo_per_pixel():
     np.testing.assert_allclose(out[0], [mbao.gtao_multibounce(0.5, r) for r in rho], rtol=1e-6)
 
 
-@pytest.mark.parametrize("x, rho, error", [(1.5, 0.5, ValueError), (0.5, -0.1, ValueError), (np.nan, 0.5, ValueError),
-                                           (0.5, True, TypeError), ("a", 0.5, TypeError)])
+@pytest.mark.parametrize(
+    "x, rho, error",
+    [
+        (1.5, 0.5, ValueError),
+        (0.5, -0.1, ValueError),
+        (np.nan, 0.5, ValueError),
+        (0.5, True, TypeError),
+        ("a", 0.5, TypeError),
+    ],
+)
 def test_gtao_fit_refuses_values_outside_the_unit_interval(x, rho, error):
     with pytest.raises(error):
         mbao.gtao_multibounce(x, rho)
@@ -143,8 +157,9 @@ def assert_same_reference(a, b):
 @pytest.mark.filterwarnings("ignore:reference. after")
 def test_a_reference_on_a_cluster_is_the_local_one_bit_for_bit(cornell, dask_client):
     # 20 passes: chunks of 8, 8 and 4, combined in that order on either side.
-    assert_same_reference(mbao.reference(cornell, client=dask_client, **FIXED_PASSES),
-                          mbao.reference(cornell, **FIXED_PASSES))
+    assert_same_reference(
+        mbao.reference(cornell, client=dask_client, **FIXED_PASSES), mbao.reference(cornell, **FIXED_PASSES)
+    )
 
 
 def test_a_reference_on_a_cluster_stops_where_the_local_one_does(cornell, dask_client):
@@ -190,8 +205,17 @@ def test_the_client_keeps_running_sums_not_the_passes(cornell, dask_client):
     passes, side = 512, 128
     tracemalloc.start()
     try:
-        mbao.reference(cornell, width=side, height=side, bounces=1, samples=1, min_passes=passes, max_passes=passes,
-                       progress=False, client=dask_client)
+        mbao.reference(
+            cornell,
+            width=side,
+            height=side,
+            bounces=1,
+            samples=1,
+            min_passes=passes,
+            max_passes=passes,
+            progress=False,
+            client=dask_client,
+        )
         _, peak = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()

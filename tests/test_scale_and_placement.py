@@ -44,17 +44,16 @@ def moved(scale, shift_extents):
 
 def render(vertices, camera, scale=1.0, seed=0, **settings):
     mesh = mbao.Mesh(vertices, CORNELL.indices)
-    return mbao.render(mesh, camera=camera, width=SIZE, height=SIZE, max_distance=RADIUS * scale, seed=seed,
-                       **settings)
+    return mbao.render(mesh, camera=camera, width=SIZE, height=SIZE, max_distance=RADIUS * scale, seed=seed, **settings)
 
 
 def assert_same_image(result, original, noise):
     assert np.array_equal(result.mask, original.mask)
     difference = (result.ao - original.ao)[original.mask].astype(np.float64)
     standard_error = difference.std() / np.sqrt(difference.size)
-    assert abs(difference.mean()) <= 4.0 * standard_error, (
-        f"mean difference {difference.mean():.2e} is more than 4 standard errors ({standard_error:.2e})"
-    )
+    assert (
+        abs(difference.mean()) <= 4.0 * standard_error
+    ), f"mean difference {difference.mean():.2e} is more than 4 standard errors ({standard_error:.2e})"
     rms = np.sqrt(np.mean(difference**2))
     assert rms < noise, f"rms difference {rms:.4f} is not below the estimator's per-pixel noise {noise:.4f}"
 
@@ -127,11 +126,11 @@ def test_far_from_the_origin_the_renderer_adds_nothing_to_float32_rounding(origi
     eye, target = (np.asarray(p, np.float32) for p in (far_camera.eye, far_camera.target))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the placement warning is expected here
-        far = render(far_vertices, mbao.Camera(eye.tolist(), target.tolist(), far_camera.up, far_camera.vfov_deg),
-                     **settings)
+        far = render(
+            far_vertices, mbao.Camera(eye.tolist(), target.tolist(), far_camera.up, far_camera.vfov_deg), **settings
+        )
     offset = DIRECTION * shift * EXTENT
-    near_camera = mbao.Camera((eye - offset).tolist(), (target - offset).tolist(), far_camera.up,
-                              far_camera.vfov_deg)
+    near_camera = mbao.Camera((eye - offset).tolist(), (target - offset).tolist(), far_camera.up, far_camera.vfov_deg)
     near = render(far_vertices.astype(np.float64) - offset, near_camera, **settings)
     assert_same_image(far, near, noise)
 

@@ -157,12 +157,15 @@ def test_a_sequence_is_a_function_of_its_seed_and_settings():
         np.testing.assert_array_equal(a.ao, b.ao)
 
 
-@pytest.mark.parametrize("arguments, error, message", [
-    (dict(temporal="yes"), TypeError, "temporal must be True, False or an mbao.Temporal"),
-    (dict(spp=2), ValueError, "temporal accumulation needs spp=1"),
-    (dict(samples=1), ValueError, "temporal accumulation weighs values by their variance"),
-    (dict(method="hbao"), ValueError, "HBAO has none"),
-])
+@pytest.mark.parametrize(
+    "arguments, error, message",
+    [
+        (dict(temporal="yes"), TypeError, "temporal must be True, False or an mbao.Temporal"),
+        (dict(spp=2), ValueError, "temporal accumulation needs spp=1"),
+        (dict(samples=1), ValueError, "temporal accumulation weighs values by their variance"),
+        (dict(method="hbao"), ValueError, "HBAO has none"),
+    ],
+)
 def test_bad_sequences_are_refused(arguments, error, message):
     with pytest.raises(error, match=message):
         sequence(mbao.cornell_box(), [None], width=16, height=16, **arguments)

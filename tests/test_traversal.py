@@ -190,7 +190,9 @@ def test_what_the_traversals_count(rng):
     scene = mbao.Mesh(*box_grid(4))
     n = 3000
     origins, directions = points_in(rng, scene, n), random_directions(rng, n)
-    counts = {name: mbao.trace(scene, origins, directions, traversal=name, traversal_stats=True)[3] for name in TRAVERSALS}
+    counts = {
+        name: mbao.trace(scene, origins, directions, traversal=name, traversal_stats=True)[3] for name in TRAVERSALS
+    }
     for name, c in counts.items():
         nodes, leaves, triangles, restarts = c.T.astype(np.int64)
         assert np.all(leaves <= nodes) and np.all(restarts < np.maximum(leaves, 1)), name

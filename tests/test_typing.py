@@ -11,8 +11,7 @@ TYPING = REPO / "tests" / "typing"
 
 
 def mypy(*arguments):
-    return subprocess.run([sys.executable, "-m", *arguments], capture_output=True, text=True, timeout=600,
-                          cwd=REPO)
+    return subprocess.run([sys.executable, "-m", *arguments], capture_output=True, text=True, timeout=600, cwd=REPO)
 
 
 def test_a_script_that_uses_the_api_passes_mypy_strict():
@@ -24,9 +23,7 @@ def test_a_script_that_uses_the_api_passes_mypy_strict():
 
 def test_a_script_that_misuses_the_api_fails_mypy(tmp_path):
     misuse = tmp_path / "misuse.py"
-    misuse.write_text("import mbao\n"
-                      "result: mbao.Bake = mbao.render(mbao.cornell_box())\n"
-                      "mbao.load(42)\n")
+    misuse.write_text("import mbao\n" "result: mbao.Bake = mbao.render(mbao.cornell_box())\n" "mbao.load(42)\n")
     run = mypy("mypy", "--no-incremental", str(misuse))
     assert run.returncode == 1
     assert 'Incompatible types in assignment (expression has type "Result", variable has type "Bake")' in run.stdout

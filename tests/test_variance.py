@@ -30,11 +30,15 @@ def test_one_bounce_is_the_spread_of_the_escapes():
     assert (expected > 0).sum() > 100  # not vacuous
 
 
-@pytest.mark.parametrize("settings", [
-    dict(estimator="branching", samples=4),
-    dict(estimator="path", samples=4),
-    dict(estimator="path", samples=1, spp=4),  # the spread of jittered camera samples
-], ids=["branching", "path", "camera-samples"])
+@pytest.mark.parametrize(
+    "settings",
+    [
+        dict(estimator="branching", samples=4),
+        dict(estimator="path", samples=4),
+        dict(estimator="path", samples=1, spp=4),  # the spread of jittered camera samples
+    ],
+    ids=["branching", "path", "camera-samples"],
+)
 def test_the_variance_matches_the_spread_across_seeds(settings):
     """Over K seeds, each pixel's mean estimated variance m and the sample
     variance s^2 of its values both estimate the same variance: d = m - s^2 has
@@ -63,16 +67,18 @@ def test_open_surfaces_and_misses_have_no_variance():
     """A lone plane: every ray escapes, every value is exactly 1."""
     vertices, indices = plane(1.0)
     camera = mbao.Camera((0.0, 2.0, 1.0), (0.0, 0.0, 0.0), vfov_deg=60.0)
-    result = mbao.render(mbao.Mesh(vertices, indices), camera=camera, width=SIZE, height=SIZE, bounces=2,
-                         variance=True)
+    result = mbao.render(mbao.Mesh(vertices, indices), camera=camera, width=SIZE, height=SIZE, bounces=2, variance=True)
     assert result.mask.any() and not result.mask.all()
     np.testing.assert_array_equal(result.variance, 0.0)
 
 
-@pytest.mark.parametrize("settings, message", [
-    (dict(samples=1), "variance needs two samples"),
-    (dict(method="hbao", bounces=1, max_distance=100.0), "HBAO has none"),
-])
+@pytest.mark.parametrize(
+    "settings, message",
+    [
+        (dict(samples=1), "variance needs two samples"),
+        (dict(method="hbao", bounces=1, max_distance=100.0), "HBAO has none"),
+    ],
+)
 def test_a_variance_without_a_spread_is_refused(settings, message):
     with pytest.raises(ValueError, match=message):
         render(**settings)

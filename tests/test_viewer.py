@@ -26,6 +26,7 @@ SMALL = dict(width=48, height=40)
 def test_a_still_view_after_k_frames_shows_render_sequences_last_image():
     settings = dict(SMALL, bounces=2, samples=4, frames=3)
     with served(**settings, denoise=True) as viewer:
+
         async def still():
             async with connected(viewer) as page:
                 await page.send(type="set", camera=page.hello["home"])
@@ -33,8 +34,9 @@ def test_a_still_view_after_k_frames_shows_render_sequences_last_image():
 
         header, payload = run(still())
         camera = viewer.home_camera
-    *_, last = mbao.render_sequence(mbao.cornell_box(), [camera] * 3, denoise=True,
-                                    **{k: v for k, v in settings.items() if k != "frames"})
+    *_, last = mbao.render_sequence(
+        mbao.cornell_box(), [camera] * 3, denoise=True, **{k: v for k, v in settings.items() if k != "frames"}
+    )
     assert header["final"] and header["format"] == "png"
     np.testing.assert_array_equal(decode(payload), to_8bit(last.ao))
 
@@ -50,6 +52,7 @@ def test_the_page_gets_the_8_bits_save_image_writes(tmp_path, rng):
 
 def test_a_moving_camera_gets_smaller_frames_until_it_stops():
     with served(width=256, height=256, bounces=1, samples=1, temporal=False) as viewer:
+
         async def frames():
             async with connected(viewer) as page:
                 await page.send(type="set", camera=page.hello["home"], interactive=True)
@@ -69,12 +72,18 @@ BAD_MESSAGES = {
     "not an object": ("[1, 2]", "JSON object"),
     "unknown type": (json.dumps({"type": "launch"}), "message type"),
     "unknown field": (json.dumps({"type": "set", "colour": 1}), "'colour'"),
-    "short vector": (json.dumps({"type": "set", "camera": {"eye": [0, 0], "target": [0, 0, 1], "up": [0, 1, 0],
-                                                         "vfov_deg": 40}}), "camera eye"),
-    "NaN eye": ('{"type": "set", "camera": {"eye": [NaN, 0, 0], "target": [0, 0, 1], "up": [0, 1, 0], '
-                '"vfov_deg": 40}}', "finite"),
-    "degenerate camera": (json.dumps({"type": "set", "camera": {"eye": [0, 0, 0], "target": [0, 0, 0],
-                                                               "up": [0, 1, 0], "vfov_deg": 40}}), "eye"),
+    "short vector": (
+        json.dumps({"type": "set", "camera": {"eye": [0, 0], "target": [0, 0, 1], "up": [0, 1, 0], "vfov_deg": 40}}),
+        "camera eye",
+    ),
+    "NaN eye": (
+        '{"type": "set", "camera": {"eye": [NaN, 0, 0], "target": [0, 0, 1], "up": [0, 1, 0], ' '"vfov_deg": 40}}',
+        "finite",
+    ),
+    "degenerate camera": (
+        json.dumps({"type": "set", "camera": {"eye": [0, 0, 0], "target": [0, 0, 0], "up": [0, 1, 0], "vfov_deg": 40}}),
+        "eye",
+    ),
     "unknown setting": (json.dumps({"type": "set", "settings": {"brightness": 2}}), "'brightness'"),
     "wrong type": (json.dumps({"type": "set", "settings": {"bounces": "two"}}), "bounces must be an integer"),
     "unknown method": (json.dumps({"type": "set", "settings": {"method": "baked"}}), "method must be one of"),
@@ -86,6 +95,7 @@ BAD_MESSAGES = {
 @pytest.mark.parametrize("text, expected", BAD_MESSAGES.values(), ids=BAD_MESSAGES.keys())
 def test_a_bad_message_gets_an_error_naming_it_and_the_view_goes_on(text, expected):
     with served(**SMALL, samples=2, frames=1) as viewer:
+
         async def exchange():
             async with connected(viewer) as page:
                 await page.socket.send_str(text)
@@ -101,6 +111,7 @@ def test_a_bad_message_gets_an_error_naming_it_and_the_view_goes_on(text, expect
 
 def test_binary_input_gets_an_error():
     with served(**SMALL) as viewer:
+
         async def exchange():
             async with connected(viewer) as page:
                 await page.socket.send_bytes(b"\x00\x01")
@@ -113,6 +124,7 @@ def test_a_setting_the_core_refuses_is_shown_as_render_refuses_it():
     with pytest.raises(ValueError) as refused:
         mbao.render(mbao.cornell_box(), **SMALL, max_rays=1000)
     with served(**SMALL) as viewer:
+
         async def exchange():
             async with connected(viewer) as page:
                 await page.send(type="set", settings={"max_rays": 1000})
@@ -123,6 +135,7 @@ def test_a_setting_the_core_refuses_is_shown_as_render_refuses_it():
 
 def test_two_clients_each_have_their_own_view():
     with served(**SMALL, samples=2, frames=1) as viewer:
+
         async def both():
             async with connected(viewer) as first, connected(viewer) as second:
                 home = first.hello["home"]
@@ -139,6 +152,7 @@ def test_two_clients_each_have_their_own_view():
 
 def test_a_script_sets_every_pages_view():
     with served(**SMALL, samples=2, frames=1) as viewer:
+
         async def follow():
             async with connected(viewer) as page:
                 await page.send(type="set", camera=page.hello["home"])
@@ -156,6 +170,7 @@ def test_save_gives_the_image_with_coverage_and_the_camera(tmp_path):
     from PIL import Image
 
     with served(**SMALL, samples=2, frames=1, max_distance=math.inf) as viewer:
+
         async def save():
             async with connected(viewer) as page:
                 await page.send(type="set", camera=page.hello["home"])
@@ -190,6 +205,7 @@ def test_save_gives_the_image_with_coverage_and_the_camera(tmp_path):
 def test_a_pick_finds_the_point_under_the_cursor():
     """The point is the camera hit through that point of the image, as the G-buffer has it."""
     with served(**SMALL) as viewer:
+
         async def pick(points):
             async with connected(viewer) as page:
                 picked = []
@@ -257,8 +273,17 @@ def test_websockets_from_another_origin_and_other_host_names_are_refused():
         assert refused.value.code == 403
 
 
-@pytest.mark.parametrize("path", ["static/..%2fserver.py", "static/%2e%2e/__init__.py", "static/viewer.py",
-                                  "static/", "../../etc/passwd", "server.py"])
+@pytest.mark.parametrize(
+    "path",
+    [
+        "static/..%2fserver.py",
+        "static/%2e%2e/__init__.py",
+        "static/viewer.py",
+        "static/",
+        "../../etc/passwd",
+        "server.py",
+    ],
+)
 def test_no_path_from_a_client_reaches_the_file_system(path):
     with served(**SMALL) as viewer:
         with pytest.raises(urllib.error.HTTPError) as refused:
@@ -271,6 +296,7 @@ def test_a_client_that_goes_stops_its_work():
     frame comes within the time limit, which the whole frame would exceed."""
     heavy = dict(width=1024, height=1024, bounces=3, samples=16)  # 4.6e9 rays: ten minutes on two cores
     with served(**heavy, frames=1) as viewer:
+
         async def leave():
             async with connected(viewer) as page:
                 await page.send(type="set", camera=page.hello["home"])
@@ -288,9 +314,13 @@ def test_a_client_that_goes_stops_its_work():
 
 def test_the_command_prints_its_url_serves_the_page_and_stops_on_ctrl_c():
     repo = pathlib.Path(__file__).resolve().parents[1]
-    process = subprocess.Popen([sys.executable, "-m", "mbao", "view", "--no-browser", "--port", "0", "--width", "32",
-                                "--height", "32"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               cwd=repo)
+    process = subprocess.Popen(
+        [sys.executable, "-m", "mbao", "view", "--no-browser", "--port", "0", "--width", "32", "--height", "32"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=repo,
+    )
     try:
         url = None
         for line in process.stdout:
@@ -309,14 +339,19 @@ def test_the_command_prints_its_url_serves_the_page_and_stops_on_ctrl_c():
 
 def test_a_busy_port_is_named():
     with served(**SMALL) as viewer:
-        done = subprocess.run([sys.executable, "-m", "mbao", "view", "--no-browser", "--port", str(viewer.port)],
-                              capture_output=True, text=True, timeout=FRAME_TIMEOUT_S)
+        done = subprocess.run(
+            [sys.executable, "-m", "mbao", "view", "--no-browser", "--port", str(viewer.port)],
+            capture_output=True,
+            text=True,
+            timeout=FRAME_TIMEOUT_S,
+        )
     assert done.returncode == 2
     assert f"127.0.0.1:{viewer.port}" in done.stderr and "Traceback" not in done.stderr
 
 
 def test_hbao_with_the_gtao_fit_shows_the_fit_of_hbaos_image():
     with served(**SMALL, method="hbao+gtao", rho=0.6, max_distance=200.0) as viewer:
+
         async def still():
             async with connected(viewer) as page:
                 await page.send(type="set", camera=page.hello["home"])
@@ -350,9 +385,19 @@ def test_an_unset_radius_is_the_home_cameras_suggestion(tmp_path):
     """A camera from the page carries the home camera's max_distance, as render's default radius (SPEC 1)."""
     home = mbao.cornell_box().default_camera(48, 40)
     path = tmp_path / "camera.json"
-    path.write_text(json.dumps(dict(eye=list(home.eye), target=list(home.target), up=list(home.up),
-                                    vfov_deg=home.vfov_deg, max_distance=120.0)))
+    path.write_text(
+        json.dumps(
+            dict(
+                eye=list(home.eye),
+                target=list(home.target),
+                up=list(home.up),
+                vfov_deg=home.vfov_deg,
+                max_distance=120.0,
+            )
+        )
+    )
     with served(camera=str(path), **SMALL, samples=2, temporal=False) as viewer:
+
         async def still():
             async with connected(viewer) as page:
                 assert page.hello["scene"]["default_radius"] == 120.0
@@ -379,6 +424,7 @@ def test_a_fault_in_a_frame_is_shown_and_the_server_serves_on(monkeypatch):
 
     monkeypatch.setattr(session, "StillView", Faulty)
     with served(**SMALL, samples=2, frames=1) as viewer:
+
         async def exchange():
             async with connected(viewer) as page:
                 await page.send(type="set", settings={"bounces": 3})

@@ -114,8 +114,9 @@ def test_a_triangle_without_values_reads_its_texture_else_is_open(vertex_baked, 
     wall = scene.uv_sets["triangle_materials"][g.triangle[g.mask]] == 1
     check_frame(result, g, "vertices", unbaked=int(wall.sum()))
     assert (result.ao[g.mask][wall] == 1).all()
-    np.testing.assert_allclose(result.ao[g.mask][~wall], (bake.values[corners[~wall]] * weights[~wall]).sum(axis=1),
-                               rtol=0, atol=1e-5)
+    np.testing.assert_allclose(
+        result.ao[g.mask][~wall], (bake.values[corners[~wall]] * weights[~wall]).sum(axis=1), rtol=0, atol=1e-5
+    )
     # The floor has no values left: it reads the file's own occlusion texture, white (a constant 1).
     scene, stored, result = looked_up(without_occlusion(path, 0, tmp_path / "floor_unbaked.glb"))
     assert list(stored.textures) == [0] and (stored.textures[0].image == 1).all()
@@ -123,8 +124,9 @@ def test_a_triangle_without_values_reads_its_texture_else_is_open(vertex_baked, 
     floor = scene.uv_sets["triangle_materials"][g.triangle[g.mask]] == 0
     check_frame(result, g, "vertices")
     np.testing.assert_array_equal(result.ao[g.mask][floor], 1.0)
-    np.testing.assert_allclose(result.ao[g.mask][~floor], (bake.values[corners[~floor]] * weights[~floor]).sum(axis=1),
-                               rtol=0, atol=1e-5)
+    np.testing.assert_allclose(
+        result.ao[g.mask][~floor], (bake.values[corners[~floor]] * weights[~floor]).sum(axis=1), rtol=0, atol=1e-5
+    )
 
 
 def triangle_uvs(scene, bake):
@@ -151,8 +153,15 @@ def baked_expectation(scene, bake, g, weights):
 def test_a_texture_bake_is_its_png_sampled_bilinearly_at_the_hits(tmp_path, bit_depth):
     """The floor's texture reads TEXCOORD_1 through a MIRRORED_REPEAT sampler, the wall's TEXCOORD_0 (REPEAT)."""
     path = tmp_path / "texture.glb"
-    bake = mbao.bake_file(floor_and_wall(tmp_path), path, target="texture", resolution=(16, 8), samples=4,
-                          bit_depth=bit_depth, progress=False)
+    bake = mbao.bake_file(
+        floor_and_wall(tmp_path),
+        path,
+        target="texture",
+        resolution=(16, 8),
+        samples=4,
+        bit_depth=bit_depth,
+        progress=False,
+    )
     scene, stored, result = looked_up(path)
     assert stored.source == "texture" and sorted(stored.textures) == [0, 1]
     assert [stored.textures[m].texcoord for m in (0, 1)] == [1, 0]
@@ -176,14 +185,20 @@ def test_a_texture_bake_into_generated_uvs_reads_the_new_uv_set(tmp_path):
     triangles = g.triangle[g.mask]
     uv = (triangle_uvs(scene, bake)[triangles] * weights[:, :, None]).sum(axis=1)
     (texture,) = bake.textures.values()
-    np.testing.assert_allclose(result.ao[g.mask], bilinear(texture.image, uv, texture.stats["wrap"]), rtol=0,
-                               atol=0.5 / 255 + 1e-6)
+    np.testing.assert_allclose(
+        result.ao[g.mask], bilinear(texture.image, uv, texture.stats["wrap"]), rtol=0, atol=0.5 / 255 + 1e-6
+    )
     assert g.mask.sum() > SIZE * SIZE / 4 and np.ptp(result.ao[g.mask]) > 0.1
 
 
-@pytest.mark.parametrize("where, wrap_s, wrap_t", [("bufferView", REPEAT, MIRRORED_REPEAT),
-                                                   ("data-uri", CLAMP_TO_EDGE, REPEAT),
-                                                   ("file", MIRRORED_REPEAT, CLAMP_TO_EDGE)])
+@pytest.mark.parametrize(
+    "where, wrap_s, wrap_t",
+    [
+        ("bufferView", REPEAT, MIRRORED_REPEAT),
+        ("data-uri", CLAMP_TO_EDGE, REPEAT),
+        ("file", MIRRORED_REPEAT, CLAMP_TO_EDGE),
+    ],
+)
 def test_an_occlusion_texture_wraps_uvs_outside_the_image(tmp_path, rng, where, wrap_s, wrap_t):
     """A hand-made 5 x 3 RGB texture, R unlike G and B, on a quad whose TEXCOORD_1
     (the one the texture reads; TEXCOORD_0 is a decoy) runs from -1.3 to 2.2."""
@@ -232,8 +247,10 @@ def test_a_corrupt_bake_is_a_load_error_naming_the_file(vertex_baked, tmp_path):
     corrupt = tmp_path / "corrupt.glb"
     document.write(corrupt)
     scene = mbao.load(corrupt, texcoords=True)  # the loader reads no _OCCLUSION
-    with pytest.raises(mbao.LoadError, match=rf"corrupt\.glb: mesh 0 primitive 1 _OCCLUSION \(accessor {accessor}\) "
-                                             r"has 3 values for 4 positions"):
+    with pytest.raises(
+        mbao.LoadError,
+        match=rf"corrupt\.glb: mesh 0 primitive 1 _OCCLUSION \(accessor {accessor}\) " r"has 3 values for 4 positions",
+    ):
         load_bake(corrupt, scene)
 
 
@@ -243,8 +260,14 @@ def test_an_occlusion_image_that_does_not_decode_is_a_load_error(tmp_path):
     material = b.add_material()
     b.doc["materials"][material]["occlusionTexture"] = {"index": b.add_texture(image)}
     vertices, indices = square()
-    b.add_scene([b.add_node(mesh=b.add_mesh([b.primitive(vertices, indices, texcoords=vertices[:, [0, 2]],
-                                                         material=material)]))], default=True)
+    b.add_scene(
+        [
+            b.add_node(
+                mesh=b.add_mesh([b.primitive(vertices, indices, texcoords=vertices[:, [0, 2]], material=material)])
+            )
+        ],
+        default=True,
+    )
     path = b.write(tmp_path / "broken.gltf")
     with pytest.raises(mbao.LoadError, match=r"broken\.gltf: image 0: cannot decode it"):
         load_bake(path, mbao.load(path, texcoords=True))
@@ -254,6 +277,7 @@ def test_the_viewer_offers_a_files_bake_and_shows_it(vertex_baked):
     """The page's "baked" method shows baked_occlusion's image of the same camera."""
     path, _ = vertex_baked
     with served(path, width=SIZE, height=SIZE) as viewer:
+
         async def baked_view():
             async with connected(viewer) as page:
                 methods = next(s["choices"] for s in page.hello["specs"] if s["name"] == "method")

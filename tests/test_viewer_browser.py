@@ -43,8 +43,9 @@ def test_the_page_loads_without_console_errors(page):
 
 def test_a_drag_orbits_the_camera_and_the_image_follows(page):
     before_state, before_image = state(page), image(page)
-    ActionChains(page).move_to_element(page.find_element(By.ID, "view")).click_and_hold() \
-        .move_by_offset(30, 0).move_by_offset(30, 5).release().perform()
+    ActionChains(page).move_to_element(page.find_element(By.ID, "view")).click_and_hold().move_by_offset(
+        30, 0
+    ).move_by_offset(30, 5).release().perform()
     after = wait_for(page, lambda s: s["received"] > before_state["received"] and s["final"], "a frame after the drag")
     assert after["camera"]["eye"] != pytest.approx(before_state["camera"]["eye"])
     assert after["camera"]["target"] == pytest.approx(before_state["camera"]["target"])
@@ -72,7 +73,7 @@ def test_a_still_view_shows_render_sequences_image(page):
 
 
 def test_a_malformed_message_shows_an_error_and_the_view_goes_on(page):
-    page.execute_script("window.mbaoView.sendRaw('{\"type\": \"set\", \"settings\": {\"bounces\": -1.5}}')")
+    page.execute_script('window.mbaoView.sendRaw(\'{"type": "set", "settings": {"bounces": -1.5}}\')')
     shown = wait_for(page, lambda s: s["error"] is not None, "an error")
     assert "bounces must be an integer" in shown["error"]
     assert page.find_element(By.ID, "error").is_displayed()

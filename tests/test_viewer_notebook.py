@@ -34,13 +34,27 @@ def notebook_server(tmp_path):
     argv = [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"]
     (kernels / "kernel.json").write_text(json.dumps({"argv": argv, "display_name": "mbao tests", "language": "python"}))
     port, token = free_port(), secrets.token_hex(16)
-    env = dict(__import__("os").environ, JUPYTER_PATH=str(tmp_path / "jupyter"),
-               JUPYTER_RUNTIME_DIR=str(tmp_path / "runtime"))
+    env = dict(
+        __import__("os").environ, JUPYTER_PATH=str(tmp_path / "jupyter"), JUPYTER_RUNTIME_DIR=str(tmp_path / "runtime")
+    )
     # Debian's /usr/bin/python3 has Jupyter's notebook server; --allow-root: CI runs as root.
     server = subprocess.Popen(
-        ["/usr/bin/python3", "-m", "notebook", "--no-browser", "--allow-root", "--ip=127.0.0.1", f"--port={port}",
-         f"--NotebookApp.token={token}", f"--notebook-dir={tmp_path}", "--NotebookApp.port_retries=0"],
-        env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        [
+            "/usr/bin/python3",
+            "-m",
+            "notebook",
+            "--no-browser",
+            "--allow-root",
+            "--ip=127.0.0.1",
+            f"--port={port}",
+            f"--NotebookApp.token={token}",
+            f"--notebook-dir={tmp_path}",
+            "--NotebookApp.port_retries=0",
+        ],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
     url = f"http://127.0.0.1:{port}"
     try:
         _wait_until_serving(f"{url}/api/status?token={token}", server)
@@ -76,19 +90,25 @@ def run_cell(driver, source):
     The execute reply (which sets the prompt number) and the outputs come on
     different channels, so the prompt can change before the last output is
     in; the cell's finished_execute event comes after both."""
-    index = driver.execute_script("""
+    index = driver.execute_script(
+        """
         const cell = Jupyter.notebook.insert_cell_at_bottom("code");
         cell.set_text(arguments[0]);
         Jupyter.notebook.events.on("finished_execute.CodeCell", (event, data) => {
             if (data.cell === cell) cell.mbao_test_finished = true;
         });
         cell.execute();
-        return Jupyter.notebook.find_cell_index(cell);""", source)
+        return Jupyter.notebook.find_cell_index(cell);""",
+        source,
+    )
     deadline = time.monotonic() + FRAME_TIMEOUT_S
     while time.monotonic() < deadline:
-        done = driver.execute_script("""
+        done = driver.execute_script(
+            """
             const cell = Jupyter.notebook.get_cell(arguments[0]);
-            return cell.mbao_test_finished ? cell.output_area.outputs : null;""", index)
+            return cell.mbao_test_finished ? cell.output_area.outputs : null;""",
+            index,
+        )
         if done is not None:
             errors = [o for o in done if o["output_type"] == "error"]
             assert not errors, "\n".join(errors[0]["traceback"])
@@ -99,13 +119,15 @@ def run_cell(driver, source):
 
 def test_mbao_view_shows_and_reacts_in_a_notebook(notebook_server, browser, tmp_path):
     url, token = notebook_server
-    notebook = nbformat.v4.new_notebook(metadata={"kernelspec": {"name": "mbao-tests", "display_name": "mbao tests",
-                                                                 "language": "python"}})
+    notebook = nbformat.v4.new_notebook(
+        metadata={"kernelspec": {"name": "mbao-tests", "display_name": "mbao tests", "language": "python"}}
+    )
     nbformat.write(notebook, tmp_path / "view.ipynb")
     browser.get(f"{url}/notebooks/view.ipynb?token={token}")
     deadline = time.monotonic() + FRAME_TIMEOUT_S
     while not browser.execute_script(
-            "return window.Jupyter && Jupyter.notebook && Jupyter.notebook.kernel && Jupyter.notebook.kernel.is_connected()"):
+        "return window.Jupyter && Jupyter.notebook && Jupyter.notebook.kernel && Jupyter.notebook.kernel.is_connected()"
+    ):
         assert time.monotonic() < deadline, "the notebook's kernel did not start"
         time.sleep(0.2)
 

@@ -34,10 +34,13 @@ def t_junction_rays():
     return mbao.trace(mbao.Mesh(vertices, indices), origins, targets - origins)[1]
 """
 
-CHILD = WORKLOAD + r"""
+CHILD = (
+    WORKLOAD
+    + r"""
 import sys
 np.savez(sys.argv[1], cornell_ao=cornell_ao(), t_junction_hits=t_junction_rays())
 """
+)
 
 
 @pytest.fixture(scope="module")
@@ -46,8 +49,13 @@ def without_fp64(tmp_path_factory, device):
     if "Portable Computing Language" not in device.platform:
         pytest.skip("only PoCL can add a define to every build (POCL_EXTRA_BUILD_FLAGS)")
     folder = tmp_path_factory.mktemp("without_fp64")
-    env = dict(os.environ, POCL_EXTRA_BUILD_FLAGS="-DMBAO_USE_FP64=0", POCL_KERNEL_CACHE="0",
-               MBAO_CACHE_DIR=str(folder / "kernels"), PYTHONPATH=os.pathsep.join(filter(None, [str(TESTS), os.environ.get("PYTHONPATH")])))
+    env = dict(
+        os.environ,
+        POCL_EXTRA_BUILD_FLAGS="-DMBAO_USE_FP64=0",
+        POCL_KERNEL_CACHE="0",
+        MBAO_CACHE_DIR=str(folder / "kernels"),
+        PYTHONPATH=os.pathsep.join(filter(None, [str(TESTS), os.environ.get("PYTHONPATH")])),
+    )
     output = folder / "results.npz"
     subprocess.run([sys.executable, "-c", CHILD, str(output)], env=env, check=True, timeout=600)
     return np.load(output)

@@ -49,8 +49,9 @@ def test_a_limit_too_high_for_any_render_is_not_an_overflow(cornell):
         mbao.render(cornell, width=16, height=16, samples=2**20, bounces=16, max_rays=2**64 - 1)
 
 
-@pytest.mark.parametrize("value, error", [(0, ValueError), (-5, ValueError), (2**64, ValueError), (1.5, TypeError),
-                                          ("many", TypeError)])
+@pytest.mark.parametrize(
+    "value, error", [(0, ValueError), (-5, ValueError), (2**64, ValueError), (1.5, TypeError), ("many", TypeError)]
+)
 def test_bad_max_rays(cornell, value, error):
     with pytest.raises(error, match="max_rays"):
         mbao.render(cornell, width=8, height=8, max_rays=value)
@@ -58,8 +59,9 @@ def test_bad_max_rays(cornell, value, error):
 
 def test_progress_is_called_after_every_tile(cornell):
     calls = []
-    result = mbao.render(cornell, width=32, height=32, engine=mbao.Engine(tile_pixels=64),
-                         progress=lambda *a: calls.append(a))
+    result = mbao.render(
+        cornell, width=32, height=32, engine=mbao.Engine(tile_pixels=64), progress=lambda *a: calls.append(a)
+    )
     tiles = result.stats["tiles"]
     assert tiles == 32 * 32 // 64
     assert calls == [(done, tiles) for done in range(1, tiles + 1)]

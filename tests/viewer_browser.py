@@ -48,19 +48,23 @@ def wait_still(driver):
 
 def image(driver):
     """The bytes of the image the page shows (its element "view"), decoded: (H, W) uint8."""
-    encoded = driver.execute_async_script("""
+    encoded = driver.execute_async_script(
+        """
         const done = arguments[arguments.length - 1];
         fetch(document.getElementById("view").src).then((r) => r.arrayBuffer()).then((buffer) => {
           let text = "";
           for (const byte of new Uint8Array(buffer)) text += String.fromCharCode(byte);
           done(btoa(text));
-        });""")
+        });"""
+    )
     return np.asarray(Image.open(io.BytesIO(base64.b64decode(encoded))))
 
 
 def set_view(driver, camera=None, settings=None):
-    driver.execute_script("window.mbaoView.set(arguments[0])",
-                          {k: v for k, v in dict(camera=camera, settings=settings).items() if v is not None})
+    driver.execute_script(
+        "window.mbaoView.set(arguments[0])",
+        {k: v for k, v in dict(camera=camera, settings=settings).items() if v is not None},
+    )
 
 
 def console_errors(driver):

@@ -53,7 +53,7 @@ class Client:
             return json.loads(message.data), None
         assert message.type == aiohttp.WSMsgType.BINARY, message
         length = struct.unpack("<I", message.data[:4])[0]
-        return json.loads(message.data[4:4 + length]), message.data[4 + length:]
+        return json.loads(message.data[4 : 4 + length]), message.data[4 + length :]
 
     async def until(self, accept):
         """Messages until one for which accept(message, payload) holds; returns it."""
@@ -68,8 +68,12 @@ class Client:
         """The still frame that has accumulated `frames` frames of the view as
         this client last set it: the view's first frames, from before the
         server read the set, may arrive after it was sent."""
-        return await self.until(lambda m, p: m["type"] == "frame" and not m["moving"] and m["frames"] == frames
-                                and m["messages_read"] == self.sent)
+        return await self.until(
+            lambda m, p: m["type"] == "frame"
+            and not m["moving"]
+            and m["frames"] == frames
+            and m["messages_read"] == self.sent
+        )
 
     async def error(self):
         message, _ = await self.until(lambda m, p: m["type"] == "error")

@@ -22,8 +22,31 @@ import sys
 
 # What a file is, by its extension: Assimp's formats (its importers' list), and glTF.
 GLTF = {".gltf", ".glb"}
-SKIPPED = {".png", ".jpg", ".jpeg", ".bmp", ".tga", ".gif", ".dds", ".txt", ".md", ".bin", ".mtl", ".xml",
-           ".glsl", ".json", ".ktx2", ".hdr", ".tif", ".tiff", ".psd", ".pcx", ".raw", ".exr", ".webp"}
+SKIPPED = {
+    ".png",
+    ".jpg",
+    ".jpeg",
+    ".bmp",
+    ".tga",
+    ".gif",
+    ".dds",
+    ".txt",
+    ".md",
+    ".bin",
+    ".mtl",
+    ".xml",
+    ".glsl",
+    ".json",
+    ".ktx2",
+    ".hdr",
+    ".tif",
+    ".tiff",
+    ".psd",
+    ".pcx",
+    ".raw",
+    ".exr",
+    ".webp",
+}
 SECONDS = 120
 
 CHILD = r"""
@@ -45,8 +68,9 @@ def assimp_verdict(path):
     """'triangles' where `assimp info` imports the file with triangles or polygons, 'other' where it imports
     only points or lines, None where it does not import it (or runs past SECONDS)."""
     try:
-        done = subprocess.run(["assimp", "info", str(path)], capture_output=True, text=True, timeout=SECONDS,
-                              errors="replace")
+        done = subprocess.run(
+            ["assimp", "info", str(path)], capture_output=True, text=True, timeout=SECONDS, errors="replace"
+        )
     except subprocess.TimeoutExpired:
         return None
     types = re.search(r"^Primitive Types:\s*(.*)$", done.stdout, re.M)
@@ -68,8 +92,9 @@ def validator_verdict(path):
 
 def mbao_verdict(path):
     try:
-        done = subprocess.run([sys.executable, "-c", CHILD, str(path)], capture_output=True, text=True,
-                              timeout=SECONDS, errors="replace")
+        done = subprocess.run(
+            [sys.executable, "-c", CHILD, str(path)], capture_output=True, text=True, timeout=SECONDS, errors="replace"
+        )
     except subprocess.TimeoutExpired:
         return {"error": f"ran past {SECONDS} s"}
     lines = done.stdout.strip().splitlines()
@@ -119,14 +144,16 @@ def main():
 def report_lines(rows, folder):
     should = [r for r in rows if expected(r)]
     failing = [r for r in should if "error" in r["mbao"] or not r["mbao"].get("renders")]
-    lines = ["<!-- written by tools/corpus_check.py (make corpus); docs/limits.md explains what is left -->",
-             "# Model files mbao refuses",
-             "",
-             f"{len(rows)} files; {len(should)} that Assimp's `assimp info` imports with triangles or the Khronos "
-             f"validator accepts; {len(should) - len(failing)} of those load and render in mbao. The others:",
-             "",
-             "| file | Assimp | validator | mbao |",
-             "|---|---|---|---|"]
+    lines = [
+        "<!-- written by tools/corpus_check.py (make corpus); docs/limits.md explains what is left -->",
+        "# Model files mbao refuses",
+        "",
+        f"{len(rows)} files; {len(should)} that Assimp's `assimp info` imports with triangles or the Khronos "
+        f"validator accepts; {len(should) - len(failing)} of those load and render in mbao. The others:",
+        "",
+        "| file | Assimp | validator | mbao |",
+        "|---|---|---|---|",
+    ]
     for r in failing:
         message = r["mbao"].get("error", "no image").replace(os.fspath(r["file"]), "FILE").replace("|", "\\|")
         lines.append(f"| {os.path.relpath(r['file'], folder)} | {r['assimp']} | {r.get('valid', '')} | {message} |")

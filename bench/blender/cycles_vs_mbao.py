@@ -20,8 +20,9 @@ import time
 import bpy
 import numpy as np
 
-ARGUMENTS = dict(zip(("scene", "size", "padding", "distance", "mbao_samples", "output"),
-                     sys.argv[sys.argv.index("--") + 1:]))
+ARGUMENTS = dict(
+    zip(("scene", "size", "padding", "distance", "mbao_samples", "output"), sys.argv[sys.argv.index("--") + 1 :])
+)
 SIZE, PADDING = int(ARGUMENTS["size"]), int(ARGUMENTS["padding"])
 DISTANCE, MBAO_SAMPLES = float(ARGUMENTS["distance"]), int(ARGUMENTS["mbao_samples"])
 PILOT_SAMPLES = (16, 64)  # Cycles' sample counts whose errors fix its error's power law
@@ -34,8 +35,16 @@ def scene_with_lightmap_uvs(path):
     import mbao
 
     loaded = mbao.load(path)
-    charts = mbao.bake(loaded, target="texture", texcoord="generate", resolution=SIZE, padding=PADDING, samples=2,
-                       max_distance=DISTANCE, progress=False).textures
+    charts = mbao.bake(
+        loaded,
+        target="texture",
+        texcoord="generate",
+        resolution=SIZE,
+        padding=PADDING,
+        samples=2,
+        max_distance=DISTANCE,
+        progress=False,
+    ).textures
     corner_uvs = np.zeros((loaded.triangle_count, 3, 2), np.float32)
     for texture in charts.values():
         corner_uvs[texture.triangles] = texture.texcoords
@@ -94,8 +103,15 @@ def texels_cycles_bakes(image):
 
 def baked_by_mbao(image, bounces, samples):
     started = time.perf_counter()
-    result = bpy.ops.mbao.bake(target="IMAGE", image=image.name, bounces=bounces, samples=samples,
-                               max_distance=DISTANCE, padding=PADDING, standard_error=True)
+    result = bpy.ops.mbao.bake(
+        target="IMAGE",
+        image=image.name,
+        bounces=bounces,
+        samples=samples,
+        max_distance=DISTANCE,
+        padding=PADDING,
+        standard_error=True,
+    )
     seconds = time.perf_counter() - started
     assert result == {"FINISHED"}, result
     return seconds, pixels(image), pixels(bpy.data.images[image.name + "_standard_error"])
@@ -128,12 +144,25 @@ def where_mbaos_time_goes(samples):
     arrays = given.arrays
     converted = time.perf_counter()
     mesh = mbao.Mesh(arrays["vertices"], arrays["indices"], arrays["normals"], arrays["texcoords"])
-    result = mbao.bake(mesh, target="texture", triangles=arrays["triangles"], texcoord=0, resolution=SIZE,
-                       padding=PADDING, samples=samples, max_distance=DISTANCE, progress=False)
+    result = mbao.bake(
+        mesh,
+        target="texture",
+        triangles=arrays["triangles"],
+        texcoord=0,
+        resolution=SIZE,
+        padding=PADDING,
+        samples=samples,
+        max_distance=DISTANCE,
+        progress=False,
+    )
     baked = time.perf_counter()
     tracing = result.stats["frame_ms"] / 1e3
-    return {"scene_to_arrays_seconds": converted - started, "bake_seconds": baked - converted,
-            "tracing_seconds": tracing, "mrays_per_s": result.stats["rays_secondary"] / tracing / 1e6}
+    return {
+        "scene_to_arrays_seconds": converted - started,
+        "bake_seconds": baked - converted,
+        "tracing_seconds": tracing,
+        "mrays_per_s": result.stats["rays_secondary"] / tracing / 1e6,
+    }
 
 
 def rms(values):
@@ -142,8 +171,9 @@ def rms(values):
 
 def _cpu_name():
     with open("/proc/cpuinfo") as info:
-        return next((line.split(":", 1)[1].strip() for line in info if line.startswith("model name")),
-                    platform.machine())
+        return next(
+            (line.split(":", 1)[1].strip() for line in info if line.startswith("model name")), platform.machine()
+        )
 
 
 def main():
@@ -172,25 +202,49 @@ def main():
     parts = where_mbaos_time_goes(MBAO_SAMPLES)
 
     difference = (mbao_values - cycles_values)[compared]
-    z = difference / np.sqrt(mbao_error[compared] ** 2 + achieved_error ** 2)
+    z = difference / np.sqrt(mbao_error[compared] ** 2 + achieved_error**2)
     obj.data.calc_loop_triangles()
     import mbao
 
     result = {
-        "scene": os.path.basename(os.path.dirname(ARGUMENTS["scene"])), "triangles": len(obj.data.loop_triangles),
-        "size": SIZE, "padding": PADDING, "distance": DISTANCE, "blender": bpy.app.version_string,
-        "cpu": _cpu_name(), "cores": os.cpu_count(),
-        "device": f"{mbao.devices()[0].platform}: {mbao.devices()[0].name}", "device_version": mbao.devices()[0].version,
+        "scene": os.path.basename(os.path.dirname(ARGUMENTS["scene"])),
+        "triangles": len(obj.data.loop_triangles),
+        "size": SIZE,
+        "padding": PADDING,
+        "distance": DISTANCE,
+        "blender": bpy.app.version_string,
+        "cpu": _cpu_name(),
+        "cores": os.cpu_count(),
+        "device": f"{mbao.devices()[0].platform}: {mbao.devices()[0].name}",
+        "device_version": mbao.devices()[0].version,
         "compared_texels": int(compared.sum()),
-        "cycles": {"samples": cycles_samples, "seconds": cycles_seconds, "rms_standard_error": achieved_error,
-                   "error_order": cycles_order,
-                   "mean": float(cycles_values[compared].mean())},
-        "mbao_b1": {"samples": MBAO_SAMPLES, "seconds": mbao_seconds, "rms_standard_error": target, **parts,
-                    "mean": float(mbao_values[compared].mean())},
-        "mbao_b2": {"samples": MBAO_SAMPLES, "seconds": b2_seconds, "rms_standard_error": rms(b2_error[compared]),
-                    "mean": float(b2_values[compared].mean())},
-        "b1_difference": {"mean": float(difference.mean()), "rms": rms(difference), "mean_z": float(z.mean()),
-                          "rms_z": rms(z), "beyond_4_sigma": float(np.mean(np.abs(z) > 4.0))},
+        "cycles": {
+            "samples": cycles_samples,
+            "seconds": cycles_seconds,
+            "rms_standard_error": achieved_error,
+            "error_order": cycles_order,
+            "mean": float(cycles_values[compared].mean()),
+        },
+        "mbao_b1": {
+            "samples": MBAO_SAMPLES,
+            "seconds": mbao_seconds,
+            "rms_standard_error": target,
+            **parts,
+            "mean": float(mbao_values[compared].mean()),
+        },
+        "mbao_b2": {
+            "samples": MBAO_SAMPLES,
+            "seconds": b2_seconds,
+            "rms_standard_error": rms(b2_error[compared]),
+            "mean": float(b2_values[compared].mean()),
+        },
+        "b1_difference": {
+            "mean": float(difference.mean()),
+            "rms": rms(difference),
+            "mean_z": float(z.mean()),
+            "rms_z": rms(z),
+            "beyond_4_sigma": float(np.mean(np.abs(z) > 4.0)),
+        },
     }
     with open(ARGUMENTS["output"], "w") as out:
         json.dump(result, out, indent=2)

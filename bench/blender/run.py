@@ -31,12 +31,30 @@ def main():
     with tempfile.TemporaryDirectory(prefix="mbao-bench-blender-") as home:
         environment = dict(os.environ, BLENDER_USER_SCRIPTS=f"{home}/scripts", BLENDER_USER_CONFIG=f"{home}/config")
         subprocess.run([sys.executable, "-m", "mbao", "blender", "--install"], env=environment, check=True)
-        subprocess.run(["blender", "-b", "--python-exit-code", "1", "--python", str(HERE / "cycles_vs_mbao.py"), "--",
-                        args.scene, str(args.size), str(args.padding), str(args.distance), str(args.mbao_samples),
-                        args.json], env=environment, check=True)
+        subprocess.run(
+            [
+                "blender",
+                "-b",
+                "--python-exit-code",
+                "1",
+                "--python",
+                str(HERE / "cycles_vs_mbao.py"),
+                "--",
+                args.scene,
+                str(args.size),
+                str(args.padding),
+                str(args.distance),
+                str(args.mbao_samples),
+                args.json,
+            ],
+            env=environment,
+            check=True,
+        )
     result = json.loads(pathlib.Path(args.json).read_text())
-    result.update(date=datetime.datetime.now(datetime.timezone.utc).isoformat(),
-                  command=" ".join([".venv/bin/python bench/blender/run.py"] + sys.argv[1:]))
+    result.update(
+        date=datetime.datetime.now(datetime.timezone.utc).isoformat(),
+        command=" ".join([".venv/bin/python bench/blender/run.py"] + sys.argv[1:]),
+    )
     pathlib.Path(args.json).write_text(json.dumps(result, indent=2) + "\n")
 
 

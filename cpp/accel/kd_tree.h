@@ -33,7 +33,7 @@ struct KdBuildOptions {
   // The most bytes the tree may take (a device's largest buffer): the build
   // stops with KdTreeTooLarge soon after its nodes pass it, not at its end.
   std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
-  int threads = 0;                 // 0: one per hardware thread; the tree is the same for any number
+  int threads = 0;  // 0: one per hardware thread; the tree is the same for any number
   // Skip the SAH sweep's planes that a bound shows cannot be the cheapest
   // (longest axis first, then blocks of events by bound). The tree is the
   // same either way (a test checks); off, every plane is priced, as the

@@ -71,15 +71,14 @@ struct Scratch {
   // selects what to write) and written for every triangle of a node before
   // its side is used. `straddlers` has one slot more than a node can list: the
   // partition writes a triangle before it knows whether to keep it.
-  explicit Scratch(std::size_t triangles)
-      : side(new Side[triangles]()), straddlers(new std::uint32_t[triangles + 1]) {}
+  explicit Scratch(std::size_t triangles) : side(new Side[triangles]()), straddlers(new std::uint32_t[triangles + 1]) {}
 
-  std::unique_ptr<Side[]> side;  // by triangle index
+  std::unique_ptr<Side[]> side;                 // by triangle index
   std::unique_ptr<std::uint32_t[]> straddlers;  // of a node, to be clipped
   // New events of straddling triangles, by axis, before they are merged in.
   std::array<std::vector<Event>, 3> clipped_below, clipped_above;
   std::vector<std::uint32_t> leaf_entries;  // of a leaf, before they are sorted
-  std::size_t rows_not_counted = 0;  // written since the last Builder::count_rows
+  std::size_t rows_not_counted = 0;         // written since the last Builder::count_rows
   SweepBlocks sweep;
 
   void clear_new_events() {
@@ -183,9 +182,8 @@ class Builder {
     for (const glm::vec3& p : positions_) tree.bounds.extend(p - origin_);
     const std::size_t n = triangles_.size();
     if (n > std::size_t(kMaxEventTriangle) + 1) throw Error("kd-tree: more than 2^30 triangles");
-    max_depth_ = options_.max_depth > 0
-                     ? options_.max_depth
-                     : int(std::lround(8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1)))));
+    max_depth_ = options_.max_depth > 0 ? options_.max_depth
+                                        : int(std::lround(8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1)))));
     max_depth_ = std::min(max_depth_, MBAO_KD_MAX_DEPTH);  // the full-stack traversal's stack depth
     const glm::vec3 extent = tree.bounds.extent();
     const float largest = std::max({extent.x, extent.y, extent.z});
@@ -279,7 +277,8 @@ class Builder {
   void build_node(KdTree& tree, Scratch& scratch, const Bounds3& box, NodeEvents events, Share share, int depth) {
     tree.stats.max_depth = std::max(tree.stats.max_depth, depth);
     const std::size_t n = share.triangles;
-    const Split split = n > 0 && depth < max_depth_ ? find_split(box, events, n, options_, min_width_, scratch.sweep) : Split{};
+    const Split split =
+        n > 0 && depth < max_depth_ ? find_split(box, events, n, options_, min_width_, scratch.sweep) : Split{};
     if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
       make_leaf(tree, scratch, box, events);
       return;
@@ -351,8 +350,8 @@ class Builder {
   // children's triangle counts. A triangle on both sides is clipped to each
   // child: where it misses a child's cell it stays out of it, elsewhere it
   // gets new events for its clipped box (in scratch, for fill_children).
-  Children partition(const NodeEvents& events, const Split& split, const Bounds3& below_box,
-                     const Bounds3& above_box, Scratch& scratch) const {
+  Children partition(const NodeEvents& events, const Split& split, const Bounds3& below_box, const Bounds3& above_box,
+                     Scratch& scratch) const {
     Side* side = scratch.side.get();
     classify(events, split, side);
     scratch.clear_new_events();
@@ -390,7 +389,7 @@ class Builder {
     for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
       const std::uint32_t t = e->triangle(), order = e->position_order();
       const EventType type = e->type();
-      const bool below = order < split_order, above = order > split_order;
+      const bool below = order<split_order, above = order> split_order;
       const Side made = below ? (type == EventType::Start ? Both : Below) : (above ? Above : Both);
       const Side before = side[t];
       side[t] = below || type != EventType::End ? made : before;

@@ -61,8 +61,7 @@ class AxisCost {
 
  private:
   // One formula for costs and bounds, so that a bound rounds as the costs it bounds.
-  double priced(double width_below, double width_above, std::size_t n_below, std::size_t n_above,
-                double lambda) const {
+  double priced(double width_below, double width_above, std::size_t n_below, std::size_t n_above, double lambda) const {
     return lambda * priced(width_below, width_above, n_below, n_above);
   }
   double priced(double width_below, double width_above, std::size_t n_below, std::size_t n_above) const {

@@ -179,15 +179,11 @@ std::optional<Bounds3> clipped_bounds(const std::array<glm::vec3, 3>& triangle, 
 }
 
 std::array<std::optional<Bounds3>, 2> clipped_bounds_of_split(const std::array<glm::vec3, 3>& triangle,
-                                                              const Bounds3& below, const Bounds3& above,
-                                                              int axis) {
+                                                              const Bounds3& below, const Bounds3& above, int axis) {
   switch (axis) {
-    case 0:
-      return parts_of_split<0>(triangle, below, above);
-    case 1:
-      return parts_of_split<1>(triangle, below, above);
-    default:
-      return parts_of_split<2>(triangle, below, above);
+    case 0: return parts_of_split<0>(triangle, below, above);
+    case 1: return parts_of_split<1>(triangle, below, above);
+    default: return parts_of_split<2>(triangle, below, above);
   }
 }
 

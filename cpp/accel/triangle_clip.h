@@ -18,7 +18,6 @@ std::optional<Bounds3> clipped_bounds(const std::array<glm::vec3, 3>& triangle, 
 // clipped_bounds of the triangle in each of the two cells that a split along
 // `axis` made of one (below, above), clipping to the walls they share once.
 std::array<std::optional<Bounds3>, 2> clipped_bounds_of_split(const std::array<glm::vec3, 3>& triangle,
-                                                              const Bounds3& below, const Bounds3& above,
-                                                              int axis);
+                                                              const Bounds3& below, const Bounds3& above, int axis);
 
 }  // namespace mbao

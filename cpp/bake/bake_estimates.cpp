@@ -48,8 +48,9 @@ BakeLayout bake_layout(const EstimatePoints& points, std::int64_t samples, std::
   layout.pixels = targets * layout.chunks;
   // Wider than asked where the image would be taller than a render's may be.
   const auto side = std::size_t(std::get<std::int64_t>(setting_spec("height").hi));
-  layout.width = std::min({layout.pixels, side,
-                           std::max({layout_width * layout.chunks, (layout.pixels + side - 1) / side, std::size_t(1)})});
+  layout.width =
+      std::min({layout.pixels, side,
+                std::max({layout_width * layout.chunks, (layout.pixels + side - 1) / side, std::size_t(1)})});
   layout.height = (layout.pixels + layout.width - 1) / layout.width;
   if (layout.height > side)
     throw std::invalid_argument("a bake of " + std::to_string(targets) + " vertices or texels is more than the " +
@@ -74,15 +75,14 @@ TracedPositions trace_bake(Renderer& renderer, const std::shared_ptr<const Scene
   const auto draw = [&](std::size_t first, std::size_t begin, std::size_t end, std::vector<cl_uint4>& tile) {
     constexpr cl_uint4 kNoSurface{{0u, 0xFFFFFFFFu, 0u, 0u}};
     for (std::size_t i = begin; i < end; ++i) {
-      const std::uint32_t pixel = pixel_at_position(std::uint32_t(first + i), std::uint32_t(width),
-                                                    std::uint32_t(height));
+      const std::uint32_t pixel =
+          pixel_at_position(std::uint32_t(first + i), std::uint32_t(width), std::uint32_t(height));
       const std::uint32_t target = pixel < pixels ? layout.traced[pixel / chunks] : 0u;
       const std::size_t first_estimate = (pixel % chunks) * per_pixel;
       for (std::size_t k = 0; k < per_pixel; ++k) {
         const std::optional<SurfacePoint> p =
-            pixel < pixels
-                ? points.point(target, estimate_random(target, std::uint32_t(first_estimate + k), seed))
-                : std::nullopt;
+            pixel < pixels ? points.point(target, estimate_random(target, std::uint32_t(first_estimate + k), seed))
+                           : std::nullopt;
         tile[i * per_pixel + k] =
             p ? cl_uint4{{0u, p->triangle, mbao_float_as_u32(p->b1), mbao_float_as_u32(p->b2)}} : kNoSurface;
       }
@@ -94,8 +94,8 @@ TracedPositions trace_bake(Renderer& renderer, const std::shared_ptr<const Scene
     const std::size_t slice = (count + threads - 1) / threads;
     std::vector<std::future<void>> slices;
     for (std::size_t begin = slice; begin < count; begin += slice)
-      slices.push_back(std::async(std::launch::async, draw, first, begin, std::min(count, begin + slice),
-                                  std::ref(tile)));
+      slices.push_back(
+          std::async(std::launch::async, draw, first, begin, std::min(count, begin + slice), std::ref(tile)));
     draw(first, 0, std::min(count, slice), tile);
     for (std::future<void>& part : slices) part.get();
   };
@@ -149,8 +149,7 @@ BakeEstimates bake_estimates(Renderer& renderer, const std::shared_ptr<const Sce
                              std::int64_t samples, const EstimatePoints& points, std::size_t layout_width,
                              const Renderer::TileCallback& between_tiles) {
   const BakeLayout layout = bake_layout(points, samples, layout_width);
-  TracedPositions traced =
-      trace_bake(renderer, scene, settings, points, layout, 0, layout.positions(), between_tiles);
+  TracedPositions traced = trace_bake(renderer, scene, settings, points, layout, 0, layout.positions(), between_tiles);
   BakeEstimates bake = finish_bake(points, layout, samples, traced.mean, traced.second_moment);
   bake.stats = std::move(traced.stats);
   return bake;

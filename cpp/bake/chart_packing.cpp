@@ -12,7 +12,9 @@ namespace {
 class BitGrid {
  public:
   BitGrid(int width, int height)
-      : width_(width), height_(height), words_(std::size_t(width + 63) / 64 + 1),
+      : width_(width),
+        height_(height),
+        words_(std::size_t(width + 63) / 64 + 1),
         bits_(words_ * std::size_t(height), 0) {}
 
   int width() const { return width_; }
@@ -159,7 +161,8 @@ struct FreeRun {
 class Atlas {
  public:
   Atlas(int width, int height)
-      : claimed_(width, height), free_runs_(std::size_t(height), {FreeRun{0, width}}),
+      : claimed_(width, height),
+        free_runs_(std::size_t(height), {FreeRun{0, width}}),
         longest_free_(std::size_t(height), width) {}
 
   // Where `chart`'s box's corner goes: the highest row up to `last_row`, then
@@ -247,7 +250,7 @@ class Atlas {
     }
   }
 
-  BitGrid claimed_;  // the texels placed charts claim
+  BitGrid claimed_;                              // the texels placed charts claim
   std::vector<std::vector<FreeRun>> free_runs_;  // per row: its runs of unclaimed texels, left to right
   std::vector<int> longest_free_;                // per row: the longest of those
 };
@@ -264,8 +267,8 @@ FlatChart half_turned(const FlatChart& chart) {
 bool before(glm::ivec2 a, glm::ivec2 b) { return a.y < b.y || (a.y == b.y && a.x < b.x); }
 
 std::optional<std::vector<Placement>> packed_charts(const std::vector<FlatChart>& charts,
-                                                    const std::vector<std::size_t>& order, double density,
-                                                    int width, int height, int padding) {
+                                                    const std::vector<std::size_t>& order, double density, int width,
+                                                    int height, int padding) {
   std::vector<Placement> placed(charts.size());
   Atlas atlas(width, height);
   for (std::size_t c : order) {

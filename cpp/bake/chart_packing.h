@@ -36,7 +36,7 @@ struct Placement {
 // one place (first fit, into any gap the charts before it left; a half turn
 // lets two triangles, or two concave charts, nest). None where they do not fit.
 std::optional<std::vector<Placement>> packed_charts(const std::vector<FlatChart>& charts,
-                                                    const std::vector<std::size_t>& order, double density,
-                                                    int width, int height, int padding);
+                                                    const std::vector<std::size_t>& order, double density, int width,
+                                                    int height, int padding);
 
 }  // namespace mbao

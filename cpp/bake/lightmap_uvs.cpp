@@ -25,7 +25,8 @@ std::vector<std::uint32_t> welded_ids(const TriangleMesh& mesh) {
       const glm::vec3 q = p + 0.0f;  // -0 to +0: equal positions hash equally
       std::uint32_t bits[3];
       std::memcpy(bits, &q, sizeof bits);
-      return (std::size_t(bits[0]) * 73856093u) ^ (std::size_t(bits[1]) * 19349663u) ^ (std::size_t(bits[2]) * 83492791u);
+      return (std::size_t(bits[0]) * 73856093u) ^ (std::size_t(bits[1]) * 19349663u) ^
+             (std::size_t(bits[2]) * 83492791u);
     }
   };
   std::unordered_map<glm::vec3, std::uint32_t, Hash> ids;
@@ -247,7 +248,7 @@ std::vector<std::vector<std::uint32_t>> cut_across(const std::vector<std::uint32
 // Where a chart is cut across its length (SPEC 6.3), in shares of the
 // texture's shorter side at the density at which the charts' boxes would fill
 // the texture, or in texels per texel of padding:
-constexpr double kStripShare = 0.25;  // a strip more than twice as long as wide; also the pieces' length
+constexpr double kStripShare = 0.25;      // a strip more than twice as long as wide; also the pieces' length
 constexpr double kHollowPaddings = 16.0;  // a chart whose triangles fill less than kHollowFill of its box
 constexpr double kHollowFill = 0.6;
 constexpr double kLargeShare = 0.375;  // any chart, where that packs better
@@ -367,7 +368,8 @@ Charts cut_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& tr
                   const GrownCharts& grown, bool cut_large) {
   const Cutter cutter(mesh, triangles, surface, grown.cut_lengths, cut_large);
   Charts charts;
-  for (std::size_t c = 0; c < grown.members.size(); ++c) cutter.add(grown.members[c], grown.flat[c], grown.axes[c], &charts);
+  for (std::size_t c = 0; c < grown.members.size(); ++c)
+    cutter.add(grown.members[c], grown.flat[c], grown.axes[c], &charts);
   return charts;
 }
 
@@ -503,7 +505,8 @@ LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<st
   std::vector<int> round(triangles.size(), 0);
   for (int r = 0; r < kMaxRounds; ++r) {
     LightmapUvs result;
-    const GrownCharts grown = grow_charts(mesh, triangles, surface, round, width, height, padding, &result.worst_stretch);
+    const GrownCharts grown =
+        grow_charts(mesh, triangles, surface, round, width, height, padding, &result.worst_stretch);
     const Packing packed = best_packing(mesh, triangles, surface, grown, width, height, padding);
     result.padding = packed.padding;
     result.size_keeping_padding = packed.size_keeping_padding;

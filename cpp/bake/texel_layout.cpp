@@ -147,16 +147,15 @@ TexelLayout::TexelLayout(const TriangleMesh& mesh, const std::vector<std::uint32
                          WrapMode wrap_t)
     : width_(width), height_(height), wrap_s_(wrap_s), wrap_t_(wrap_t) {
   if (width < 1 || height < 1 || width > kMaxTextureSide || height > kMaxTextureSide)
-    throw std::invalid_argument("resolution must be in [1, " + std::to_string(kMaxTextureSide) + "] on each side, got " +
-                                std::to_string(width) + " x " + std::to_string(height));
+    throw std::invalid_argument("resolution must be in [1, " + std::to_string(kMaxTextureSide) +
+                                "] on each side, got " + std::to_string(width) + " x " + std::to_string(height));
   if (corner_uvs.size() != 3 * triangles.size())
     throw std::invalid_argument("texcoords: " + std::to_string(corner_uvs.size()) + " corners' UVs for " +
                                 std::to_string(triangles.size()) + " triangles");
   std::vector<double> surface_per_texel;
   for (std::size_t i = 0; i < triangles.size(); ++i) {
     const std::uint32_t t = triangles[i];
-    if (t >= mesh.triangles.size())
-      throw std::invalid_argument("triangle " + std::to_string(t) + " does not exist");
+    if (t >= mesh.triangles.size()) throw std::invalid_argument("triangle " + std::to_string(t) + " does not exist");
     const glm::uvec3 v = mesh.triangles[t];
     Corners c;
     for (int k = 0; k < 3; ++k) {
@@ -208,9 +207,7 @@ std::int64_t TexelLayout::texel_along(std::int64_t cell, int n, WrapMode wrap, b
   const std::int64_t in_period = cell - period * n;
   switch (wrap) {
     case WrapMode::Repeat: return in_period;
-    case WrapMode::MirroredRepeat:
-      *mirrored = (period & 1) != 0;
-      return *mirrored ? n - 1 - in_period : in_period;
+    case WrapMode::MirroredRepeat: *mirrored = (period & 1) != 0; return *mirrored ? n - 1 - in_period : in_period;
     case WrapMode::ClampToEdge:
       if (period != 0 && clamp_beyond) return -1;
       return std::clamp<std::int64_t>(cell, 0, n - 1);
@@ -242,7 +239,8 @@ void TexelLayout::add_pieces(std::uint32_t local, double surface_per_texel, std:
       bool mirrored;
       const std::int64_t tx = texel_along(std::int64_t(x), width_, wrap_s_, false, &mirrored);
       const std::int64_t ty = texel_along(std::int64_t(y), height_, wrap_t_, false, &mirrored);
-      pieces.push_back({std::uint32_t(ty * width_ + tx), {local, std::int32_t(x), std::int32_t(y), a * surface_per_texel}});
+      pieces.push_back(
+          {std::uint32_t(ty * width_ + tx), {local, std::int32_t(x), std::int32_t(y), a * surface_per_texel}});
     }
   }
 }

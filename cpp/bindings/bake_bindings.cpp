@@ -66,8 +66,8 @@ std::vector<glm::vec2> corner_uvs_from(const py::array_t<float, py::array::c_sty
 
 SceneTexels make_texels(const std::shared_ptr<Scene>& scene,
                         const py::array_t<float, py::array::c_style | py::array::forcecast>& uvs,
-                        const std::vector<std::uint32_t>& triangles, int width, int height,
-                        const std::string& wrap_s, const std::string& wrap_t) {
+                        const std::vector<std::uint32_t>& triangles, int width, int height, const std::string& wrap_s,
+                        const std::string& wrap_t) {
   const std::vector<glm::vec2> texcoords = corner_uvs_from(uvs);
   py::gil_scoped_release release;
   return SceneTexels{scene, TexelLayout(scene->mesh(), triangles, texcoords, width, height, parse_wrap_mode(wrap_s),
@@ -80,8 +80,8 @@ void check_padding(int padding) {
   asked.validate();
 }
 
-py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const py::dict& values,
-                      std::int64_t samples, int padding, const py::object& progress) {
+py::tuple bake_texels(const SceneTexels& texels, const DeviceInfo& device, const py::dict& values, std::int64_t samples,
+                      int padding, const py::object& progress) {
   check_padding(padding);
   const RenderSettings settings = settings_from(values);
   const Renderer::TileCallback between_tiles = tile_callback(progress);
@@ -136,8 +136,8 @@ py::tuple trace_vertex_bake(const std::shared_ptr<Scene>& scene, const TriangleA
   return traced_tuple(std::move(traced));
 }
 
-py::tuple finish_vertex_bake(const std::shared_ptr<Scene>& scene, const TriangleArray& triangles,
-                             std::int64_t samples, const FloatArray& mean, const FloatArray& second_moment) {
+py::tuple finish_vertex_bake(const std::shared_ptr<Scene>& scene, const TriangleArray& triangles, std::int64_t samples,
+                             const FloatArray& mean, const FloatArray& second_moment) {
   const std::vector<std::uint32_t> baked = baked_triangles(*scene, triangles);
   const std::vector<float> means = floats_of(mean), second_moments = floats_of(second_moment);
   BakeEstimates bake;
@@ -173,8 +173,8 @@ py::tuple finish_texel_bake(const SceneTexels& texels, std::int64_t samples, int
   std::vector<std::uint8_t> filled;
   {
     py::gil_scoped_release release;
-    bake = finish_bake(layout, bake_layout(layout, samples, std::size_t(layout.width())), samples, means,
-                       second_moments);
+    bake =
+        finish_bake(layout, bake_layout(layout, samples, std::size_t(layout.width())), samples, means, second_moments);
     filled = dilate(layout.covered(), layout.width(), layout.height(), padding, {&bake.values, &bake.standard_error});
   }
   const py::ssize_t h = layout.height(), w = layout.width();
@@ -185,7 +185,8 @@ py::tuple finish_texel_bake(const SceneTexels& texels, std::int64_t samples, int
 py::tuple lightmap_uvs(const std::shared_ptr<Scene>& scene, const std::vector<std::uint32_t>& triangles, int width,
                        int height, int padding) {
   for (std::uint32_t t : triangles)
-    if (t >= scene->mesh().triangles.size()) throw std::invalid_argument("triangle " + std::to_string(t) + " does not exist");
+    if (t >= scene->mesh().triangles.size())
+      throw std::invalid_argument("triangle " + std::to_string(t) + " does not exist");
   LightmapUvs uvs;
   {
     py::gil_scoped_release release;
@@ -223,10 +224,12 @@ void bind_bake(py::module_& m) {
                                return adopt(std::move(covered), {t.layout.height(), t.layout.width()});
                              })
       .def_property_readonly("covered_count", [](const SceneTexels& t) { return t.layout.covered_count(); })
-      .def_property_readonly("claimed_twice", [](const SceneTexels& t) { return t.layout.claimed_twice(); },
-                             "Covered texels one of whose 4 x 4 sample points two triangles claim.")
-      .def_property_readonly("unmapped_triangles", [](const SceneTexels& t) { return t.layout.unmapped_triangles(); },
-                             "Triangles of zero UV area, which fall in no texel.")
+      .def_property_readonly(
+          "claimed_twice", [](const SceneTexels& t) { return t.layout.claimed_twice(); },
+          "Covered texels one of whose 4 x 4 sample points two triangles claim.")
+      .def_property_readonly(
+          "unmapped_triangles", [](const SceneTexels& t) { return t.layout.unmapped_triangles(); },
+          "Triangles of zero UV area, which fall in no texel.")
       .def(
           "bake_positions",
           [](const SceneTexels& t, std::int64_t samples) {
@@ -239,12 +242,13 @@ void bind_bake(py::module_& m) {
         "filled, stats). Use mbao.bake.");
   m.def("vertex_bake_positions", &vertex_bake_positions, py::arg("scene"), py::arg("triangles"), py::arg("samples"),
         "The positions of a vertex bake's one image, which trace_vertex_bake splits.");
-  m.def("trace_vertex_bake", &trace_vertex_bake, py::arg("scene"), py::arg("triangles"), py::arg("device"), py::arg("settings"),
-        py::arg("samples"), py::arg("first"), py::arg("end"), py::arg("progress"),
+  m.def("trace_vertex_bake", &trace_vertex_bake, py::arg("scene"), py::arg("triangles"), py::arg("device"),
+        py::arg("settings"), py::arg("samples"), py::arg("first"), py::arg("end"), py::arg("progress"),
         "The positions [first, end) of a vertex bake traced: (mean, second moment, stats), by position. Any "
         "split of the positions gives the whole bake's, bit for bit. Use mbao.bake.");
-  m.def("finish_vertex_bake", &finish_vertex_bake, py::arg("scene"), py::arg("triangles"), py::arg("samples"), py::arg("mean"),
-        py::arg("second_moment"), "(values, standard_error) per vertex from every position's moments.");
+  m.def("finish_vertex_bake", &finish_vertex_bake, py::arg("scene"), py::arg("triangles"), py::arg("samples"),
+        py::arg("mean"), py::arg("second_moment"),
+        "(values, standard_error) per vertex from every position's moments.");
   m.def("trace_texel_bake", &trace_texel_bake, py::arg("texels"), py::arg("device"), py::arg("settings"),
         py::arg("samples"), py::arg("first"), py::arg("end"), py::arg("progress"),
         "trace_vertex_bake for a TexelLayout.");

@@ -12,9 +12,8 @@ namespace mbao::bindings {
 
 void bind_devices(py::module_& m) {
   py::class_<DeviceInfo>(m, "Device", "An OpenCL device, as listed by mbao.devices().")
-      .def(py::init([]() -> DeviceInfo {
-        throw py::type_error("mbao.Device() makes nothing: the devices are mbao.devices()");
-      }))
+      .def(py::init(
+          []() -> DeviceInfo { throw py::type_error("mbao.Device() makes nothing: the devices are mbao.devices()"); }))
       .def_readonly("index", &DeviceInfo::index, "Position in mbao.devices(); pass it as device=.")
       .def_readonly("name", &DeviceInfo::name)
       .def_readonly("platform", &DeviceInfo::platform)
@@ -33,8 +32,8 @@ void bind_devices(py::module_& m) {
   m.def("find_device_by_name", py::overload_cast<const std::string&>(&find_device), py::arg("name"));
   m.def(
       "find_device_by_handle",
-      [](std::uintptr_t handle) { return find_device(reinterpret_cast<cl_device_id>(handle)); },
-      py::arg("handle"), "The device behind a cl_device_id, e.g. pyopencl.Device.int_ptr.");
+      [](std::uintptr_t handle) { return find_device(reinterpret_cast<cl_device_id>(handle)); }, py::arg("handle"),
+      "The device behind a cl_device_id, e.g. pyopencl.Device.int_ptr.");
 }
 
 }  // namespace mbao::bindings

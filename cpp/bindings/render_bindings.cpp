@@ -20,8 +20,10 @@ py::object to_python(const SettingRange& spec, const SettingValue& value) {
   if (spec.kind == SettingKind::AutoCount && std::get<std::uint64_t>(value) == 0) return py::none();
   return std::visit(
       [](const auto& v) -> py::object {
-        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return py::none();
-        else return py::cast(v);
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          return py::none();
+        else
+          return py::cast(v);
       },
       value);
 }
@@ -109,8 +111,8 @@ py::list specs_list(const std::vector<SettingSpecOf<Settings>>& table) {
     d["doc"] = spec.doc;
     d["range"] = spec.range();
     d["none_means"] = spec.none_means.empty() ? py::object(py::none()) : py::str(spec.none_means);
-    const bool numeric = spec.kind == SettingKind::Integer || spec.kind == SettingKind::Unsigned ||
-                         spec.kind == SettingKind::Real;
+    const bool numeric =
+        spec.kind == SettingKind::Integer || spec.kind == SettingKind::Unsigned || spec.kind == SettingKind::Real;
     d["lo"] = numeric ? to_python(spec, spec.lo) : py::none();
     d["hi"] = numeric ? to_python(spec, spec.hi) : py::none();
     d["choices"] = spec.choices;
@@ -156,8 +158,8 @@ std::string documented(const std::string& intro, const std::vector<SettingSpecOf
   std::string doc = intro + "\n";
   for (const SettingSpecOf<Settings>& spec : specs)
     doc += "\n" + spec.name + ": " + spec.doc + " Default " +
-           py::repr(to_python(spec, spec.default_value())).template cast<std::string>() + ", allowed " +
-           spec.range() + ".";
+           py::repr(to_python(spec, spec.default_value())).template cast<std::string>() + ", allowed " + spec.range() +
+           ".";
   return doc;
 }
 
@@ -192,7 +194,8 @@ void add_table_members(py::class_<Settings>& cls, const std::string& name,
   cls.def("__repr__", [&specs, name](const Settings& s) {
     std::string text = name + "(";
     for (std::size_t i = 0; i < specs.size(); ++i)
-      text += (i ? ", " : "") + specs[i].name + "=" + py::repr(to_python(specs[i], specs[i].get(s))).template cast<std::string>();
+      text += (i ? ", " : "") + specs[i].name + "=" +
+              py::repr(to_python(specs[i], specs[i].get(s))).template cast<std::string>();
     return text + ")";
   });
 }
@@ -229,13 +232,14 @@ py::tuple gbuffer(const std::shared_ptr<Scene>& scene, const std::optional<Camer
     result = Renderer::for_device(device).gbuffer(scene, view, settings);
   }
   // kernels/mbao/gbuffer.h's planes, in its order.
-  static const char* const names[] = {"x",     "y",  "z",  "t",  "nx", "ny", "nz", "footprint",
-                                      "depth", "sx", "sy", "sz", "triangle"};
+  static const char* const names[] = {"x",         "y",     "z",  "t",  "nx", "ny",      "nz",
+                                      "footprint", "depth", "sx", "sy", "sz", "triangle"};
   static_assert(std::size(names) == GBUFFER_PLANES, "a name for each plane of the G-buffer");
   const py::ssize_t h = result.height, w = result.width;
   const py::array_t<float> planes = adopt(std::move(result.gbuffer), {py::ssize_t(GBUFFER_PLANES), h, w});
   py::dict by_name;
-  for (py::ssize_t plane = 0; plane < py::ssize_t(GBUFFER_PLANES); ++plane) by_name[names[plane]] = planes[py::int_(plane)];
+  for (py::ssize_t plane = 0; plane < py::ssize_t(GBUFFER_PLANES); ++plane)
+    by_name[names[plane]] = planes[py::int_(plane)];
   const glm::vec3 origin = scene->render_origin();
   return py::make_tuple(by_name, py::make_tuple(origin.x, origin.y, origin.z), stats_dict(result.stats));
 }

@@ -109,8 +109,9 @@ takes it (SPEC 1), and says so in ``stats["max_distance_source"]``.)doc")
            }),
            py::arg("eye"), py::arg("target"), py::arg("up") = Vec3{0.0f, 1.0f, 0.0f}, py::arg("vfov_deg") = 60.0f,
            py::arg("max_distance") = py::none())
-      .def_static("load", [](const std::filesystem::path& path) { return Camera::load(path.string()); },
-                  py::arg("path"), "Reads a camera.json file (SPEC 3.1.1).")
+      .def_static(
+          "load", [](const std::filesystem::path& path) { return Camera::load(path.string()); }, py::arg("path"),
+          "Reads a camera.json file (SPEC 3.1.1).")
       .def_property_readonly("eye", [](const Camera& c) { return to_tuple(c.eye); })
       .def_property_readonly("target", [](const Camera& c) { return to_tuple(c.target); })
       .def_property_readonly("up", [](const Camera& c) { return to_tuple(c.up); })
@@ -120,8 +121,8 @@ takes it (SPEC 1), and says so in ``stats["max_distance_source"]``.)doc")
       .def("__repr__", [](const Camera& c) {
         auto v = [](const glm::vec3& p) {
           return "(" + py::repr(py::float_(p.x)).cast<std::string>() + ", " +
-                 py::repr(py::float_(p.y)).cast<std::string>() + ", " +
-                 py::repr(py::float_(p.z)).cast<std::string>() + ")";
+                 py::repr(py::float_(p.y)).cast<std::string>() + ", " + py::repr(py::float_(p.z)).cast<std::string>() +
+                 ")";
         };
         const std::string radius =
             c.max_distance ? ", max_distance=" + py::repr(py::float_(*c.max_distance)).cast<std::string>() : "";
@@ -134,15 +135,19 @@ Triangles in world space, ready to render: from ``mbao.load``, ``mbao.cornell_bo
 or, as ``mbao.Mesh``, from arrays. The kd-tree is built on first use and kept,
 so later renders of the same scene do not rebuild it.)doc")
       .def(py::init([]() -> std::shared_ptr<Scene> {
-        throw py::type_error("mbao.Scene() makes nothing: a scene comes from mbao.load(path), mbao.cornell_box() or "
-                             "mbao.Mesh(vertices, indices)");
+        throw py::type_error(
+            "mbao.Scene() makes nothing: a scene comes from mbao.load(path), mbao.cornell_box() or "
+            "mbao.Mesh(vertices, indices)");
       }))
       .def_property_readonly(
-          "vertices", [](py::object self) { return rows_of_three<float>(self.cast<const Scene&>().mesh().positions, self); },
+          "vertices",
+          [](py::object self) { return rows_of_three<float>(self.cast<const Scene&>().mesh().positions, self); },
           "(N, 3) float32 vertex positions in world space (read-only).")
       .def_property_readonly(
           "indices",
-          [](py::object self) { return rows_of_three<std::uint32_t>(self.cast<const Scene&>().mesh().triangles, self); },
+          [](py::object self) {
+            return rows_of_three<std::uint32_t>(self.cast<const Scene&>().mesh().triangles, self);
+          },
           "(M, 3) uint32 vertex indices of the triangles (read-only).")
       .def_property_readonly(
           "normals",
@@ -153,11 +158,11 @@ so later renders of the same scene do not rebuild it.)doc")
           },
           "(N, 3) float32 vertex normals, zero where a vertex has none; None without normals.")
       .def_property_readonly(
-          "bounds",
-          [](const Scene& s) { return py::make_tuple(to_tuple(s.bounds().lo), to_tuple(s.bounds().hi)); },
+          "bounds", [](const Scene& s) { return py::make_tuple(to_tuple(s.bounds().lo), to_tuple(s.bounds().hi)); },
           "(lo, hi) corners of the box around the triangles.")
-      .def_property_readonly("camera", [](const Scene& s) { return s.camera(); },
-                             "The scene's own camera (the Cornell box's, a glTF file's first perspective camera) or None.")
+      .def_property_readonly(
+          "camera", [](const Scene& s) { return s.camera(); },
+          "The scene's own camera (the Cornell box's, a glTF file's first perspective camera) or None.")
       .def(
           "default_camera",
           [](const Scene& s, std::int64_t width, std::int64_t height) {
@@ -240,15 +245,16 @@ rounding scales with the scene's size wherever it lies.)doc")
             for (const MaterialUvs& m : uv.materials) {
               py::dict d;
               d["name"] = m.name;
-              d["occlusion_texcoord"] = m.occlusion_texcoord < 0 ? py::object(py::none()) : py::int_(m.occlusion_texcoord);
+              d["occlusion_texcoord"] =
+                  m.occlusion_texcoord < 0 ? py::object(py::none()) : py::int_(m.occlusion_texcoord);
               d["wrap"] = py::make_tuple(to_string(m.wrap_s), to_string(m.wrap_t));
               d["base_color"] = m.base_color ? base_color_dict(*m.base_color) : py::object(py::none());
               materials.append(d);
             }
             py::dict d;
             d["sets"] = sets;
-            d["triangle_materials"] = py::array_t<std::int32_t>(py::ssize_t(uv.triangle_materials.size()),
-                                                                 uv.triangle_materials.data());
+            d["triangle_materials"] =
+                py::array_t<std::int32_t>(py::ssize_t(uv.triangle_materials.size()), uv.triangle_materials.data());
             d["materials"] = materials;
             py::list primitives;
             for (const LoadedPrimitive& p : uv.primitives) {
@@ -295,8 +301,9 @@ rounding scales with the scene's size wherever it lies.)doc")
       },
       py::arg("path"), py::arg("normals") = true, py::arg("texcoords") = false, py::arg("base_colors") = false,
       py::call_guard<py::gil_scoped_release>());
-  m.def("cornell_box", []() -> std::shared_ptr<Scene> { return cornell_box(); },
-        "The measured Cornell box (SPEC 3.4), in millimetres, with its own camera.");
+  m.def(
+      "cornell_box", []() -> std::shared_ptr<Scene> { return cornell_box(); },
+      "The measured Cornell box (SPEC 3.4), in millimetres, with its own camera.");
 }
 
 }  // namespace mbao::bindings

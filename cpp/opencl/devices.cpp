@@ -17,7 +17,8 @@ std::string lowercase(std::string text) {
 }
 
 std::string trimmed(std::string text) {
-  while (!text.empty() && (text.back() == '\0' || std::isspace(static_cast<unsigned char>(text.back())))) text.pop_back();
+  while (!text.empty() && (text.back() == '\0' || std::isspace(static_cast<unsigned char>(text.back()))))
+    text.pop_back();
   return text;
 }
 
@@ -75,8 +76,8 @@ std::vector<DeviceInfo> list_devices() {
 DeviceInfo find_device(std::size_t index) {
   const std::vector<DeviceInfo> devices = list_devices();
   if (index >= devices.size())
-    throw std::invalid_argument("device: index " + std::to_string(index) + " is out of range; the devices are:" +
-                                available_list(devices));
+    throw std::invalid_argument("device: index " + std::to_string(index) +
+                                " is out of range; the devices are:" + available_list(devices));
   return devices[index];
 }
 
@@ -85,8 +86,8 @@ DeviceInfo find_device(const std::string& name_part) {
   const std::string wanted = lowercase(name_part);
   for (const DeviceInfo& d : devices)
     if (lowercase(d.description()).find(wanted) != std::string::npos) return d;
-  throw std::invalid_argument("device: no device matches \"" + name_part + "\"; the devices are:" +
-                              available_list(devices));
+  throw std::invalid_argument("device: no device matches \"" + name_part +
+                              "\"; the devices are:" + available_list(devices));
 }
 
 DeviceInfo find_device(cl_device_id handle) {

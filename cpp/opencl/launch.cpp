@@ -36,8 +36,8 @@ std::size_t work_group_size_for(const cl::Kernel& kernel, const cl::Device& devi
   constexpr std::size_t kDefault = 64;
   const std::size_t limit = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device);
   if (requested > limit)
-    throw std::invalid_argument("work_group_size must be at most " + std::to_string(limit) +
-                                " on this device, got " + std::to_string(requested));
+    throw std::invalid_argument("work_group_size must be at most " + std::to_string(limit) + " on this device, got " +
+                                std::to_string(requested));
   return requested ? requested : std::min(kDefault, limit);
 }
 

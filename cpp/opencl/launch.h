@@ -45,7 +45,6 @@ std::size_t rays_per_lane_item(std::size_t rays, const cl::Device& device, std::
 // (PoCL: grids under 65535 items wide and wider ones get builds of their own):
 // launched so over the smallest and the largest grid a frame uses, a kernel
 // is built before the frame, whatever its tiles' sizes.
-void launch_empty(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t largest_items,
-                  std::size_t work_group);
+void launch_empty(cl::CommandQueue& queue, const cl::Kernel& kernel, std::size_t largest_items, std::size_t work_group);
 
 }  // namespace mbao

@@ -39,7 +39,10 @@ std::string to_string(ProgramOrigin origin) {
 }
 
 ProgramCache::ProgramCache(cl::Context context, cl::Device device, ProgramBinaryStore store)
-    : context_(std::move(context)), device_(std::move(device)), store_(std::move(store)), device_identity_(identity_of(device_)) {}
+    : context_(std::move(context)),
+      device_(std::move(device)),
+      store_(std::move(store)),
+      device_identity_(identity_of(device_)) {}
 
 BuiltProgram ProgramCache::get(const std::string& source_name, const std::string& options) {
   std::string source = kernel_program_source(source_name);

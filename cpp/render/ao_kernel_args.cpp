@@ -18,7 +18,7 @@ CameraArgs::CameraArgs(const Camera& camera, const RenderSettings& s) {
   height = cl_uint(s.height);
 }
 
-void CameraArgs::append_to(KernelArgs& args) const { MBAO_CAMERA_PARAM_LIST(MBAO_APPEND_PARAM) }
+void CameraArgs::append_to(KernelArgs& args) const {MBAO_CAMERA_PARAM_LIST(MBAO_APPEND_PARAM)}
 
 AoArgs::AoArgs(const Camera& camera, const RenderSettings& s, PrimarySurfaces primaries)
     : eye(to_float4(camera.eye)),

@@ -7,9 +7,8 @@
 #include "opencl/launch.h"
 
 namespace mbao {
-Denoiser::Denoiser(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-                   std::size_t width, std::size_t height, const DenoiseSettings& settings,
-                   std::size_t work_group_size)
+Denoiser::Denoiser(const cl::Context& context, const cl::Device& device, const cl::Program& program, std::size_t width,
+                   std::size_t height, const DenoiseSettings& settings, std::size_t work_group_size)
     : width_(width), height_(height), settings_(settings) {
   settings_.validate();
   const std::size_t bytes = width * height * sizeof(cl_float);

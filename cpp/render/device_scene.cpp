@@ -9,7 +9,6 @@
 #include "opencl/launch.h"
 #include "render/render_plan.h"
 
-
 namespace mbao {
 namespace {
 
@@ -31,8 +30,8 @@ void check_buffer(std::size_t bytes, std::size_t limit, const std::string& devic
   const std::size_t triangles = scene.mesh().triangles.size();
   const std::size_t fit = std::size_t(double(triangles) * double(limit) / double(bytes));
   throw DeviceError(scene.name() + ": its " + what + " need one device buffer of " + in_units(bytes) + " (" +
-                    std::to_string(triangles) + " triangles), more than the " + in_units(limit) + " that " + device_name +
-                    " allocates at most (CL_DEVICE_MAX_MEM_ALLOC_SIZE): about " + std::to_string(fit) +
+                    std::to_string(triangles) + " triangles), more than the " + in_units(limit) + " that " +
+                    device_name + " allocates at most (CL_DEVICE_MAX_MEM_ALLOC_SIZE): about " + std::to_string(fit) +
                     " triangles fit");
 }
 
@@ -59,13 +58,12 @@ std::shared_ptr<const KdTree> DeviceScene::tree_within(const Scene& scene, std::
   }
 }
 
-void DeviceScene::check_fits(const Scene& scene, const cl::Device& device, bool with_normals,
-                             bool indexed_triangles) {
+void DeviceScene::check_fits(const Scene& scene, const cl::Device& device, bool with_normals, bool indexed_triangles) {
   check_fits(scene, largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), with_normals, indexed_triangles);
 }
 
-void DeviceScene::check_fits(const Scene& scene, std::size_t limit, const std::string& device_name,
-                             bool with_normals, bool indexed_triangles) {
+void DeviceScene::check_fits(const Scene& scene, std::size_t limit, const std::string& device_name, bool with_normals,
+                             bool indexed_triangles) {
   const TriangleMesh& mesh = scene.mesh();
   const std::size_t triangles = mesh.triangles.size();
   if (indexed_triangles) {
@@ -123,8 +121,8 @@ DeviceScene::DeviceScene(const cl::Context& context, cl::CommandQueue& queue, co
                 "the kernels read the mesh's vertices and indices as packed triples");
   try {
     const cl::Device device = queue.getInfo<CL_QUEUE_DEVICE>();
-    check_buffer(tree_->nodes.size() * sizeof(KdNode), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(),
-                 scene, "kd-tree's nodes");
+    check_buffer(tree_->nodes.size() * sizeof(KdNode), largest_buffer(device), device.getInfo<CL_DEVICE_NAME>(), scene,
+                 "kd-tree's nodes");
     nodes_ = shares_host_memory ? in_place(context, tree_->nodes) : upload(context, queue, tree_->nodes);
     if (indexed_triangles) {
       if (!shares_host_memory) throw std::logic_error("indexed triangles are read in place, from host memory");
@@ -196,21 +194,20 @@ void DeviceScene::append_to(KernelArgs& args) const {
 }
 
 std::shared_ptr<const DeviceScene> DeviceSceneCache::get(ComputeContext& compute,
-                                                         const std::shared_ptr<const Scene>& scene,
-                                                         bool with_normals, bool indexed_triangles) {
+                                                         const std::shared_ptr<const Scene>& scene, bool with_normals,
+                                                         bool indexed_triangles) {
   std::lock_guard<std::mutex> lock(mutex_);
   for (auto it = entries_.begin(); it != entries_.end();) it = it->second.scene.expired() ? entries_.erase(it) : ++it;
   Entry& entry = entries_[{scene->id(), with_normals}];
   if (!entry.device_scene) {
     // The scene with the other choice of normals has the rest already.
     const auto other = entries_.find({scene->id(), !with_normals});
-    entry.device_scene =
-        other != entries_.end() && other->second.device_scene
-            ? std::make_shared<const DeviceScene>(*other->second.device_scene, compute.context(), compute.queue(),
-                                                  *scene, with_normals)
-            : std::make_shared<const DeviceScene>(compute.context(), compute.queue(), *scene, scene->kd_tree(),
-                                                  with_normals, device_profile(compute.device()).shares_host_memory,
-                                                  indexed_triangles);
+    entry.device_scene = other != entries_.end() && other->second.device_scene
+                             ? std::make_shared<const DeviceScene>(*other->second.device_scene, compute.context(),
+                                                                   compute.queue(), *scene, with_normals)
+                             : std::make_shared<const DeviceScene>(
+                                   compute.context(), compute.queue(), *scene, scene->kd_tree(), with_normals,
+                                   device_profile(compute.device()).shares_host_memory, indexed_triangles);
     entry.scene = scene;
   }
   return entry.device_scene;

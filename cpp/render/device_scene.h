@@ -26,8 +26,7 @@ namespace mbao {
 class DeviceScene {
  public:
   DeviceScene(const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,
-              std::shared_ptr<const KdTree> tree, bool with_normals, bool shares_host_memory,
-              bool indexed_triangles);
+              std::shared_ptr<const KdTree> tree, bool with_normals, bool shares_host_memory, bool indexed_triangles);
   // `other`'s scene with or without its vertex normals: the same buffers but
   // the normals, which are uploaded where `other` lacks them.
   DeviceScene(const DeviceScene& other, const cl::Context& context, cl::CommandQueue& queue, const Scene& scene,

@@ -38,9 +38,9 @@ std::size_t Frame::device_bytes(const RenderSettings& s, const RenderPlan& plan,
   return buffer_sizes(s, plan, tile_pixels, primaries).total();
 }
 
-Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-             const DeviceScene& scene, const Camera& camera, const RenderSettings& s, const RenderPlan& plan,
-             std::size_t tile_pixels, PrimarySurfaces primaries)
+Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
+             const Camera& camera, const RenderSettings& s, const RenderPlan& plan, std::size_t tile_pixels,
+             PrimarySurfaces primaries)
     : scene_(scene),
       camera_args_(camera, s),
       ao_args_(camera, s, primaries),
@@ -75,8 +75,8 @@ Frame::Frame(const cl::Context& context, const cl::Device& device, const cl::Pro
     ao_kernel_ = cl::Kernel(program, plan.kernels.megakernel.c_str());
     ao_group_ = work_group_size_for(ao_kernel_, device, s.work_group_size);
   } else if (plan.kernels.wavefront()) {
-    wavefront_ = std::make_unique<Wavefront>(context, device, program, scene, ao_args_, s, plan.kernels, tile_pixels,
-                                             buffers_);
+    wavefront_ =
+        std::make_unique<Wavefront>(context, device, program, scene, ao_args_, s, plan.kernels, tile_pixels, buffers_);
   }
 }
 
@@ -146,9 +146,10 @@ TraversalTotals Frame::traversal_totals(cl::CommandQueue& queue) const {
 
 std::string Frame::launch_signature() const {
   const cl::Program program = camera_rays_.getInfo<CL_KERNEL_PROGRAM>();
-  const std::string ao = wavefront_    ? wavefront_->launch_signature()
-                         : ao_kernel_() ? ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(ao_group_)
-                                        : "no AO";
+  const std::string ao = wavefront_ ? wavefront_->launch_signature()
+                         : ao_kernel_()
+                             ? ao_kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>() + " " + std::to_string(ao_group_)
+                             : "no AO";
   return std::to_string(reinterpret_cast<std::uintptr_t>(program())) + " " + std::to_string(camera_group_) + " " + ao +
          " tile " + std::to_string(tile_pixels_);
 }

@@ -34,8 +34,7 @@ class Frame {
   void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count);
   // A frame of given points: AO from `points`, a surface point (t, triangle, b1, b2 bits; triangle ~0u for
   // none) per camera sample of those positions, in the camera hits' order. Copies them before it returns.
-  void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count,
-                    const std::vector<cl_uint4>& points);
+  void enqueue_tile(cl::CommandQueue& queue, std::size_t first, std::size_t count, const std::vector<cl_uint4>& points);
   // Launches every kernel of a tile over no pixels, on the smallest grid and on
   // a whole tile's (launch_empty): what a driver builds at a kernel's first
   // launch, it builds here rather than in a tile.

@@ -59,8 +59,8 @@ std::string depth_reason(const SceneTraits& scene, int min_depth) {
 Traversal plan_traversal(const RenderSettings& s, const DeviceProfile& profile, const SceneTraits& scene,
                          std::vector<std::string>& reasons) {
   if (s.traversal != Traversal::Auto) return s.traversal;
-  const bool lanes_can_run = s.organisation != KernelOrganisation::Megakernel && s.wavefront_can_run() &&
-                             !s.origin_paths.value_or(false);
+  const bool lanes_can_run =
+      s.organisation != KernelOrganisation::Megakernel && s.wavefront_can_run() && !s.origin_paths.value_or(false);
   const bool lanes = deep_enough(scene.tree_depth, profile.min_lanes_depth) && lanes_can_run;
   const Traversal walk = lanes ? Traversal::Lanes : profile.walk;
   std::string why = "traversal " + to_string(walk) + ": the " + std::string(profile.device_class) + " profile's";
@@ -79,8 +79,8 @@ Traversal plan_gbuffer_traversal(const RenderSettings& s, const DeviceProfile& p
   if (s.traversal != Traversal::Auto) return s.traversal;
   const Traversal walk = profile.gbuffer_packets ? Traversal::Lanes : profile.walk;
   reasons.push_back("traversal " + to_string(walk) + ": the G-buffer's camera rays, " +
-                    (profile.gbuffer_packets ? "in packets" : "one per work item") + " on the " +
-                    profile.device_class + " profile");
+                    (profile.gbuffer_packets ? "in packets" : "one per work item") + " on the " + profile.device_class +
+                    " profile");
   return walk;
 }
 
@@ -143,7 +143,8 @@ constexpr std::uint64_t kMaxTileRays = std::uint64_t(1) << 24;
 // validate() refuses more per pixel); no limit for the megakernel.
 std::size_t queue_limited_pixels(const RenderSettings& s, KernelOrganisation organisation, std::size_t pixels) {
   if (organisation != KernelOrganisation::Wavefront) return pixels;
-  const std::uint64_t per_pixel = std::max<std::uint64_t>(1, s.max_queue_entries_per_camera_sample()) * std::uint64_t(s.spp);
+  const std::uint64_t per_pixel =
+      std::max<std::uint64_t>(1, s.max_queue_entries_per_camera_sample()) * std::uint64_t(s.spp);
   return std::min(pixels, std::size_t(kMaxWavefrontQueueEntries / per_pixel));
 }
 
@@ -152,7 +153,8 @@ std::size_t tile_pixels_for(const RenderSettings& s, KernelOrganisation organisa
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   const std::size_t limit = queue_limited_pixels(s, organisation, pixels);
   if (s.tile_pixels) return std::min(s.tile_pixels, limit);
-  const std::uint64_t rays_per_pixel = std::max<std::uint64_t>(1, s.max_rays_per_camera_sample()) * std::uint64_t(s.spp);
+  const std::uint64_t rays_per_pixel =
+      std::max<std::uint64_t>(1, s.max_rays_per_camera_sample()) * std::uint64_t(s.spp);
   const std::size_t by_memory = kMaxTileCameraSamples / std::size_t(s.spp);
   const std::size_t by_rays = std::size_t(std::max<std::uint64_t>(1, kMaxTileRays / rays_per_pixel));
   return std::max<std::size_t>(1, std::min({limit, by_memory, by_rays}));
@@ -166,12 +168,9 @@ FrameOutput frame_output(const RenderSettings& s, RenderProduct product) {
 // The G-buffer planes the frame's camera rays write: those its readers read.
 std::uint32_t gbuffer_planes(const RenderSettings& s, FrameOutput output) {
   switch (output) {
-    case FrameOutput::GBuffer:
-      return MBAO_GBUFFER_ALL_PLANES;
-    case FrameOutput::HbaoGBuffer:
-      return MBAO_GBUFFER_HBAO_PLANES;
-    case FrameOutput::AmbientOcclusion:
-      break;
+    case FrameOutput::GBuffer: return MBAO_GBUFFER_ALL_PLANES;
+    case FrameOutput::HbaoGBuffer: return MBAO_GBUFFER_HBAO_PLANES;
+    case FrameOutput::AmbientOcclusion: break;
   }
   return s.filtered() ? MBAO_GBUFFER_FILTER_PLANES : 0u;
 }
@@ -309,8 +308,9 @@ RenderPlan plan_render(const RenderSettings& s, const DeviceInfo& device, const 
   p.indexed_triangles = indexed_triangles(profile, scene.triangles);
   p.max_registers = plan_register_cap(device, profile, plan.reasons);
   if (profile.min_indexed_triangles > 0)
-    plan.reasons.push_back(std::string("triangles ") + (p.indexed_triangles ? "from the mesh's vertices" : "as coordinates") +
-                           ": " + std::to_string(scene.triangles) + " of them, the profile's threshold " +
+    plan.reasons.push_back(std::string("triangles ") +
+                           (p.indexed_triangles ? "from the mesh's vertices" : "as coordinates") + ": " +
+                           std::to_string(scene.triangles) + " of them, the profile's threshold " +
                            std::to_string(profile.min_indexed_triangles));
   return plan;
 }
@@ -320,9 +320,9 @@ ProgramVariant plan_trace(Traversal requested, bool count_traversal, const Devic
   const DeviceProfile& profile = device_profile(device);
   ProgramVariant p;
   p.program = Program::Trace;
-  p.walk = requested != Traversal::Auto                          ? requested
+  p.walk = requested != Traversal::Auto                             ? requested
            : deep_enough(scene.tree_depth, profile.min_lanes_depth) ? Traversal::Lanes
-                                                                  : profile.walk;
+                                                                    : profile.walk;
   p.count_traversal = count_traversal;
   p.alpha_masks = scene.alpha_masks;
   p.load_both_children = profile.load_both_children && walks_full_stack(p.walk);

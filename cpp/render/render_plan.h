@@ -23,12 +23,12 @@ namespace mbao {
 // What one class of device runs where the settings leave the choice to mbao.
 // Each field's default is "no": a profile names what it turns on.
 struct DeviceProfile {
-  const char* device_class = "";                              // "CPU", "GPU" or "other" (accelerators: unmeasured)
-  Traversal walk = Traversal::ShortStack;                     // for rays walked one per work item
-  int min_lanes_depth = 0;                                    // lanes for trees at least this deep (0: never)
+  const char* device_class = "";           // "CPU", "GPU" or "other" (accelerators: unmeasured)
+  Traversal walk = Traversal::ShortStack;  // for rays walked one per work item
+  int min_lanes_depth = 0;                 // lanes for trees at least this deep (0: never)
   KernelOrganisation organisation = KernelOrganisation::Megakernel;  // where the wavefront can run the settings
-  bool load_both_children = false;                            // in the full stack's walk (MBAO_LOAD_BOTH_CHILDREN)
-  int min_origin_path_depth = 0;                              // origin paths for trees at least this deep (0: never)
+  bool load_both_children = false;  // in the full stack's walk (MBAO_LOAD_BOTH_CHILDREN)
+  int min_origin_path_depth = 0;    // origin paths for trees at least this deep (0: never)
   // The device reads host memory: it reads the scene's tree where it is
   // (CL_MEM_USE_HOST_PTR, render/device_scene.h).
   bool shares_host_memory = false;
@@ -62,12 +62,12 @@ struct ProgramVariant {
   Program program = Program::Render;
   Traversal walk = Traversal::Stack;  // MBAO_TRAVERSAL: never Auto; the screen-space passes (hbao.cl,
                                       // denoise.cl, temporal.cl) walk no tree and read no define
-  bool count_traversal = false;      // render.cl, trace.cl
+  bool count_traversal = false;       // render.cl, trace.cl
   bool alpha_masks = false;
-  bool load_both_children = false;   // full-stack walks only (Stack, Lanes)
-  bool origin_paths = false;         // render.cl, walks of one ray only
-  bool indexed_triangles = false;    // render.cl, trace.cl
-  int max_registers = 0;             // render.cl: -cl-nv-maxrregcount, a build option, not a define (0: none)
+  bool load_both_children = false;  // full-stack walks only (Stack, Lanes)
+  bool origin_paths = false;        // render.cl, walks of one ray only
+  bool indexed_triangles = false;   // render.cl, trace.cl
+  int max_registers = 0;            // render.cl: -cl-nv-maxrregcount, a build option, not a define (0: none)
 
   const char* file() const;
   // "-DMBAO_TRAVERSAL=3 -DMBAO_COUNT_TRAVERSAL=0 ...": the defines `program` reads, in a fixed order,
@@ -96,9 +96,9 @@ enum class AoLaunches { None, Megakernel, Wavefront, StreamedWavefront };
 // empty where the frame has no such part.
 struct FrameKernels {
   AoLaunches ao = AoLaunches::None;
-  std::string camera_rays;  // trace_camera_rays, or trace_camera_packets: every frame
+  std::string camera_rays;                  // trace_camera_rays, or trace_camera_packets: every frame
   std::size_t camera_samples_per_item = 1;  // MBAO_LANES for trace_camera_packets
-  std::string megakernel;   // ao_branching or ao_path: the megakernel organisation
+  std::string megakernel;                   // ao_branching or ao_path: the megakernel organisation
   // The wavefront: its first bounce and the bounces after, each over a queue,
   // then the pixels' values from the counts.
   std::string first_bounce, bounce, finish;

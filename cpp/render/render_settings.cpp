@@ -13,7 +13,8 @@ namespace {
 // Every setting of `settings` checked against its table, the errors naming `what` it is.
 template <typename Settings>
 void check_all(const Settings& settings, const std::vector<SettingSpecOf<Settings>>& specs, const std::string& what) {
-  for (const SettingSpecOf<Settings>& spec : specs) spec.SettingRange::check(what + " " + spec.name, spec.get(settings));
+  for (const SettingSpecOf<Settings>& spec : specs)
+    spec.SettingRange::check(what + " " + spec.name, spec.get(settings));
 }
 
 // Past this a pixel's ray count would not fit the 32-bit counter the kernels keep.
@@ -31,9 +32,9 @@ struct Named {
 };
 const Named<Estimator> kEstimators[] = {{"branching", Estimator::Branching}, {"path", Estimator::Path}};
 const Named<NormalMode> kNormalModes[] = {{"shading", NormalMode::Shading}, {"geometric", NormalMode::Geometric}};
-const Named<Traversal> kTraversals[] = {{"auto", Traversal::Auto},           {"pushdown", Traversal::PushDown},
-                                        {"restart", Traversal::Restart},     {"short-stack", Traversal::ShortStack},
-                                        {"stack", Traversal::Stack},         {"lanes", Traversal::Lanes}};
+const Named<Traversal> kTraversals[] = {{"auto", Traversal::Auto},       {"pushdown", Traversal::PushDown},
+                                        {"restart", Traversal::Restart}, {"short-stack", Traversal::ShortStack},
+                                        {"stack", Traversal::Stack},     {"lanes", Traversal::Lanes}};
 const Named<KernelOrganisation> kOrganisations[] = {{"auto", KernelOrganisation::Auto},
                                                     {"megakernel", KernelOrganisation::Megakernel},
                                                     {"wavefront", KernelOrganisation::Wavefront}};
@@ -78,15 +79,25 @@ std::string to_string(KernelOrganisation organisation) { return name_of(kOrganis
 std::string to_string(Method method) { return name_of(kMethods, method); }
 
 template <>
-std::vector<std::string> names_of<Estimator>() { return all_names(kEstimators); }
+std::vector<std::string> names_of<Estimator>() {
+  return all_names(kEstimators);
+}
 template <>
-std::vector<std::string> names_of<NormalMode>() { return all_names(kNormalModes); }
+std::vector<std::string> names_of<NormalMode>() {
+  return all_names(kNormalModes);
+}
 template <>
-std::vector<std::string> names_of<Traversal>() { return all_names(kTraversals); }
+std::vector<std::string> names_of<Traversal>() {
+  return all_names(kTraversals);
+}
 template <>
-std::vector<std::string> names_of<KernelOrganisation>() { return all_names(kOrganisations); }
+std::vector<std::string> names_of<KernelOrganisation>() {
+  return all_names(kOrganisations);
+}
 template <>
-std::vector<std::string> names_of<Method>() { return all_names(kMethods); }
+std::vector<std::string> names_of<Method>() {
+  return all_names(kMethods);
+}
 
 std::uint64_t RenderSettings::max_rays_per_camera_sample() const {
   if (estimator == Estimator::Path) return std::uint64_t(samples) * std::uint64_t(bounces);
@@ -161,7 +172,8 @@ void RenderSettings::validate_hbao() const {
   if (temporal) bad("temporal accumulation blends ray-traced frames by their variance (SPEC 7.4); HBAO has none");
   if (!std::isfinite(radius()))
     bad("HBAO needs a finite max_distance: it is the radius, in world units, that it searches for occluders");
-  if (organisation == KernelOrganisation::Wavefront) bad("organisation \"wavefront\" applies to the ray-traced method only");
+  if (organisation == KernelOrganisation::Wavefront)
+    bad("organisation \"wavefront\" applies to the ray-traced method only");
   hbao.validate();
 }
 
@@ -176,11 +188,14 @@ void RenderSettings::validate_filters() const {
   if (temporal) temporal->validate();
   const std::string what = denoise ? "denoise" : "temporal accumulation";
   if (spp != 1)
-    bad(what + " needs spp=1, got spp=" + std::to_string(spp) + ": its G-buffer is each pixel's one camera hit, "
+    bad(what + " needs spp=1, got spp=" + std::to_string(spp) +
+        ": its G-buffer is each pixel's one camera hit, "
         "through the pixel centre (SPEC 7.2)");
   if (samples < 2)
-    bad(what + " weighs values by their variance, the spread of the r directions at each hit (SPEC 7.1): it needs "
-        "samples >= 2, got samples=" + std::to_string(samples));
+    bad(what +
+        " weighs values by their variance, the spread of the r directions at each hit (SPEC 7.1): it needs "
+        "samples >= 2, got samples=" +
+        std::to_string(samples));
 }
 
 void RenderSettings::validate_work() const {
@@ -189,12 +204,13 @@ void RenderSettings::validate_work() const {
   const std::uint64_t camera_samples = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(spp);
   std::string message = "this render would trace up to " + std::to_string(rays) + " rays (" +
                         std::to_string(camera_samples) + " camera samples x " +
-                        std::to_string(1 + max_rays_per_camera_sample()) + " rays each), more than max_rays=" +
-                        std::to_string(max_rays);
+                        std::to_string(1 + max_rays_per_camera_sample()) +
+                        " rays each), more than max_rays=" + std::to_string(max_rays);
   if (estimator == Estimator::Branching)
-    message += "; the branching estimator traces samples^1 + ... + samples^bounces rays per camera sample, "
-               "the path estimator samples * bounces = " + std::to_string(std::uint64_t(samples) * std::uint64_t(bounces)) +
-               " (estimator=\"path\")";
+    message +=
+        "; the branching estimator traces samples^1 + ... + samples^bounces rays per camera sample, "
+        "the path estimator samples * bounces = " +
+        std::to_string(std::uint64_t(samples) * std::uint64_t(bounces)) + " (estimator=\"path\")";
   bad(message + "; raise max_rays to run it anyway");
 }
 

@@ -37,8 +37,8 @@ enum class Method { RayTraced, Hbao };
 
 // HBAO's own settings; its radius is the render's max_distance.
 struct HbaoSettings {
-  std::int64_t directions = 8;  // image directions per pixel, rotated per pixel
-  std::int64_t steps = 6;       // samples along each direction
+  std::int64_t directions = 8;   // image directions per pixel, rotated per pixel
+  std::int64_t steps = 6;        // samples along each direction
   float angle_bias_deg = 10.0f;  // horizons less than this above the tangent plane are ignored
   float falloff = 1.0f;          // attenuation W(r) = 1 - falloff * (r / radius)^2, in [0, 1]
   // Throws std::invalid_argument naming the first setting out of its range.
@@ -47,10 +47,10 @@ struct HbaoSettings {
 
 // The spatial filter's settings, with SPEC 7.3's defaults.
 struct DenoiseSettings {
-  std::int64_t iterations = 5;  // K; iteration i takes taps 2^i pixels apart
-  float sigma_plane = 1.0f;     // distance from the tangent plane, in footprints
+  std::int64_t iterations = 5;      // K; iteration i takes taps 2^i pixels apart
+  float sigma_plane = 1.0f;         // distance from the tangent plane, in footprints
   std::int64_t sigma_normal = 128;  // the exponent on the normals' cosine
-  float sigma_value = 4.0f;     // value differences, in standard deviations of the blurred variance
+  float sigma_value = 4.0f;         // value differences, in standard deviations of the blurred variance
   // Throws std::invalid_argument naming the first setting out of its range.
   void validate() const;
 };
@@ -110,7 +110,7 @@ struct RenderSettings {
   // the plan's choice (plan_render in render/render_plan.h).
   std::optional<bool> origin_paths;
   Method method = Method::RayTraced;
-  HbaoSettings hbao;  // method Hbao only
+  HbaoSettings hbao;                       // method Hbao only
   std::optional<DenoiseSettings> denoise;  // the spatial filter after the AO (SPEC 7.3); unset: none
   // A frame of a sequence that accumulates (SPEC 7.4), before any spatial filter; unset: none.
   std::optional<TemporalSettings> temporal;

@@ -75,7 +75,8 @@ RenderResult Renderer::render(const std::shared_ptr<const Scene>& scene, const C
 RenderResult Renderer::bake(const std::shared_ptr<const Scene>& scene, const RenderSettings& settings,
                             const TilePoints& points_of_tile, const TileCallback& between_tiles,
                             std::size_t first_position, std::size_t end_position) {
-  if (settings.method != Method::RayTraced) throw std::invalid_argument("a bake traces rays: method must be \"raytraced\"");
+  if (settings.method != Method::RayTraced)
+    throw std::invalid_argument("a bake traces rays: method must be \"raytraced\"");
   const BakeTiles tiles{points_of_tile, first_position, end_position};
   return run(scene, Camera{}, settings, between_tiles, &tiles);
 }
@@ -135,8 +136,7 @@ RenderResult Renderer::run(const std::shared_ptr<const Scene>& scene, const Came
     else
       run_gbuffer(*device_scene, built.program, local_camera, settings, plan, result);
   } catch (const cl::Error& e) {
-    throw_device_error((bake_tiles ? "baking " : "rendering ") + scene->name() + " on " + device().description(),
-                       e);
+    throw_device_error((bake_tiles ? "baking " : "rendering ") + scene->name() + " on " + device().description(), e);
   }
   if (!bake_tiles) stats.rays_primary = std::uint64_t(pixels) * std::uint64_t(settings.spp);
   return result;
@@ -152,8 +152,8 @@ void Renderer::run_traced(const DeviceScene& scene, const cl::Program& program, 
   std::vector<cl_uint> secondary_rays(pixels);
   cl::CommandQueue& queue = compute_.queue();
   const PrimarySurfaces primaries = bake_tiles ? PrimarySurfaces::GivenPoints : PrimarySurfaces::CameraHits;
-  const std::size_t filter_bytes = (settings.denoise ? Denoiser::device_bytes(pixels) : 0) +
-                                   (history ? TemporalHistory::device_bytes(pixels) : 0);
+  const std::size_t filter_bytes =
+      (settings.denoise ? Denoiser::device_bytes(pixels) : 0) + (history ? TemporalHistory::device_bytes(pixels) : 0);
   check_device_memory(device(), scene, Frame::device_bytes(settings, plan, tile_pixels, primaries) + filter_bytes,
                       settings);
   Frame frame(compute_.context(), device().device, program, scene, camera, settings, plan, tile_pixels, primaries);
@@ -282,8 +282,7 @@ void Renderer::run_gbuffer(const DeviceScene& scene, const cl::Program& program,
     frame.enqueue_read_back(queue, result, nullptr);
   } else {
     result.gbuffer.resize(pixels * GBUFFER_PLANES);
-    read_buffer(queue, frame.buffers().gbuffer, false, 0, result.gbuffer.size() * sizeof(float),
-                result.gbuffer.data());
+    read_buffer(queue, frame.buffers().gbuffer, false, 0, result.gbuffer.size() * sizeof(float), result.gbuffer.data());
   }
   queue.finish();
   stats.frame_ms = clock.elapsed_ms();
@@ -329,12 +328,11 @@ TraceResult Renderer::trace(const std::shared_ptr<const Scene>& scene, const std
       set_kernel_args(kernel, *device_scene, origin_buffer, direction_buffer, cl_uint(n), cl_int(any_hit),
                       cl_uint(rays_per_item), hit_buffer, count_buffer, cl::Buffer());
     else
-      set_kernel_args(kernel, *device_scene, origin_buffer, direction_buffer, cl_uint(n), cl_int(any_hit),
-                      hit_buffer, count_buffer);
+      set_kernel_args(kernel, *device_scene, origin_buffer, direction_buffer, cl_uint(n), cl_int(any_hit), hit_buffer,
+                      count_buffer);
     launch(queue, kernel, (n + rays_per_item - 1) / rays_per_item, group);
     read_buffer(queue, hit_buffer, true, 0, n * sizeof(cl_uint4), result.hits.data());
-    if (traversal_stats)
-      read_buffer(queue, count_buffer, true, 0, n * sizeof(cl_uint4), result.counts.data());
+    if (traversal_stats) read_buffer(queue, count_buffer, true, 0, n * sizeof(cl_uint4), result.counts.data());
   } catch (const cl::Error& e) {
     throw_device_error("tracing rays in " + scene->name() + " on " + device().description(), e);
   }

@@ -67,30 +67,26 @@ class Renderer {
   // With `history`, the frame is one of a sequence that accumulates (SPEC 7.4): blended with
   // history's frames before any spatial filter, it becomes their history; result.history_length
   // holds each pixel's.
-  RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                      const RenderSettings& settings, const TileCallback& between_tiles = {},
-                      TemporalHistory* history = nullptr);
+  RenderResult render(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings,
+                      const TileCallback& between_tiles = {}, TemporalHistory* history = nullptr);
 
   // A bake's estimates (SPEC 6): settings.width x height pixels, each the mean (result.ao) and the mean
   // square (result.ao_second_moment) of settings.spp estimates, one path each, from the surface points
   // that points_of_tile gives for a tile (Frame::enqueue_tile's `points`) as the tiles go. The radius is
   // settings.max_distance, else inf: a bake has no camera to suggest one.
-  using TilePoints =
-      std::function<void(std::size_t first_position, std::size_t count, std::vector<cl_uint4>& points)>;
+  using TilePoints = std::function<void(std::size_t first_position, std::size_t count, std::vector<cl_uint4>& points)>;
   // Only the positions [first_position, end_position) of the image (mbao/pixel_order.h) are traced
   // where a range is given: each pixel's estimates are keyed by the pixel, so the pixels of any
   // split of the positions are those of the whole image, bit for bit.
   RenderResult bake(const std::shared_ptr<const Scene>& scene, const RenderSettings& settings,
                     const TilePoints& points_of_tile, const TileCallback& between_tiles = {},
-                    std::size_t first_position = 0,
-                    std::size_t end_position = std::numeric_limits<std::size_t>::max());
+                    std::size_t first_position = 0, std::size_t end_position = std::numeric_limits<std::size_t>::max());
 
   // The G-buffer (SPEC 7.2) of settings.width x height pixels, as HBAO's frames
   // make it, in result.gbuffer: GBUFFER_PLANES planes of a float per pixel
   // (kernels/mbao/gbuffer.h), positions in the scene's device frame.
   // result.ao and result.coverage are empty: the triangle plane says which pixels a camera ray hit.
-  RenderResult gbuffer(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                       const RenderSettings& settings);
+  RenderResult gbuffer(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings);
 
   // Traces rays given as origins and direction + t_max in .w; closest hits, or
   // with any_hit the first hit found.
@@ -107,8 +103,8 @@ class Renderer {
   // render, bake and gbuffer: a bake's points, where given, stand for the camera rays; a G-buffer
   // alone runs no pass after it.
   RenderResult run(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& requested,
-                   const TileCallback& between_tiles, const BakeTiles* bake_tiles,
-                   TemporalHistory* history = nullptr, RenderProduct product = RenderProduct::Image);
+                   const TileCallback& between_tiles, const BakeTiles* bake_tiles, TemporalHistory* history = nullptr,
+                   RenderProduct product = RenderProduct::Image);
   // The kinds of frame, given the scene on the device, the camera in its frame and the plan
   // (whose program `program` is).
   void run_traced(const DeviceScene& scene, const cl::Program& program, const Camera& camera,

@@ -100,8 +100,8 @@ SettingSpec optional_real(const char* name, std::optional<float> RenderSettings:
 
 // An enum member, set and read by the names parse and to_string give its values.
 template <typename Settings, typename E>
-SettingSpecOf<Settings> choice(const char* name, SettingGroup group, E Settings::*field,
-                               E (*parse)(const std::string&), const char* doc) {
+SettingSpecOf<Settings> choice(const char* name, SettingGroup group, E Settings::*field, E (*parse)(const std::string&),
+                               const char* doc) {
   SettingSpecOf<Settings> spec;
   spec.name = name;
   spec.group = group;
@@ -124,7 +124,7 @@ SettingSpecOf<Settings> named(const char* name, std::string Settings::*field, st
   spec.choices = std::move(choices);
   spec.get = [field](const Settings& s) -> SettingValue { return s.*field; };
   spec.set = [field, name = spec.name, allowed = spec.choices, range = spec.range()](Settings& s,
-                                                                                    const SettingValue& value) {
+                                                                                     const SettingValue& value) {
     const std::string& given = std::get<std::string>(value);
     if (std::find(allowed.begin(), allowed.end(), given) == allowed.end())
       throw std::invalid_argument(name + " must be " + range + ", got \"" + given + "\"");
@@ -163,9 +163,10 @@ std::vector<SettingSpec> make_specs() {
       choice("method", G::Render, &RenderSettings::method, parse_method,
              "\"raytraced\" (the estimators) or \"hbao\": screen-space horizon-based AO (SPEC 4) on the camera "
              "rays' hits through the pixel centres, with radius max_distance, one bounce and spp 1."),
-      member<RenderSettings>("variance", G::Render, K::Flag, &RenderSettings::variance,
-             "Estimate each pixel's variance from the spread of its samples (SPEC 7.1) into Result.variance: "
-             "its camera samples' at spp >= 2, else its r directions' (samples >= 2)."),
+      member<RenderSettings>(
+          "variance", G::Render, K::Flag, &RenderSettings::variance,
+          "Estimate each pixel's variance from the spread of its samples (SPEC 7.1) into Result.variance: "
+          "its camera samples' at spp >= 2, else its r directions' (samples >= 2)."),
       whole("max_rays", &RenderSettings::max_rays, 1,
             "A render that could trace more rays than this, camera rays included, is refused before it starts."),
       choice("traversal", G::Engine, &RenderSettings::traversal, parse_traversal,
@@ -177,19 +178,21 @@ std::vector<SettingSpec> make_specs() {
              "\"megakernel\" (a work item runs a pixel's estimator), \"wavefront\" (branching only: a launch per "
              "bounce over a queue of the surfaces that bounce on) or \"auto\": the device's choice."),
       member<RenderSettings>("tile_pixels", G::Engine, K::AutoCount, &RenderSettings::tile_pixels,
-             "Pixels per launch; automatic bounds the memory and the rays of a launch."),
+                             "Pixels per launch; automatic bounds the memory and the rays of a launch."),
       member<RenderSettings>("work_group_size", G::Engine, K::AutoCount, &RenderSettings::work_group_size,
-             "OpenCL work-group size; automatic is 64, or the kernel's limit where lower."),
-      member<RenderSettings>("traversal_stats", G::Engine, K::Flag, &RenderSettings::traversal_stats,
-             "Count nodes, leaves, triangle tests and restarts per ray into stats[\"traversal\"] (kernels "
-             "built to count, somewhat slower)."),
+                             "OpenCL work-group size; automatic is 64, or the kernel's limit where lower."),
+      member<RenderSettings>(
+          "traversal_stats", G::Engine, K::Flag, &RenderSettings::traversal_stats,
+          "Count nodes, leaves, triangle tests and restarts per ray into stats[\"traversal\"] (kernels "
+          "built to count, somewhat slower)."),
   };
 }
 
 std::vector<SettingSpecOf<HbaoSettings>> make_hbao_specs() {
   using H = HbaoSettings;
   return {
-      integer("directions", &H::directions, 1, 64, "Image directions marched from each pixel, rotated per pixel by "
+      integer("directions", &H::directions, 1, 64,
+              "Image directions marched from each pixel, rotated per pixel by "
               "the seed."),
       integer("steps", &H::steps, 1, 64, "Samples along each direction, the first one jittered per pixel."),
       real("angle_bias_deg", &H::angle_bias_deg, 0.0, 90.0, Ends::HighOpen,
@@ -257,11 +260,16 @@ std::string value_text(const SettingValue& value) {
   return std::visit(
       [](const auto& v) -> std::string {
         using T = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<T, std::monostate>) return "unset";
-        else if constexpr (std::is_same_v<T, std::string>) return "\"" + v + "\"";
-        else if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
-        else if constexpr (std::is_same_v<T, double>) return std::to_string(v);
-        else return std::to_string(v);
+        if constexpr (std::is_same_v<T, std::monostate>)
+          return "unset";
+        else if constexpr (std::is_same_v<T, std::string>)
+          return "\"" + v + "\"";
+        else if constexpr (std::is_same_v<T, bool>)
+          return v ? "true" : "false";
+        else if constexpr (std::is_same_v<T, double>)
+          return std::to_string(v);
+        else
+          return std::to_string(v);
       },
       value);
 }

@@ -35,9 +35,9 @@ using SettingValue = std::variant<std::monostate, std::int64_t, std::uint64_t, d
 // What values a setting takes, whatever struct holds it.
 struct SettingRange {
   SettingKind kind = SettingKind::Flag;
-  SettingValue lo{}, hi{};  // Integer, Unsigned, Real
+  SettingValue lo{}, hi{};                // Integer, Unsigned, Real
   bool lo_open = false, hi_open = false;  // Real
-  std::vector<std::string> choices;  // Choice
+  std::vector<std::string> choices;       // Choice
 
   // The allowed values as the errors and the docs state them: "[1, 16384]", "> 0", "[0, 2^64)", ...
   std::string range() const;

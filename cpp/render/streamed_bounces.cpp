@@ -80,9 +80,8 @@ void StreamedBounces::set_launch(std::size_t first_source, std::size_t sources, 
   // No counts per ray, only the frame's totals.
   set_kernel_args(trace_, scene_, ray_origins_, ray_directions_, cl_uint(sources * samples_), cl_int(any_hit),
                   cl_uint(rays_per_item), ray_hits_, cl::Buffer(), counts_.traversal_totals);
-  set_kernel_args(hits_, ao_args_, cl_uint(bounce_), cl_uint(first_source), cl_uint(sources), from_,
-                  ray_directions_, ray_hits_, counts_.escape_counts, counts_.sample_rays, to_,
-                  counts_.queue_lengths);
+  set_kernel_args(hits_, ao_args_, cl_uint(bounce_), cl_uint(first_source), cl_uint(sources), from_, ray_directions_,
+                  ray_hits_, counts_.escape_counts, counts_.sample_rays, to_, counts_.queue_lengths);
 }
 
 void StreamedBounces::enqueue_launch(cl::CommandQueue& queue, std::size_t first_source, std::size_t sources,

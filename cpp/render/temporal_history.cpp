@@ -10,8 +10,7 @@ namespace mbao {
 TemporalHistory::TemporalHistory(const TemporalSettings& settings) : settings_(settings) { settings_.validate(); }
 
 void TemporalHistory::start_over_unless_like(const cl::Context& context, const CameraArgs& camera) {
-  if (camera_ && context_() == context() && camera_->width == camera.width && camera_->height == camera.height)
-    return;
+  if (camera_ && context_() == context() && camera_->width == camera.width && camera_->height == camera.height) return;
   const std::size_t pixels = std::size_t(camera.width) * std::size_t(camera.height);
   context_ = context;
   camera_.reset();
@@ -29,8 +28,7 @@ void TemporalHistory::enqueue_accumulate(cl::CommandQueue& queue, const cl::Cont
   cl::Kernel kernel(program, "temporal_accumulate");
   const CameraArgs& previous = camera_ ? *camera_ : camera;  // not read without history
   set_kernel_args(kernel, frame.gbuffer, frame.ao, frame.ao_variance, cl_uint(camera_.has_value()), gbuffer_, ao_,
-                  variance_, length_, previous, cl_uint(settings_.max_length), next_ao_, next_variance_,
-                  next_length_);
+                  variance_, length_, previous, cl_uint(settings_.max_length), next_ao_, next_variance_, next_length_);
   const std::size_t pixels = std::size_t(camera.width) * std::size_t(camera.height);
   launch(queue, kernel, pixels, work_group_size_for(kernel, queue.getInfo<CL_QUEUE_DEVICE>(), work_group_size));
   std::swap(ao_, next_ao_);

@@ -85,9 +85,8 @@ void Wavefront::start_tile(cl::CommandQueue& queue, std::size_t first, std::size
     set_kernel_args(first_bounce_, scene_, ao_args_, cl_uint(first), cl_uint(count * spp_), frame_.camera_hits,
                     escape_counts_, sample_rays_, queue_of(1), queue_lengths_, frame_.traversal_totals);
   }
-  set_kernel_args(finish_, ao_args_, cl_uint(first), cl_uint(count), frame_.camera_hits, escape_counts_,
-                  sample_rays_, frame_.ao, frame_.ao_second_moment, frame_.ao_variance, frame_.coverage,
-                  frame_.secondary_rays);
+  set_kernel_args(finish_, ao_args_, cl_uint(first), cl_uint(count), frame_.camera_hits, escape_counts_, sample_rays_,
+                  frame_.ao, frame_.ao_second_moment, frame_.ao_variance, frame_.coverage, frame_.secondary_rays);
 }
 
 void Wavefront::set_bounce(std::size_t bounce) {

@@ -23,9 +23,9 @@ namespace mbao {
 class Wavefront {
  public:
   // kernels: the plan's wavefront kernels (first_bounce, bounce, finish), or its streamed ones.
-  Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program,
-            const DeviceScene& scene, const AoArgs& ao_args, const RenderSettings& settings,
-            const FrameKernels& kernels, std::size_t tile_pixels, const FrameBuffers& frame);
+  Wavefront(const cl::Context& context, const cl::Device& device, const cl::Program& program, const DeviceScene& scene,
+            const AoArgs& ao_args, const RenderSettings& settings, const FrameKernels& kernels, std::size_t tile_pixels,
+            const FrameBuffers& frame);
 
   // AO for pixels [first, first + count), whose camera hits the frame holds.
   // Blocks until each queue is filled: its length sizes the launch that reads it.
@@ -36,8 +36,7 @@ class Wavefront {
 
   std::size_t bytes() const { return bytes_; }
   // What the constructor will allocate for these settings and tile size.
-  static std::size_t device_bytes(const RenderSettings& settings, const FrameKernels& kernels,
-                                  std::size_t tile_pixels);
+  static std::size_t device_bytes(const RenderSettings& settings, const FrameKernels& kernels, std::size_t tile_pixels);
   // The kernels and their work-group sizes, for Frame::launch_signature().
   std::string launch_signature() const;
 
@@ -47,12 +46,9 @@ class Wavefront {
     std::size_t longest_queue;  // entries
     std::size_t max_sources;    // of a bounce: the tile's camera samples or a queue's entries
     std::size_t streams;        // StreamedBounces', with traversal "lanes"
-    std::size_t total() const {
-      return escape_counts + sample_rays + queue_lengths + queues[0] + queues[1] + streams;
-    }
+    std::size_t total() const { return escape_counts + sample_rays + queue_lengths + queues[0] + queues[1] + streams; }
   };
-  static BufferSizes buffer_sizes(const RenderSettings& settings, const FrameKernels& kernels,
-                                  std::size_t tile_pixels);
+  static BufferSizes buffer_sizes(const RenderSettings& settings, const FrameKernels& kernels, std::size_t tile_pixels);
   void enqueue_bounces(cl::CommandQueue& queue, std::size_t tile_samples);
   void enqueue_streamed_bounces(cl::CommandQueue& queue, std::size_t tile_samples);
 
@@ -69,7 +65,7 @@ class Wavefront {
   const FrameBuffers frame_;
   std::size_t spp_, bounces_;
   std::size_t first_position_ = 0;  // the tile's
-  std::size_t longest_queue_ = 0;  // entries, the larger queue's
+  std::size_t longest_queue_ = 0;   // entries, the larger queue's
   cl::Buffer escape_counts_, sample_rays_, queue_lengths_;
   cl::Buffer queues_[2];
   cl::Kernel first_bounce_, bounce_, finish_;

@@ -63,7 +63,6 @@ std::shared_ptr<Scene> scene_of(ImportedScene s, const std::string& path) {
   }
 }
 
-
 }  // namespace
 
 bool assimp_reads(const std::string& path) {
@@ -88,8 +87,7 @@ std::shared_ptr<Scene> load_with_assimp_from_memory(const unsigned char* bytes, 
                                                     const LoadOptions& options) {
   const auto import = [&] {
     Importer importer;
-    return imported(importer, importer.ReadFileFromMemory(bytes, size, kImportSteps, extension.c_str()), name,
-                    options);
+    return imported(importer, importer.ReadFileFromMemory(bytes, size, kImportSteps, extension.c_str()), name, options);
   };
   return scene_of(import_isolated(import, name, time_limit(options, size)), name);
 }
@@ -125,8 +123,8 @@ std::shared_ptr<Scene> load_scene(const std::string& path, const LoadOptions& op
   if (extension != ".gltf" && extension != ".glb" && assimp_reads(path)) return load_with_assimp(path, options);
   const std::vector<unsigned char> bytes = read_regular_file(path, "");
   try {
-    return load_gltf_from_memory(bytes.data(), bytes.size(), path,
-                                 std::filesystem::path(path).parent_path().string(), options);
+    return load_gltf_from_memory(bytes.data(), bytes.size(), path, std::filesystem::path(path).parent_path().string(),
+                                 options);
   } catch (const LoadError& e) {
     // Asked only of a file the glTF 2.0 loader refused: a 2.0 file's JSON is not parsed twice.
     if (is_gltf_1(bytes.data(), bytes.size())) return load_gltf_1(path, options);

@@ -209,8 +209,8 @@ class Gatherer {
       aiString file;
       unsigned channel = 0;
       aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
-      if (material.GetTexture(aiTextureType_AMBIENT_OCCLUSION, 0, &file, nullptr, &channel, nullptr, nullptr,
-                              modes) == aiReturn_SUCCESS &&
+      if (material.GetTexture(aiTextureType_AMBIENT_OCCLUSION, 0, &file, nullptr, &channel, nullptr, nullptr, modes) ==
+              aiReturn_SUCCESS &&
           channel < unsigned(kMaxUvSets)) {
         uvs.occlusion_texcoord = int(channel);
         uvs.wrap_s = wrap_mode_of_assimp(modes[0]);
@@ -247,8 +247,7 @@ class Gatherer {
       aiString file;
       unsigned channel = 0;
       aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
-      if (material.GetTexture(type, 0, &file, nullptr, &channel, nullptr, nullptr, modes) != aiReturn_SUCCESS)
-        continue;
+      if (material.GetTexture(type, 0, &file, nullptr, &channel, nullptr, nullptr, modes) != aiReturn_SUCCESS) continue;
       try {
         color.image = gltf_image_of(file, what + file.C_Str());
         color.texcoord = int(std::min(channel, unsigned(kMaxUvSets)));  // kMaxUvSets: a set no mesh has
@@ -379,7 +378,8 @@ std::optional<Camera> first_camera(const aiScene& scene, const std::string& path
       continue;
     }
     if (!(c.mAspect > 0.0f)) {
-      warnings.push_back(name + " skipped: Assimp gives no aspect ratio for it, so its vertical field of view is "
+      warnings.push_back(name +
+                         " skipped: Assimp gives no aspect ratio for it, so its vertical field of view is "
                          "unknown; pass camera=mbao.Camera(...) or a camera.json");
       continue;
     }
@@ -402,8 +402,8 @@ std::size_t dropped_primitives(const aiScene& scene) {
 // The scene's triangles, masks, camera and UV sets, and in `transparent` the
 // materials left out as cut away everywhere; where `honour_opacity` is false,
 // every material's opacity is taken as 1.
-ImportedScene gathered(const aiScene& scene, const std::string& path, const LoadOptions& options,
-                       bool honour_opacity, std::set<std::string>& transparent) {
+ImportedScene gathered(const aiScene& scene, const std::string& path, const LoadOptions& options, bool honour_opacity,
+                       std::set<std::string>& transparent) {
   std::vector<std::string> warnings;
   Gatherer gatherer(scene, path, options, honour_opacity, warnings);
   gatherer.node(*scene.mRootNode, glm::mat4(1.0f));

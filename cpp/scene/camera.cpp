@@ -22,8 +22,7 @@ glm::dvec3 view_direction(const Camera& camera) { return glm::dvec3(camera.targe
 glm::vec3 read_vec3(const nlohmann::json& doc, const char* key, const std::string& path) {
   const auto it = doc.find(key);
   if (it == doc.end()) throw LoadError(path + ": \"" + key + "\" is missing");
-  if (!it->is_array() || it->size() != 3 || !(*it)[0].is_number() || !(*it)[1].is_number() ||
-      !(*it)[2].is_number())
+  if (!it->is_array() || it->size() != 3 || !(*it)[0].is_number() || !(*it)[1].is_number() || !(*it)[2].is_number())
     throw LoadError(path + ": \"" + key + "\" must be an array of 3 numbers");
   return {(*it)[0].get<float>(), (*it)[1].get<float>(), (*it)[2].get<float>()};
 }
@@ -85,8 +84,7 @@ void Camera::validate() const {
   const glm::dvec3 side = glm::cross(glm::normalize(forward), glm::dvec3(up));
   if (!(glm::length(side) > 1e-6 * glm::length(glm::dvec3(up))))
     throw std::invalid_argument("camera: up is zero or parallel to the view direction (target - eye)");
-  if (max_distance && !(*max_distance > 0.0f))
-    throw std::invalid_argument("camera: max_distance must be > 0");
+  if (max_distance && !(*max_distance > 0.0f)) throw std::invalid_argument("camera: max_distance must be > 0");
 }
 
 Camera Camera::relative_to(const glm::vec3& origin) const {

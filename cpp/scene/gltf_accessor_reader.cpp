@@ -13,17 +13,13 @@ namespace {
 std::size_t component_size(int component_type) {
   switch (component_type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
     case TINYGLTF_COMPONENT_TYPE_INT:
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return 4;
-    default:
-      return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
   }
 }
 
@@ -44,15 +40,13 @@ std::string component_name(int component_type) {
 template <typename T>
 T component(const unsigned char* p, int component_type) {
   switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-      return T(static_cast<std::int8_t>(*p));
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return T(static_cast<std::int8_t>(*p));
     case TINYGLTF_COMPONENT_TYPE_SHORT: {
       std::int16_t v;
       std::memcpy(&v, p, 2);
       return T(v);
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return T(*p);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return T(*p);
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
       std::uint16_t v;
       std::memcpy(&v, p, 2);
@@ -107,10 +101,9 @@ AccessorReader::AccessorReader(const tinygltf::Model& model, std::string path)
 std::vector<float> AccessorReader::quantized(int index, int type, const std::string& role) const {
   const tinygltf::Accessor& accessor = get(index, role);
   const int component_type = accessor.componentType;
-  const bool small_integer = component_type == TINYGLTF_COMPONENT_TYPE_BYTE ||
-                             component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                             component_type == TINYGLTF_COMPONENT_TYPE_SHORT ||
-                             component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  const bool small_integer =
+      component_type == TINYGLTF_COMPONENT_TYPE_BYTE || component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+      component_type == TINYGLTF_COMPONENT_TYPE_SHORT || component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
   if (!quantization_ || !small_integer || substituted_.count(index)) return floats(index, type, role);
   expect_type(accessor, index, type, role);
   std::vector<float> values = read<float>(accessor, index, role);
@@ -122,8 +115,9 @@ void AccessorReader::substitute(int index, std::vector<float> values, const std:
   const tinygltf::Accessor& accessor = get(index, role);
   const int n = components(index, role);
   if (values.size() != accessor.count * std::size_t(n))
-    fail(index, role, "has count " + std::to_string(accessor.count) + ", but its decoded data has " +
-                          std::to_string(values.size() / std::size_t(n)) + " elements");
+    fail(index, role,
+         "has count " + std::to_string(accessor.count) + ", but its decoded data has " +
+             std::to_string(values.size() / std::size_t(n)) + " elements");
   if (accessor.normalized) normalize(values, accessor.componentType);
   substituted_[index] = std::move(values);
 }
@@ -131,8 +125,9 @@ void AccessorReader::substitute(int index, std::vector<float> values, const std:
 void AccessorReader::substitute_indices(int index, std::vector<std::uint32_t> values, const std::string& role) {
   const tinygltf::Accessor& accessor = get(index, role);
   if (values.size() != accessor.count)
-    fail(index, role, "has count " + std::to_string(accessor.count) + ", but its decoded data has " +
-                          std::to_string(values.size()) + " indices");
+    fail(index, role,
+         "has count " + std::to_string(accessor.count) + ", but its decoded data has " + std::to_string(values.size()) +
+             " indices");
   substituted_indices_[index] = std::move(values);
 }
 
@@ -267,8 +262,8 @@ std::vector<T> AccessorReader::read(const tinygltf::Accessor& accessor, int inde
     const std::size_t byte_stride = buffer_view(accessor.bufferView, index, role).byteStride;
     if (byte_stride != 0 && byte_stride < element)
       fail(index, role,
-           "has " + std::to_string(element) + "-byte elements, but bufferView " +
-               std::to_string(accessor.bufferView) + " has a byteStride of " + std::to_string(byte_stride));
+           "has " + std::to_string(element) + "-byte elements, but bufferView " + std::to_string(accessor.bufferView) +
+               " has a byteStride of " + std::to_string(byte_stride));
     stride = byte_stride ? byte_stride : element;
     bytes = checked_bytes(accessor.bufferView, accessor.byteOffset, stride, accessor.count, element, index, role);
   } else {
@@ -298,14 +293,13 @@ void AccessorReader::apply_sparse(const tinygltf::Accessor& accessor, int index,
   const std::size_t value_size = components * component_size(accessor.componentType);
   const unsigned char* where = checked_bytes(sparse.indices.bufferView, std::size_t(sparse.indices.byteOffset),
                                              index_size, n, index_size, index, role + ", sparse indices");
-  const unsigned char* what = checked_bytes(sparse.values.bufferView, std::size_t(sparse.values.byteOffset),
-                                            value_size, n, value_size, index, role + ", sparse values");
+  const unsigned char* what = checked_bytes(sparse.values.bufferView, std::size_t(sparse.values.byteOffset), value_size,
+                                            n, value_size, index, role + ", sparse values");
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t target = component<std::uint32_t>(where + i * index_size, index_type);
     if (target >= accessor.count)
       fail(index, role,
-           "has sparse index " + std::to_string(target) + " past its " + std::to_string(accessor.count) +
-               " elements");
+           "has sparse index " + std::to_string(target) + " past its " + std::to_string(accessor.count) + " elements");
     for (std::size_t c = 0; c < components; ++c)
       values[target * components + c] =
           component<T>(what + i * value_size + c * component_size(accessor.componentType), accessor.componentType);

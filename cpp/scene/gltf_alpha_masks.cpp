@@ -67,7 +67,7 @@ GltfAlphaMasks::Material GltfAlphaMasks::resolve(int index) {
   };
   if (base.baseColorTexture.index < 0) return constant(factor);
   const std::optional<std::uint32_t> texture = mask_texture(base.baseColorTexture.index, factor, cutoff, what);
-  if (!texture) return {};  // an image that cannot be read: opaque, with a warning
+  if (!texture) return {};                                   // an image that cannot be read: opaque, with a warning
   if (*texture == MBAO_NOT_MASKED) return constant(factor);  // an image without alpha
   Material material;
   material.coverage = Coverage::Masked;
@@ -101,7 +101,7 @@ void GltfAlphaMasks::read_texture_transform(const tinygltf::TextureInfo& info, c
   const std::array<double, 2> offset = pair("offset", 0.0), scale = pair("scale", 1.0);
   const double rotation = transform.Has("rotation") ? number(transform.Get("rotation"), "rotation") : 0.0;
   const double c = std::cos(rotation), s = std::sin(rotation);
-  material.uv_transform = {float(c * scale[0]), float(s * scale[1]), float(offset[0]),
+  material.uv_transform = {float(c * scale[0]),  float(s * scale[1]), float(offset[0]),
                            float(-s * scale[0]), float(c * scale[1]), float(offset[1])};
   if (transform.Has("texCoord")) {
     const tinygltf::Value& set = transform.Get("texCoord");

@@ -53,7 +53,7 @@ class GltfAlphaMasks {
   Material resolve(int index);
   void read_texture_transform(const tinygltf::TextureInfo& info, const std::string& what, Material& material) const;
   std::optional<std::uint32_t> mask_texture(int texture_index, float alpha_factor, float cutoff,
-                                           const std::string& what);
+                                            const std::string& what);
   std::optional<AlphaImage> alpha_image(int image_index, const std::string& what);
   std::vector<unsigned char> encoded_image(int image_index, const std::string& what) const;
 
@@ -72,7 +72,7 @@ class GltfAlphaMasks {
 // Keeps the encoded bytes of images embedded as data URIs (tinygltf decodes
 // the URI but keeps only what this returns); others are left unread or
 // undecoded. Install with TinyGLTF::SetImageLoader.
-bool keep_data_uri_images(tinygltf::Image* image, const int index, std::string* error, std::string* warning,
-                          int width, int height, const unsigned char* bytes, int size, void* user_data);
+bool keep_data_uri_images(tinygltf::Image* image, const int index, std::string* error, std::string* warning, int width,
+                          int height, const unsigned char* bytes, int size, void* user_data);
 
 }  // namespace mbao

@@ -17,7 +17,8 @@ std::unique_ptr<draco::Mesh> decoded_mesh(const std::vector<unsigned char>& byte
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-  if (!decoded.ok()) throw LoadError(what + ": its Draco mesh does not decode (" + decoded.status().error_msg_string() + ")");
+  if (!decoded.ok())
+    throw LoadError(what + ": its Draco mesh does not decode (" + decoded.status().error_msg_string() + ")");
   return std::move(decoded).value();
 }
 
@@ -40,18 +41,15 @@ std::vector<std::uint32_t> face_indices(const draco::Mesh& mesh) {
 
 }  // namespace
 
-bool is_draco_compressed(const tinygltf::Primitive& primitive) {
-  return primitive.extensions.count(kExtension) != 0;
-}
+bool is_draco_compressed(const tinygltf::Primitive& primitive) { return primitive.extensions.count(kExtension) != 0; }
 
 void decode_draco_primitive(const tinygltf::Primitive& primitive, AccessorReader& accessors, const std::string& what) {
   const tinygltf::Value& extension = primitive.extensions.at(kExtension);
   const std::string where = what + " " + kExtension;
   if (!extension.Get("bufferView").IsInt() || !extension.Get("attributes").IsObject())
     throw LoadError(accessors.path() + ": " + where + " lacks its bufferView or attributes");
-  const std::unique_ptr<draco::Mesh> mesh =
-      decoded_mesh(accessors.view_bytes(extension.Get("bufferView").GetNumberAsInt(), where),
-                   accessors.path() + ": " + where);
+  const std::unique_ptr<draco::Mesh> mesh = decoded_mesh(
+      accessors.view_bytes(extension.Get("bufferView").GetNumberAsInt(), where), accessors.path() + ": " + where);
   const tinygltf::Value& ids = extension.Get("attributes");
   for (const std::string& name : ids.Keys()) {
     const auto accessor = primitive.attributes.find(name);

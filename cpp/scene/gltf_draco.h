@@ -21,4 +21,3 @@ bool is_draco_compressed(const tinygltf::Primitive& primitive);
 void decode_draco_primitive(const tinygltf::Primitive& primitive, AccessorReader& accessors, const std::string& what);
 
 }  // namespace mbao
-

@@ -66,8 +66,7 @@ class SceneAssembler {
                                        mesh_.positions.size() - vertices, triangles,
                                        mesh_.triangles.size() - triangles});
     }
-    if (mesh_.triangles.empty())
-      throw LoadError(path_ + ": the default scene has no triangles");
+    if (mesh_.triangles.empty()) throw LoadError(path_ + ": the default scene has no triangles");
     return std::make_shared<Scene>(std::move(mesh_), path_, camera_, std::move(warnings_), masks_.take(),
                                    std::move(uv_sets_));
   }
@@ -167,8 +166,9 @@ class SceneAssembler {
       throw LoadError(path_ + ": " + node + " refers to mesh " + std::to_string(index) + ", which does not exist");
     const tinygltf::Mesh& mesh = model_.meshes[std::size_t(index)];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p)
-      instances_.push_back({&mesh.primitives[p], world, "mesh " + std::to_string(index) + " primitive " + std::to_string(p),
-                            node_index, index, int(p)});
+      instances_.push_back({&mesh.primitives[p], world,
+                            "mesh " + std::to_string(index) + " primitive " + std::to_string(p), node_index, index,
+                            int(p)});
   }
 
   // Room for every instance's vertices and triangles up front, so the arrays
@@ -178,7 +178,9 @@ class SceneAssembler {
     std::size_t vertices = 0, indices = 0, buffer_bytes = 0;
     for (const tinygltf::Buffer& buffer : model_.buffers) buffer_bytes += buffer.data.size();
     const auto declared = [&](int accessor) {
-      return accessor >= 0 && std::size_t(accessor) < model_.accessors.size() ? model_.accessors[std::size_t(accessor)].count : 0;
+      return accessor >= 0 && std::size_t(accessor) < model_.accessors.size()
+                 ? model_.accessors[std::size_t(accessor)].count
+                 : 0;
     };
     std::size_t masked_indices = 0;
     for (const Instance& instance : instances_) {
@@ -243,8 +245,8 @@ class SceneAssembler {
   // The primitive's triangles as a list of vertex indices, three a triangle,
   // checked against its vertex count: a strip's or a fan's as glTF orders
   // their corners (glTF 2.0, 3.7.2.1), so that they face as the file means.
-  std::vector<std::uint32_t> triangle_indices(const tinygltf::Primitive& primitive, int mode,
-                                              std::size_t vertex_count, const std::string& what) const {
+  std::vector<std::uint32_t> triangle_indices(const tinygltf::Primitive& primitive, int mode, std::size_t vertex_count,
+                                              const std::string& what) const {
     std::vector<std::uint32_t> indices;
     if (primitive.indices >= 0) {
       indices = accessors_.indices(primitive.indices, what + " indices");
@@ -382,7 +384,7 @@ class SceneAssembler {
   struct Instance {
     const tinygltf::Primitive* primitive;
     glm::dmat4 world;
-    std::string what;  // "mesh M primitive P", for messages
+    std::string what;       // "mesh M primitive P", for messages
     int node, mesh, index;  // the node that places it, its mesh, and its index in the mesh
   };
 
@@ -469,8 +471,8 @@ std::shared_ptr<Scene> load_gltf_from_memory(const unsigned char* bytes, std::si
                                                    length, base_dir);
   if (!ok) {
     error.erase(error.find_last_not_of(" \t\r\n") + 1);  // tinygltf ends each error with a newline
-    throw LoadError(name + ": not a readable glTF 2.0 file: " +
-                    (error.empty() ? "unknown error" : abbreviate_data_uris(error)));
+    throw LoadError(
+        name + ": not a readable glTF 2.0 file: " + (error.empty() ? "unknown error" : abbreviate_data_uris(error)));
   }
   check_supported(model, name);
   return SceneAssembler(model, name, base_dir, options, abbreviate_data_uris(warning)).assemble();

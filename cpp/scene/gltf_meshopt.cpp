@@ -97,8 +97,8 @@ std::optional<std::vector<unsigned char>> decoded_meshopt_view(const tinygltf::M
   const std::string what = path + ": bufferView " + std::to_string(view_index) + " " + kExtension;
   const Encoding e = encoding_of(model, found->second, what);
   const bool known_mode = e.mode == "ATTRIBUTES" || e.mode == "TRIANGLES" || e.mode == "INDICES";
-  const bool known_filter = e.filter == "NONE" || e.filter == "OCTAHEDRAL" || e.filter == "QUATERNION" ||
-                            e.filter == "EXPONENTIAL";
+  const bool known_filter =
+      e.filter == "NONE" || e.filter == "OCTAHEDRAL" || e.filter == "QUATERNION" || e.filter == "EXPONENTIAL";
   if (!known_mode || !known_filter)
     throw LoadError(what + " has mode \"" + e.mode + "\" and filter \"" + e.filter +
                     "\"; the extension defines ATTRIBUTES, TRIANGLES and INDICES, and NONE, OCTAHEDRAL, "

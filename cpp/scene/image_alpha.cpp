@@ -20,7 +20,8 @@ template <typename T>
 std::vector<std::uint8_t> one_channel(const T* pixels, std::size_t texels, int channels, int channel, unsigned max) {
   std::vector<std::uint8_t> alpha(texels);
   for (std::size_t i = 0; i < texels; ++i)
-    alpha[i] = std::uint8_t((unsigned(pixels[i * std::size_t(channels) + std::size_t(channel)]) * 255u + max / 2) / max);
+    alpha[i] =
+        std::uint8_t((unsigned(pixels[i * std::size_t(channels) + std::size_t(channel)]) * 255u + max / 2) / max);
   return alpha;
 }
 

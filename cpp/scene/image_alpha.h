@@ -14,8 +14,8 @@ namespace mbao {
 struct AlphaImage {
   int width = 0;
   int height = 0;
-  bool has_alpha = false;            // grey-alpha or RGBA; without, alpha is 1 everywhere
-  std::vector<std::uint8_t> alpha;   // width * height values when has_alpha, else empty
+  bool has_alpha = false;           // grey-alpha or RGBA; without, alpha is 1 everywhere
+  std::vector<std::uint8_t> alpha;  // width * height values when has_alpha, else empty
 };
 
 // The most texels a mask image may have: 16384 x 16384, the largest texture

@@ -191,7 +191,8 @@ std::optional<std::string> read_all(int fd, std::chrono::steady_clock::time_poin
   std::string bytes;
   char buffer[1 << 16];
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     pollfd ready{fd, POLLIN, 0};
     const int polled = left.count() > 0 ? poll(&ready, 1, int(std::min<long long>(left.count(), 1 << 30))) : 0;
     if (polled < 0 && errno == EINTR) continue;
@@ -228,10 +229,10 @@ std::string last_line(std::FILE* printed) {
 
 }  // namespace
 
-ImportedScene import_isolated(const std::function<ImportedScene()>& import, const std::string& path,
-                              double seconds) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                                std::chrono::duration<double>(seconds));
+ImportedScene import_isolated(const std::function<ImportedScene()>& import, const std::string& path, double seconds) {
+  const auto deadline =
+      std::chrono::steady_clock::now() +
+      std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
   int ends[2];
   if (pipe(ends) != 0) throw LoadError(path + ": cannot make a pipe to the importer (" + std::strerror(errno) + ")");
   // What the importer prints (an assertion's message) goes here, for the error, not to the user's terminal.
@@ -260,7 +261,8 @@ ImportedScene import_isolated(const std::function<ImportedScene()>& import, cons
   if (!result) {
     std::ostringstream limit;
     limit << seconds;
-    throw LoadError(path + ": the importer ran past " + limit.str() + " s on it and was stopped: the file is "
+    throw LoadError(path + ": the importer ran past " + limit.str() +
+                    " s on it and was stopped: the file is "
                     "malformed, or too large for that time");
   }
   const std::string& bytes = *result;

@@ -29,7 +29,6 @@ struct ImportedScene {
 // runs past `seconds` (some malformed files loop the importer forever), is a
 // LoadError naming `path`. import() must touch nothing but the file and its
 // own memory: the child runs it beside none of the parent's other threads.
-ImportedScene import_isolated(const std::function<ImportedScene()>& import, const std::string& path,
-                              double seconds);
+ImportedScene import_isolated(const std::function<ImportedScene()>& import, const std::string& path, double seconds);
 
 }  // namespace mbao

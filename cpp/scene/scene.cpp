@@ -64,8 +64,7 @@ std::vector<std::string> with_placement_warning(std::vector<std::string> warning
             << 100.0f * spacing / size << "% of the scene): its shape is already rounded and its AO may be wrong. "
             << "Move it near the origin before its vertices become float32.";
     // Once: a scene made again from its own warnings (unpickled) already has it.
-    if (std::find(warnings.begin(), warnings.end(), message.str()) == warnings.end())
-      warnings.push_back(message.str());
+    if (std::find(warnings.begin(), warnings.end(), message.str()) == warnings.end()) warnings.push_back(message.str());
   }
   return warnings;
 }
@@ -87,7 +86,8 @@ void validate_masks(const AlphaMasks& masks, std::size_t triangle_count, const s
     if (t.texture >= masks.textures.size())
       throw std::invalid_argument(name + ": masked triangle uses missing texture " + std::to_string(t.texture));
   for (const MaskTexture& t : masks.textures)
-    if (t.width == 0 || t.height == 0 || std::uint64_t(t.first_texel) + std::uint64_t(t.width) * t.height > masks.texels.size())
+    if (t.width == 0 || t.height == 0 ||
+        std::uint64_t(t.first_texel) + std::uint64_t(t.width) * t.height > masks.texels.size())
       throw std::invalid_argument(name + ": an alpha texture lies outside the texel data");
 }
 

@@ -33,8 +33,7 @@ Bounds3 TriangleMesh::checked_bounds(const std::string& what) const {
     if (!is_finite(positions[i]))
       throw std::invalid_argument(what + ": vertex " + std::to_string(i) + " is not finite");
   for (size_t i = 0; i < normals.size(); ++i)
-    if (!is_finite(normals[i]))
-      throw std::invalid_argument(what + ": normal " + std::to_string(i) + " is not finite");
+    if (!is_finite(normals[i])) throw std::invalid_argument(what + ": normal " + std::to_string(i) + " is not finite");
   Bounds3 box;
   for (size_t i = 0; i < triangles.size(); ++i)
     for (int k = 0; k < 3; ++k) {

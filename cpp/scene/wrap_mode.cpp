@@ -16,8 +16,8 @@ WrapMode parse_wrap_mode(const std::string& name) {
   if (name == "repeat") return WrapMode::Repeat;
   if (name == "mirrored-repeat") return WrapMode::MirroredRepeat;
   if (name == "clamp-to-edge") return WrapMode::ClampToEdge;
-  throw std::invalid_argument("wrap mode must be \"repeat\", \"mirrored-repeat\" or \"clamp-to-edge\", got \"" +
-                              name + "\"");
+  throw std::invalid_argument("wrap mode must be \"repeat\", \"mirrored-repeat\" or \"clamp-to-edge\", got \"" + name +
+                              "\"");
 }
 
 std::string to_string(WrapMode mode) {

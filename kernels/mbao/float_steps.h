@@ -36,7 +36,7 @@ MBAO_FN PowerOfTwo inverse_power_of_two(float x) {
   const int biased = (int)(bits >> 23);
   // A denormal's exponent is its highest set bit's, at 2^-149 a unit.
   const int exponent = biased != 0 ? biased - 127 : 31 - (int)mbao_clz(bits) - 149;  // ilogb(x)
-  const int high = -exponent / 2, low = -exponent - high;  // each in [-64, 75]
+  const int high = -exponent / 2, low = -exponent - high;                            // each in [-64, 75]
   const PowerOfTwo p = {mbao_u32_as_float((mbao_u32)(high + 127) << 23),
                         mbao_u32_as_float((mbao_u32)(low + 127) << 23)};
   return p;

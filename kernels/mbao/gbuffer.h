@@ -18,19 +18,30 @@
 #define MBAO_GBUFFER_NO_TRIANGLE 0xFFFFFFFFu
 
 typedef struct GBufferTexel {
-  float x, y, z;       // the hit point, in the scene's device frame (relative to its render origin)
-  float t;             // its distance along the camera ray; 0 where the ray missed
-  float nx, ny, nz;    // the geometric normal, turned to the eye
-  float footprint;     // the side of the pixel at distance t: 2 t tan(vfov / 2) / height
-  float depth;         // its distance along the view direction (view-space z); 0 where the ray missed
-  float sx, sy, sz;    // the shading normal (SPEC 3.3), turned to the eye
-  mbao_u32 triangle;   // the hit triangle's index, MBAO_GBUFFER_NO_TRIANGLE where the ray missed
+  float x, y, z;      // the hit point, in the scene's device frame (relative to its render origin)
+  float t;            // its distance along the camera ray; 0 where the ray missed
+  float nx, ny, nz;   // the geometric normal, turned to the eye
+  float footprint;    // the side of the pixel at distance t: 2 t tan(vfov / 2) / height
+  float depth;        // its distance along the view direction (view-space z); 0 where the ray missed
+  float sx, sy, sz;   // the shading normal (SPEC 3.3), turned to the eye
+  mbao_u32 triangle;  // the hit triangle's index, MBAO_GBUFFER_NO_TRIANGLE where the ray missed
 } GBufferTexel;
 
 // The planes, in GBufferTexel's order. The triangle plane holds its indices' bits.
 enum GBufferPlane {
-  GBUFFER_X, GBUFFER_Y, GBUFFER_Z, GBUFFER_T, GBUFFER_NX, GBUFFER_NY, GBUFFER_NZ, GBUFFER_FOOTPRINT,
-  GBUFFER_DEPTH, GBUFFER_SX, GBUFFER_SY, GBUFFER_SZ, GBUFFER_TRIANGLE,
+  GBUFFER_X,
+  GBUFFER_Y,
+  GBUFFER_Z,
+  GBUFFER_T,
+  GBUFFER_NX,
+  GBUFFER_NY,
+  GBUFFER_NZ,
+  GBUFFER_FOOTPRINT,
+  GBUFFER_DEPTH,
+  GBUFFER_SX,
+  GBUFFER_SY,
+  GBUFFER_SZ,
+  GBUFFER_TRIANGLE,
   GBUFFER_PLANES
 };
 
@@ -38,7 +49,7 @@ enum GBufferPlane {
 // camera rays write the planes its readers need and no others, since on a CPU
 // writing the planes, not making the texel, is most of what a texel costs.
 #define MBAO_GBUFFER_PLANE(plane) (1u << (plane))
-#define MBAO_GBUFFER_HBAO_PLANES                                                                      \
+#define MBAO_GBUFFER_HBAO_PLANES                                                                         \
   (MBAO_GBUFFER_PLANE(GBUFFER_DEPTH) | MBAO_GBUFFER_PLANE(GBUFFER_SX) | MBAO_GBUFFER_PLANE(GBUFFER_SY) | \
    MBAO_GBUFFER_PLANE(GBUFFER_SZ))
 // The spatial filter's and temporal accumulation's: the point, t, the geometric normal and the footprint.
@@ -74,8 +85,8 @@ MBAO_FN const MBAO_GLOBAL float* hbao_gbuffer_plane(const MBAO_GLOBAL float* gbu
 // into a G-buffer that holds those planes.
 MBAO_FN void gbuffer_store(MBAO_GLOBAL float* gbuffer, mbao_u32 pixels, mbao_u32 pixel, GBufferTexel g,
                            mbao_u32 planes) {
-  const float fields[GBUFFER_PLANES] = {g.x,     g.y,  g.z,  g.t,  g.nx, g.ny, g.nz, g.footprint,
-                                        g.depth, g.sx, g.sy, g.sz, mbao_u32_as_float(g.triangle)};
+  const float fields[GBUFFER_PLANES] = {
+      g.x, g.y, g.z, g.t, g.nx, g.ny, g.nz, g.footprint, g.depth, g.sx, g.sy, g.sz, mbao_u32_as_float(g.triangle)};
   mbao_u64 at = pixel;  // in the next plane of the set
   MBAO_UNROLL
   for (int plane = 0; plane < GBUFFER_PLANES; ++plane) {

@@ -7,25 +7,25 @@
 #define MBAO_PARAM_GROUPS_H
 
 // The camera (CameraArgs): trace_camera_rays, trace_camera_packets and temporal_accumulate.
-#define MBAO_CAMERA_PARAM_LIST(X)                                             \
-  X(float4, eye)                                                              \
-  X(float4, forward)                                                          \
-  X(float4, right)                                                            \
-  X(float4, up)                                                               \
+#define MBAO_CAMERA_PARAM_LIST(X)                                          \
+  X(float4, eye)                                                           \
+  X(float4, forward)                                                       \
+  X(float4, right)                                                         \
+  X(float4, up)                                                            \
   X(float2, film_scale) /* tan of half the field of view, across and up */ \
-  X(uint, width)                                                              \
+  X(uint, width)                                                           \
   X(uint, height)
 
 // The settings of every AO kernel of render.cl (AoArgs).
-#define MBAO_AO_PARAM_LIST(X)                                                                           \
-  X(float4, eye)             /* eye.w = 1: primary surfaces given (a bake's points), not camera hits */ \
-  X(uint2, image_size)       /* (width, height) */                                                     \
-  X(uint, spp)                                                                                          \
-  X(uint, bounces)                                                                                      \
-  X(uint, samples)           /* r: directions per hit */                                               \
-  X(float, rho)                                                                                         \
-  X(float, max_distance)     /* inf: unlimited */                                                      \
-  X(uint2, seed)                                                                                        \
+#define MBAO_AO_PARAM_LIST(X)                                                                     \
+  X(float4, eye)       /* eye.w = 1: primary surfaces given (a bake's points), not camera hits */ \
+  X(uint2, image_size) /* (width, height) */                                                      \
+  X(uint, spp)                                                                                    \
+  X(uint, bounces)                                                                                \
+  X(uint, samples) /* r: directions per hit */                                                    \
+  X(float, rho)                                                                                   \
+  X(float, max_distance) /* inf: unlimited */                                                     \
+  X(uint2, seed)                                                                                  \
   X(uint, direction_moments) /* 1: keep the moments of the directions at each camera hit (SPEC 7.1) */
 
 #ifdef __OPENCL_VERSION__

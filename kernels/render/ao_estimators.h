@@ -37,8 +37,7 @@ static inline uint tile_pixel(const AoSettings* s, uint first_position, uint ind
 
 // Where the `rays` rays leaving `from` start: located in the tree once for
 // them all where more than one leaves.
-static inline void origin_of_rays(const SceneView* scene, const Surface* from, uint rays,
-                                  RayOrigin* origin) {
+static inline void origin_of_rays(const SceneView* scene, const Surface* from, uint rays, RayOrigin* origin) {
   if (rays > 1)
     locate_ray_origin(scene, leaving_point(from), origin);
   else
@@ -71,8 +70,7 @@ static inline void ao_ray_directions_x4(const Surface* from, const AoSettings* s
   uint4 bits[4];
   random_blocks_x4(pixel, camera_sample, bounce, node, s->seed, bits);
   float4 x, y, z;
-  cosine_directions_x4(from->shading_normal, philox_unit_floats(bits[0]), philox_unit_floats(bits[1]), &x, &y,
-                       &z);
+  cosine_directions_x4(from->shading_normal, philox_unit_floats(bits[0]), philox_unit_floats(bits[1]), &x, &y, &z);
   dir[0] = (float3)(x.s0, y.s0, z.s0);
   dir[1] = (float3)(x.s1, y.s1, z.s1);
   dir[2] = (float3)(x.s2, y.s2, z.s2);
@@ -83,20 +81,16 @@ static inline void ao_ray_directions_x4(const Surface* from, const AoSettings* s
 // Draws the direction of one AO ray from `from` and traces it from `origin`,
 // where its rays start. A hit point is only needed where the estimator bounces
 // on; elsewhere any hit will do.
-static inline int cast_ao_ray(const SceneView* scene, const Surface* from, const RayOrigin* origin,
-                              const AoSettings* s, uint pixel, uint camera_sample, uint bounce,
-                              uint node, int need_hit_point, float3* dir, Hit* hit, uint* rays,
-                              TraversalCounts* counts) {
+static inline int cast_ao_ray(const SceneView* scene, const Surface* from, const RayOrigin* origin, const AoSettings* s,
+                              uint pixel, uint camera_sample, uint bounce, uint node, int need_hit_point, float3* dir,
+                              Hit* hit, uint* rays, TraversalCounts* counts) {
   if (!ao_ray_direction(from, s, pixel, camera_sample, bounce, node, dir)) return MBAO_RAY_BLOCKED;
   ++*rays;
-  return trace_ray_from(scene, origin, *dir, s->max_distance, !need_hit_point, hit, counts)
-             ? MBAO_RAY_HIT
-             : MBAO_RAY_ESCAPED;
+  return trace_ray_from(scene, origin, *dir, s->max_distance, !need_hit_point, hit, counts) ? MBAO_RAY_HIT
+                                                                                            : MBAO_RAY_ESCAPED;
 }
 
-static inline int bounces_on(const AoSettings* s, uint bounce) {
-  return bounce < s->bounces && s->rho > 0.0f;
-}
+static inline int bounces_on(const AoSettings* s, uint bounce) { return bounce < s->bounces && s->rho > 0.0f; }
 
 // The value of one camera sample from its escapes per bounce: every escape
 // at bounce k weighs rho^(k-1) / r^k. Both organisations end here, so their
@@ -149,9 +143,8 @@ static inline void end_direction(const uint* escapes, uint* before, const AoSett
 // Escapes are counted per bounce and weighed once at the end: the sum of b + 1
 // bounces then starts with the exact sum of b bounces, and L_b <= L_(b+1)
 // holds sample by sample.
-static float branching_estimate(const SceneView* scene, const Surface* primary,
-                                const AoSettings* s, uint pixel, uint camera_sample, uint* rays,
-                                TraversalCounts* counts, DirectionMoments* moments) {
+static float branching_estimate(const SceneView* scene, const Surface* primary, const AoSettings* s, uint pixel,
+                                uint camera_sample, uint* rays, TraversalCounts* counts, DirectionMoments* moments) {
   Surface surface[MBAO_MAX_BRANCHING_BOUNCES];
   RayOrigin origin[MBAO_MAX_BRANCHING_BOUNCES];
   uint next_child[MBAO_MAX_BRANCHING_BOUNCES];
@@ -177,8 +170,8 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
     const int bounce_on = bounces_on(s, bounce);
     float3 dir;
     Hit hit;
-    const int outcome = cast_ao_ray(scene, &surface[level], &origin[level], s, pixel, camera_sample,
-                                    bounce, child, bounce_on, &dir, &hit, rays, counts);
+    const int outcome = cast_ao_ray(scene, &surface[level], &origin[level], s, pixel, camera_sample, bounce, child,
+                                    bounce_on, &dir, &hit, rays, counts);
     if (outcome == MBAO_RAY_ESCAPED) {
       ++escapes[level];
     } else if (outcome == MBAO_RAY_HIT && bounce_on) {
@@ -195,9 +188,8 @@ static float branching_estimate(const SceneView* scene, const Surface* primary,
 
 // r paths of up to b segments, one direction per further bounce; an escape at
 // bounce k adds rho^(k-1), and the sum is divided by r once.
-static float path_estimate(const SceneView* scene, const Surface* primary, const AoSettings* s,
-                           uint pixel, uint camera_sample, uint* rays, TraversalCounts* counts,
-                           DirectionMoments* moments) {
+static float path_estimate(const SceneView* scene, const Surface* primary, const AoSettings* s, uint pixel,
+                           uint camera_sample, uint* rays, TraversalCounts* counts, DirectionMoments* moments) {
   RayOrigin primary_origin, origin;
   origin_of_rays(scene, primary, s->samples, &primary_origin);
   float sum = 0.0f;
@@ -209,8 +201,8 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
       const int bounce_on = bounces_on(s, bounce);
       float3 dir;
       Hit hit;
-      const int outcome = cast_ao_ray(scene, &surface, from, s, pixel, camera_sample, bounce, path,
-                                      bounce_on, &dir, &hit, rays, counts);
+      const int outcome = cast_ao_ray(scene, &surface, from, s, pixel, camera_sample, bounce, path, bounce_on, &dir,
+                                      &hit, rays, counts);
       if (outcome == MBAO_RAY_ESCAPED) {
         sum += weight;
         // A path escapes once, where it ends; one that does not adds 0.
@@ -228,8 +220,7 @@ static float path_estimate(const SceneView* scene, const Surface* primary, const
 
 // A pixel's variance (SPEC 7.1): the spread of its camera samples' values
 // where it has two or more, else of its one sample's r direction values.
-static inline float pixel_variance(float sum, float sum_of_squares, uint spp, DirectionMoments directions,
-                                   uint r) {
+static inline float pixel_variance(float sum, float sum_of_squares, uint spp, DirectionMoments directions, uint r) {
   const float n = (float)(spp > 1 ? spp : r);
   const float total = spp > 1 ? sum : directions.sum;
   const float squares = spp > 1 ? sum_of_squares : directions.squares;
@@ -241,10 +232,9 @@ static inline float pixel_variance(float sum, float sum_of_squares, uint spp, Di
 // Where ao_second_moment is given, the mean of the values' squares too: a
 // bake's standard errors come from it (SPEC 6.4); where ao_variance is, the
 // pixel's variance.
-static inline void store_pixel(uint pixel, float sum, float sum_of_squares, DirectionMoments directions,
-                               uint spp, uint r, uint covered, uint rays, __global float* ao,
-                               __global float* ao_second_moment, __global float* ao_variance,
-                               __global uchar* coverage, __global uint* secondary_rays) {
+static inline void store_pixel(uint pixel, float sum, float sum_of_squares, DirectionMoments directions, uint spp,
+                               uint r, uint covered, uint rays, __global float* ao, __global float* ao_second_moment,
+                               __global float* ao_variance, __global uchar* coverage, __global uint* secondary_rays) {
   ao[pixel] = sum / (float)spp;
   if (ao_second_moment) ao_second_moment[pixel] = sum_of_squares / (float)spp;
   if (ao_variance) ao_variance[pixel] = pixel_variance(sum, sum_of_squares, spp, directions, r);
@@ -257,10 +247,9 @@ static inline void store_pixel(uint pixel, float sum, float sum_of_squares, Dire
 
 // One pixel: the mean over its camera samples of L_b, 1 where the camera ray
 // missed, and its coverage.
-static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye, uint spp,
-                               const AoSettings* s, uint first_position, uint pixel_index,
-                               __global const uint4* camera_hits, __global float* ao,
-                               __global float* ao_second_moment, __global float* ao_variance,
+static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye, uint spp, const AoSettings* s,
+                               uint first_position, uint pixel_index, __global const uint4* camera_hits,
+                               __global float* ao, __global float* ao_second_moment, __global float* ao_variance,
                                __global uchar* coverage, __global uint* secondary_rays,
                                __global ulong* traversal_totals) {
   const uint pixel = tile_pixel(s, first_position, pixel_index);
@@ -281,24 +270,23 @@ static inline void shade_pixel(const SceneView* scene, int estimator, float4 eye
     sum += value;
     sum_of_squares += value * value;
   }
-  store_pixel(pixel, sum, sum_of_squares, directions, spp, s->samples, covered, rays, ao, ao_second_moment,
-              ao_variance, coverage, secondary_rays);
+  store_pixel(pixel, sum, sum_of_squares, directions, spp, s->samples, covered, rays, ao, ao_second_moment, ao_variance,
+              coverage, secondary_rays);
   add_traversal_counts(traversal_totals, &counts);
 }
 
 // The megakernel: one work item per pixel runs the whole estimator.
-#define MBAO_AO_KERNEL(name, estimator)                                                            \
-  __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint pixel_count,      \
-                     __global const uint4 *camera_hits, __global float *ao,                        \
-                     __global float *ao_second_moment, __global float *ao_variance,                \
-                     __global uchar *coverage, __global uint *secondary_rays,                      \
-                     __global ulong *traversal_totals) {                                           \
-    const uint pixel_index = get_global_id(0);                                                     \
-    if (pixel_index >= pixel_count) return;                                                        \
-    const SceneView scene = MBAO_SCENE_VIEW();                                                     \
-    const AoSettings s = MBAO_AO_SETTINGS();                                                       \
-    shade_pixel(&scene, estimator, eye, spp, &s, first_position, pixel_index, camera_hits, ao,     \
-                ao_second_moment, ao_variance, coverage, secondary_rays, traversal_totals);        \
+#define MBAO_AO_KERNEL(name, estimator)                                                                          \
+  __kernel void name(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint pixel_count,                    \
+                     __global const uint4* camera_hits, __global float* ao, __global float* ao_second_moment,    \
+                     __global float* ao_variance, __global uchar* coverage, __global uint* secondary_rays,       \
+                     __global ulong* traversal_totals) {                                                         \
+    const uint pixel_index = get_global_id(0);                                                                   \
+    if (pixel_index >= pixel_count) return;                                                                      \
+    const SceneView scene = MBAO_SCENE_VIEW();                                                                   \
+    const AoSettings s = MBAO_AO_SETTINGS();                                                                     \
+    shade_pixel(&scene, estimator, eye, spp, &s, first_position, pixel_index, camera_hits, ao, ao_second_moment, \
+                ao_variance, coverage, secondary_rays, traversal_totals);                                        \
   }
 
 MBAO_AO_KERNEL(ao_branching, MBAO_ESTIMATOR_BRANCHING)

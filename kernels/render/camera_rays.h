@@ -26,9 +26,8 @@ static inline Surface primary_surface(const SceneView* scene, Hit hit, float4 ey
 
 // Pixel `pixel`'s texel of the G-buffer (SPEC 7.2), from its camera hit
 // through the pixel centre: the planes that `planes` names.
-static inline void store_gbuffer_texel(const SceneView* scene, Hit hit, float4 eye, float4 forward,
-                                       uint2 image_size, float film_scale_y, uint pixel, __global float* gbuffer,
-                                       uint planes) {
+static inline void store_gbuffer_texel(const SceneView* scene, Hit hit, float4 eye, float4 forward, uint2 image_size,
+                                       float film_scale_y, uint pixel, __global float* gbuffer, uint planes) {
   GBufferTexel g = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, MBAO_GBUFFER_NO_TRIANGLE};
   if (hit.triangle != MBAO_NO_TRIANGLE) {
     const Surface s = primary_surface(scene, hit, eye);
@@ -72,16 +71,16 @@ static inline float3 camera_sample_direction(float4 forward, float4 right, float
 // the planes of its texels that `gbuffer_planes` names: one G-buffer pass for
 // every screen-space pass and the AO's primary hits.
 // The parameters of either kernel of camera rays, one per sample or in packets.
-#define MBAO_CAMERA_RAY_PARAMS                                                                              \
-  MBAO_SCENE_PARAMS, MBAO_CAMERA_PARAMS uint spp, uint2 seed, uint first_position, uint pixel_count,        \
+#define MBAO_CAMERA_RAY_PARAMS                                                                       \
+  MBAO_SCENE_PARAMS, MBAO_CAMERA_PARAMS uint spp, uint2 seed, uint first_position, uint pixel_count, \
       __global uint4 *camera_hits, __global ulong *traversal_totals, __global float *gbuffer, uint gbuffer_planes
 
 __kernel void trace_camera_rays(MBAO_CAMERA_RAY_PARAMS) {
   const uint sample_index = get_global_id(0);
   if (sample_index >= pixel_count * spp) return;
   const SceneView scene = MBAO_SCENE_VIEW();
-  const float3 dir = camera_sample_direction(forward, right, up, film_scale, width, height, spp, seed,
-                                             first_position, sample_index);
+  const float3 dir =
+      camera_sample_direction(forward, right, up, film_scale, width, height, spp, seed, first_position, sample_index);
   Hit hit;
   TraversalCounts counts = no_traversal_counts();
   trace_ray(&scene, eye.xyz, dir, INFINITY, 0, &hit, &counts);
@@ -103,8 +102,8 @@ __kernel void trace_camera_packets(MBAO_CAMERA_RAY_PARAMS) {
   float dir_x[MBAO_LANES], dir_y[MBAO_LANES], dir_z[MBAO_LANES];
   const uint lanes = min(samples - first_sample, (uint)MBAO_LANES);
   for (uint k = 0; k < lanes; ++k) {
-    const float3 dir = camera_sample_direction(forward, right, up, film_scale, width, height, spp, seed,
-                                               first_position, first_sample + k);
+    const float3 dir = camera_sample_direction(forward, right, up, film_scale, width, height, spp, seed, first_position,
+                                               first_sample + k);
     dir_x[k] = dir.x;
     dir_y[k] = dir.y;
     dir_z[k] = dir.z;
@@ -117,10 +116,9 @@ __kernel void trace_camera_packets(MBAO_CAMERA_RAY_PARAMS) {
   if (gbuffer)
     for (uint k = 0; k < lanes; ++k)
       store_gbuffer_texel(&scene, hit_of_bits(hits[k]), eye, forward, (uint2)(width, height), film_scale.y,
-                          pixel_at_position(first_position + first_sample + k, width, height), gbuffer,
-                          gbuffer_planes);
-  const TraversalCounts sums = {sum_of_lanes(counts.nodes), sum_of_lanes(counts.leaves),
-                                sum_of_lanes(counts.triangles), 0u};
+                          pixel_at_position(first_position + first_sample + k, width, height), gbuffer, gbuffer_planes);
+  const TraversalCounts sums = {sum_of_lanes(counts.nodes), sum_of_lanes(counts.leaves), sum_of_lanes(counts.triangles),
+                                0u};
   add_traversal_counts(traversal_totals, &sums);
 }
 #endif

@@ -25,8 +25,8 @@ static inline void stream_source(uint bounce, uint index, __global const QueuedS
 
 // The r rays of each source; a blocked ray, or any ray of a camera sample
 // that hit nothing, gets t_max -1 (no ray).
-__kernel void stream_bounce_rays(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint bounce,
-                                 uint first_source, uint source_count, __global const uint4* camera_hits,
+__kernel void stream_bounce_rays(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint bounce, uint first_source,
+                                 uint source_count, __global const uint4* camera_hits,
                                  __global const QueuedSurface* queue, __global float4* ray_origins,
                                  __global float4* ray_directions) {
   const uint slot = get_global_id(0);
@@ -92,8 +92,8 @@ __kernel void stream_bounce_hits(MBAO_AO_PARAMS uint bounce, uint first_source, 
       ++rays;
       const Hit hit = stored_hit(ray_hits, ray);
       outcome = hit.triangle == MBAO_NO_TRIANGLE ? MBAO_RAY_ESCAPED : MBAO_RAY_HIT;
-      tally_ray(outcome, bounce_on, hit, direction.xyz, sample, node * s.samples + i, bounce, next,
-                queue_lengths, &escapes);
+      tally_ray(outcome, bounce_on, hit, direction.xyz, sample, node * s.samples + i, bounce, next, queue_lengths,
+                &escapes);
     }
     if (bounce == 1) start_direction_counts(sample, i, outcome, &s, escape_counts);
   }

@@ -88,10 +88,10 @@ static inline void count_source(uint bounce, uint sample, uint node, uint escape
 }
 
 // The r rays from one surface of a tile's camera sample `sample`.
-static void cast_children(const SceneView* scene, const Surface* from, const AoSettings* s,
-                          uint spp, uint first_position, uint sample, uint bounce, uint node,
-                          __global QueuedSurface* next, __global uint* queue_lengths,
-                          __global uint* escape_counts, uint* escapes, uint* rays, TraversalCounts* counts) {
+static void cast_children(const SceneView* scene, const Surface* from, const AoSettings* s, uint spp,
+                          uint first_position, uint sample, uint bounce, uint node, __global QueuedSurface* next,
+                          __global uint* queue_lengths, __global uint* escape_counts, uint* escapes, uint* rays,
+                          TraversalCounts* counts) {
   const uint pixel = tile_pixel(s, first_position, sample / spp);
   const uint camera_sample = sample % spp;
   const int bounce_on = bounces_on(s, bounce);
@@ -101,19 +101,18 @@ static void cast_children(const SceneView* scene, const Surface* from, const AoS
     const uint child = node * s->samples + i;
     float3 dir;
     Hit hit;
-    const int outcome = cast_ao_ray(scene, from, &origin, s, pixel, camera_sample, bounce, child,
-                                    bounce_on, &dir, &hit, rays, counts);
+    const int outcome =
+        cast_ao_ray(scene, from, &origin, s, pixel, camera_sample, bounce, child, bounce_on, &dir, &hit, rays, counts);
     tally_ray(outcome, bounce_on, hit, dir, sample, child, bounce, next, queue_lengths, escapes);
     if (bounce == 1) start_direction_counts(sample, i, outcome, s, escape_counts);
   }
 }
 
 // Bounce 1, one work item per camera sample of the tile.
-__kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position,
-                                     uint sample_count, __global const uint4* camera_hits,
-                                     __global uint* escape_counts, __global uint* sample_rays,
-                                     __global QueuedSurface* next, __global uint* queue_lengths,
-                                     __global ulong* traversal_totals) {
+__kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint sample_count,
+                                     __global const uint4* camera_hits, __global uint* escape_counts,
+                                     __global uint* sample_rays, __global QueuedSurface* next,
+                                     __global uint* queue_lengths, __global ulong* traversal_totals) {
   const uint sample = get_global_id(0);
   if (sample >= sample_count) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -123,8 +122,8 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint firs
   const Hit hit = stored_hit(camera_hits, sample);
   if (hit.triangle != MBAO_NO_TRIANGLE) {
     const Surface primary = primary_surface(&scene, hit, eye);
-    cast_children(&scene, &primary, &s, spp, first_position, sample, 1, 0, next, queue_lengths, escape_counts,
-                  &escapes, &rays, &counts);
+    cast_children(&scene, &primary, &s, spp, first_position, sample, 1, 0, next, queue_lengths, escape_counts, &escapes,
+                  &rays, &counts);
   }
   count_source(1, sample, 0, escapes, rays, &s, escape_counts, sample_rays);
   add_traversal_counts(traversal_totals, &counts);
@@ -134,8 +133,8 @@ __kernel void wavefront_first_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint firs
 // has at least that many).
 __kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_position, uint bounce,
                                __global const QueuedSurface* queue, __global uint* escape_counts,
-                               __global uint* sample_rays, __global QueuedSurface* next,
-                               __global uint* queue_lengths, __global ulong* traversal_totals) {
+                               __global uint* sample_rays, __global QueuedSurface* next, __global uint* queue_lengths,
+                               __global ulong* traversal_totals) {
   const uint index = get_global_id(0);
   if (index >= queue_lengths[bounce - 1]) return;
   const SceneView scene = MBAO_SCENE_VIEW();
@@ -144,8 +143,8 @@ __kernel void wavefront_bounce(MBAO_SCENE_PARAMS, MBAO_AO_PARAMS uint first_posi
   const Surface from = dequeued_surface(&scene, entry);
   uint escapes = 0, rays = 0;
   TraversalCounts counts = no_traversal_counts();
-  cast_children(&scene, &from, &s, spp, first_position, entry.sample, bounce, entry.node, next,
-                queue_lengths, escape_counts, &escapes, &rays, &counts);
+  cast_children(&scene, &from, &s, spp, first_position, entry.sample, bounce, entry.node, next, queue_lengths,
+                escape_counts, &escapes, &rays, &counts);
   count_source(bounce, entry.sample, entry.node, escapes, rays, &s, escape_counts, sample_rays);
   add_traversal_counts(traversal_totals, &counts);
 }
@@ -173,12 +172,10 @@ static inline float branching_value_of_counts(__global const uint* escape_counts
 
 // One work item per pixel of the tile: its camera samples' values, summed in
 // the megakernel's order.
-__kernel void wavefront_finish(MBAO_AO_PARAMS uint first_position, uint pixel_count,
-                               __global const uint4* camera_hits,
-                               __global const uint* escape_counts,
-                               __global const uint* sample_rays, __global float* ao,
-                               __global float* ao_second_moment, __global float* ao_variance,
-                               __global uchar* coverage, __global uint* secondary_rays) {
+__kernel void wavefront_finish(MBAO_AO_PARAMS uint first_position, uint pixel_count, __global const uint4* camera_hits,
+                               __global const uint* escape_counts, __global const uint* sample_rays, __global float* ao,
+                               __global float* ao_second_moment, __global float* ao_variance, __global uchar* coverage,
+                               __global uint* secondary_rays) {
   const uint pixel_index = get_global_id(0);
   if (pixel_index >= pixel_count) return;
   const AoSettings s = MBAO_AO_SETTINGS();
@@ -196,8 +193,8 @@ __kernel void wavefront_finish(MBAO_AO_PARAMS uint first_position, uint pixel_co
     sum += value;
     sum_of_squares += value * value;
   }
-  store_pixel(tile_pixel(&s, first_position, pixel_index), sum, sum_of_squares, directions, spp, samples, covered,
-              rays, ao, ao_second_moment, ao_variance, coverage, secondary_rays);
+  store_pixel(tile_pixel(&s, first_position, pixel_index), sum, sum_of_squares, directions, spp, samples, covered, rays,
+              ao, ao_second_moment, ao_variance, coverage, secondary_rays);
 }
 
 #endif

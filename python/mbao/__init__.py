@@ -13,8 +13,19 @@ from .bake import Bake, bake
 from .batch import render_many
 from .bake_file import bake_file
 from . import _core
-from ._core import (DEFAULT_MAX_RAYS, HBAO, Camera, Denoise, Device, DeviceError, Error, LoadError, Scene, Temporal,
-                    cornell_box)
+from ._core import (
+    DEFAULT_MAX_RAYS,
+    HBAO,
+    Camera,
+    Denoise,
+    Device,
+    DeviceError,
+    Error,
+    LoadError,
+    Scene,
+    Temporal,
+    cornell_box,
+)
 from .convergence import convergence, format_convergence, plot_convergence
 from .devices import devices
 from .gtao import gtao_multibounce

@@ -4,6 +4,7 @@ import numbers
 
 import numpy as np
 
+
 def integer(name, value, lo=-(2**63), hi=2**63 - 1, range_text=None):
     """An int (numpy integers too, bools not) in [lo, hi]; the C++ core checks
     the narrower ranges of the settings, this one what fits its 64 bits."""
@@ -52,8 +53,10 @@ def rows(name, value, columns, kinds, dtype):
         overflowed = np.isinf(converted) & np.isfinite(array)
         if overflowed.any():
             row = int(np.flatnonzero(overflowed.any(axis=1))[0])
-            raise ValueError(f"{name}: row {row} holds {array[row].tolist()}, beyond the range of {np.dtype(dtype).name} "
-                             f"(+-{np.finfo(dtype).max:.3g})")
+            raise ValueError(
+                f"{name}: row {row} holds {array[row].tolist()}, beyond the range of {np.dtype(dtype).name} "
+                f"(+-{np.finfo(dtype).max:.3g})"
+            )
     return converted
 
 

@@ -50,15 +50,22 @@ class GltfDocument:
         self.path, self.glb = os.fspath(path), glb
         vertices = np.ascontiguousarray(vertices, "<f4")
         indices = np.asarray(indices, np.int64)
-        placed = (uv_sets or {}).get("primitives") or [
-            dict(vertices=(0, len(vertices)), triangles=(0, len(indices)))]
+        placed = (uv_sets or {}).get("primitives") or [dict(vertices=(0, len(vertices)), triangles=(0, len(indices)))]
         binary, views, accessors = bytearray(), [], []
-        primitives = [_primitive_of(part, vertices, indices, normals, uv_sets, binary, views, accessors)
-                      for part in placed]
+        primitives = [
+            _primitive_of(part, vertices, indices, normals, uv_sets, binary, views, accessors) for part in placed
+        ]
         buffer = {}
-        self.doc = {"asset": {"version": "2.0", "generator": "mbao"}, "scene": 0, "scenes": [{"nodes": [0]}],
-                    "nodes": [{"mesh": 0}], "meshes": [{"primitives": primitives}], "buffers": [buffer],
-                    "bufferViews": views, "accessors": accessors}
+        self.doc = {
+            "asset": {"version": "2.0", "generator": "mbao"},
+            "scene": 0,
+            "scenes": [{"nodes": [0]}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": primitives}],
+            "buffers": [buffer],
+            "bufferViews": views,
+            "accessors": accessors,
+        }
         if uv_sets is not None and uv_sets["materials"]:
             self.doc["materials"] = [{"name": material["name"]} for material in uv_sets["materials"]]
             _add_base_colors(self.doc, uv_sets["materials"], primitives, binary, views, self.path)
@@ -85,7 +92,7 @@ class GltfDocument:
         chunks, offset = {}, 12
         while offset + 8 <= length:
             size, kind = struct.unpack_from("<2I", data, offset)
-            chunks.setdefault(kind, data[offset + 8:offset + 8 + size])
+            chunks.setdefault(kind, data[offset + 8 : offset + 8 + size])
             offset += 8 + size + (-size % 4)
         if _JSON_CHUNK not in chunks:
             raise _core.LoadError(f"{self.path}: the GLB file has no JSON chunk")
@@ -121,8 +128,14 @@ class GltfDocument:
         if sparse:
             indices = sparse["indices"]
             index_type = np.dtype(_INDEX_TYPES[indices["componentType"]])
-            where = self._view_rows(indices["bufferView"], indices.get("byteOffset", 0), sparse["count"],
-                                    index_type.itemsize).copy().view(index_type).ravel()
+            where = (
+                self._view_rows(
+                    indices["bufferView"], indices.get("byteOffset", 0), sparse["count"], index_type.itemsize
+                )
+                .copy()
+                .view(index_type)
+                .ravel()
+            )
             values = sparse["values"]
             rows[where] = self._view_rows(values["bufferView"], values.get("byteOffset", 0), sparse["count"], size)
         return rows
@@ -134,8 +147,10 @@ class GltfDocument:
         start = view.get("byteOffset", 0) + offset
         end = start + (count - 1) * stride + size if count else start
         if end > min(len(data), view.get("byteOffset", 0) + view["byteLength"]):
-            raise _core.LoadError(f"{self.path}: bufferView {view_index} is too short for {count} elements of "
-                                  f"{size} bytes from byte {offset}")
+            raise _core.LoadError(
+                f"{self.path}: bufferView {view_index} is too short for {count} elements of "
+                f"{size} bytes from byte {offset}"
+            )
         return np.lib.stride_tricks.as_strided(data[start:], (count, size), (stride, 1), writeable=False)
 
     def append(self, key, item):
@@ -167,8 +182,13 @@ class GltfDocument:
         else:
             binary = None
             if self.added:
-                buffer = self._place_added(doc, {"uri": "data:application/octet-stream;base64,"
-                                                        + base64.b64encode(bytes(self.added)).decode("ascii")})
+                buffer = self._place_added(
+                    doc,
+                    {
+                        "uri": "data:application/octet-stream;base64,"
+                        + base64.b64encode(bytes(self.added)).decode("ascii")
+                    },
+                )
                 doc["buffers"][buffer]["byteLength"] = len(self.added)
         text = json.dumps(doc, separators=(",", ":")).encode("utf-8")
         with open(path, "wb") as file:
@@ -186,8 +206,10 @@ class GltfDocument:
         path = os.fspath(path)
         extension = ".glb" if self.glb else ".gltf"
         if not path.lower().endswith(extension):
-            raise ValueError(f"output {path!r} must be a {extension} file, as the input {self.path!r} is "
-                             f"(mbao does not convert between .glb and .gltf)")
+            raise ValueError(
+                f"output {path!r} must be a {extension} file, as the input {self.path!r} is "
+                f"(mbao does not convert between .glb and .gltf)"
+            )
         if os.path.abspath(path) == os.path.abspath(self.path):
             raise ValueError(f"output {path!r} is the input; write the baked file beside it")
         folder = os.path.dirname(os.path.abspath(path))
@@ -253,8 +275,10 @@ def _add_base_colors(doc, materials, primitives, binary, views, path):
         uv_set = f"TEXCOORD_{color['texcoord']}"
         lacking = [p for p in primitives if p.get("material") == index and uv_set not in p["attributes"]]
         if lacking:
-            warn(f"{path}: material '{material['name']}''s base colour image is looked up in {uv_set}, "
-                 f"which {len(lacking)} of its primitives lack; the file is written without the image")
+            warn(
+                f"{path}: material '{material['name']}''s base colour image is looked up in {uv_set}, "
+                f"which {len(lacking)} of its primitives lack; the file is written without the image"
+            )
             continue
         views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(color["image"])})
         binary.extend(color["image"])
@@ -263,8 +287,9 @@ def _add_base_colors(doc, materials, primitives, binary, views, path):
         image = _appended(doc, "images", {"bufferView": len(views) - 1, "mimeType": mime_type})
         texture = {"source": image}
         if tuple(color["wrap"]) != ("repeat", "repeat"):
-            texture["sampler"] = _appended(doc, "samplers", {"wrapS": WRAP_CODES[color["wrap"][0]],
-                                                              "wrapT": WRAP_CODES[color["wrap"][1]]})
+            texture["sampler"] = _appended(
+                doc, "samplers", {"wrapS": WRAP_CODES[color["wrap"][0]], "wrapT": WRAP_CODES[color["wrap"][1]]}
+            )
         pbr["baseColorTexture"] = {"index": _appended(doc, "textures", texture), "texCoord": color["texcoord"]}
 
 
@@ -279,8 +304,13 @@ def _primitive_of(part, vertices, indices, normals, uv_sets, binary, views, acce
     first, end = part["vertices"]
     triangles = indices[slice(*part["triangles"])] - first
     positions = vertices[first:end]
-    arrays = [("POSITION", positions, dict(type="VEC3", min=positions.min(axis=0).tolist(),
-                                            max=positions.max(axis=0).tolist()))]
+    arrays = [
+        (
+            "POSITION",
+            positions,
+            dict(type="VEC3", min=positions.min(axis=0).tolist(), max=positions.max(axis=0).tolist()),
+        )
+    ]
     if normals is not None:
         arrays.append(("NORMAL", normals[first:end], dict(type="VEC3")))
     for n, uv in enumerate(uv_sets["sets"] if uv_sets is not None else []):

@@ -33,8 +33,11 @@ class progress_reporter:
         checked_progress(progress)
         self._callback = progress if callable(progress) else None
         shown = progress is True or (progress is None and _watched())
-        self._bar = _tqdm(total=total, desc=description, unit=unit,
-                          delay=0 if progress is True else SHOWN_AFTER_S) if shown else None
+        self._bar = (
+            _tqdm(total=total, desc=description, unit=unit, delay=0 if progress is True else SHOWN_AFTER_S)
+            if shown
+            else None
+        )
 
     def __enter__(self):
         if self._callback is not None:

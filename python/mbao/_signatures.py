@@ -22,9 +22,14 @@ def constructor_signature(cls):
     arguments = function.args
     defaults = [None] * (len(arguments.args) - len(arguments.defaults)) + arguments.defaults
     parameters = [
-        inspect.Parameter(argument.arg, inspect.Parameter.POSITIONAL_OR_KEYWORD,
-                          default=inspect.Parameter.empty if default is None else ast.literal_eval(default),
-                          annotation=ast.unparse(argument.annotation) if argument.annotation else inspect.Parameter.empty)
+        inspect.Parameter(
+            argument.arg,
+            inspect.Parameter.POSITIONAL_OR_KEYWORD,
+            default=inspect.Parameter.empty if default is None else ast.literal_eval(default),
+            annotation=ast.unparse(argument.annotation) if argument.annotation else inspect.Parameter.empty,
+        )
         for argument, default in zip(arguments.args, defaults)
-    ][1:]  # self
+    ][
+        1:
+    ]  # self
     return inspect.Signature(parameters)

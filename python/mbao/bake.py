@@ -20,6 +20,7 @@ from .devices import resolve
 from .render import warn_if_closed
 from .scene import FRAME, Mesh, as_camera, as_scene, load
 from .settings import BAKE_SETTINGS, RENDER, Engine, checked, describe, engine_values
+
 WRAP_MODES = ("repeat", "mirrored-repeat", "clamp-to-edge")
 
 
@@ -76,22 +77,41 @@ class Bake:
     textures: dict = dataclasses.field(default_factory=dict)
 
     def __repr__(self):
-        what = (f"{len(self.values)} values, mean {float(np.mean(self.values)):.3f}" if self.values is not None
-                else f"{len(self.textures)} textures")
+        what = (
+            f"{len(self.values)} values, mean {float(np.mean(self.values)):.3f}"
+            if self.values is not None
+            else f"{len(self.textures)} textures"
+        )
         return f"<mbao.Bake {self.target}: {what}, {self.stats['frame_ms'] / 1e3:.1f} s on {self.stats['device']}>"
 
 
 _OWN = {name: spec["default"] for name, spec in BAKE_SETTINGS.items()}
 
 
-def bake(scene: SceneLike, *, target: str = _OWN["target"], bounces: int = 1, samples: int = _OWN["samples"],
-         estimator: str = _OWN["estimator"], directions: int = _OWN["directions"], rho: float = 1.0,
-         max_distance: Optional[float] = None, camera: CameraLike = None, normals: str = "shading",
-         texcoord: Union[None, int, str] = None, resolution: Union[int, Tuple[int, int]] = 1024,
-         padding: int = _OWN["padding"],
-         wrap: Union[None, str, Tuple[str, str]] = None, seed: int = 0, max_rays: int = _core.DEFAULT_MAX_RAYS,
-         triangles: Optional[ArrayLike] = None, engine: Optional[Engine] = None, device: DeviceLike = None,
-         progress: Progress = None, client: Any = None) -> "Bake":
+def bake(
+    scene: SceneLike,
+    *,
+    target: str = _OWN["target"],
+    bounces: int = 1,
+    samples: int = _OWN["samples"],
+    estimator: str = _OWN["estimator"],
+    directions: int = _OWN["directions"],
+    rho: float = 1.0,
+    max_distance: Optional[float] = None,
+    camera: CameraLike = None,
+    normals: str = "shading",
+    texcoord: Union[None, int, str] = None,
+    resolution: Union[int, Tuple[int, int]] = 1024,
+    padding: int = _OWN["padding"],
+    wrap: Union[None, str, Tuple[str, str]] = None,
+    seed: int = 0,
+    max_rays: int = _core.DEFAULT_MAX_RAYS,
+    triangles: Optional[ArrayLike] = None,
+    engine: Optional[Engine] = None,
+    device: DeviceLike = None,
+    progress: Progress = None,
+    client: Any = None,
+) -> "Bake":
     """Bakes b-bounce ambient occlusion (SPEC 1) into values per vertex (SPEC 6.2)
     or per texel (SPEC 6.3).
 
@@ -152,8 +172,15 @@ def bake(scene: SceneLike, *, target: str = _OWN["target"], bounces: int = 1, sa
     scene = load(scene, texcoords=True) if target == "texture" and from_file else as_scene(scene)
     radius, radius_source = _radius(scene, max_distance, camera)
     baked = _baked_triangles(scene, triangles)
-    given = dict(bounces=bounces, estimator=estimator, rho=rho, max_distance=radius, normals=normals, seed=seed,
-                 max_rays=max_rays)
+    given = dict(
+        bounces=bounces,
+        estimator=estimator,
+        rho=rho,
+        max_distance=radius,
+        normals=normals,
+        seed=seed,
+        max_rays=max_rays,
+    )
     values = dict({name: checked(RENDER[name], value) for name, value in given.items()}, samples=directions)
     if engine is not None and not isinstance(engine, Engine):
         raise TypeError(f"engine must be None or an mbao.Engine, got {type(engine).__name__}")
@@ -162,8 +189,7 @@ def bake(scene: SceneLike, *, target: str = _OWN["target"], bounces: int = 1, sa
     if target == "vertices":
         with progress_reporter(progress, "bake", "tile") as on_tile:
             if client is None:
-                ao, standard_error, stats = _core.bake_vertices(scene, baked, resolve(device), values, samples,
-                                                                on_tile)
+                ao, standard_error, stats = _core.bake_vertices(scene, baked, resolve(device), values, samples, on_tile)
             else:
                 positions = _core.vertex_bake_positions(scene, baked, samples)
                 mean, second_moment, stats = _traced_on(client, scene, baked, positions, values, samples, on_tile)
@@ -175,11 +201,15 @@ def bake(scene: SceneLike, *, target: str = _OWN["target"], bounces: int = 1, sa
     width, height = _resolution(resolution)
     wrap = None if wrap is None else _wrap(wrap)
     if texcoord is not None and texcoord != "generate":
-        texcoord = _checks.integer("texcoord", texcoord, 0, 7, "[0, 7] (TEXCOORD_n), \"generate\" or None")
-    materials = (_generated_materials(scene, baked, width, height, padding) if texcoord == "generate"
-                 else _texture_materials(scene, baked, texcoord, wrap))
-    textures, stats = _bake_textures(scene, materials, (width, height), padding, values, samples, device, progress,
-                                     client)
+        texcoord = _checks.integer("texcoord", texcoord, 0, 7, '[0, 7] (TEXCOORD_n), "generate" or None')
+    materials = (
+        _generated_materials(scene, baked, width, height, padding)
+        if texcoord == "generate"
+        else _texture_materials(scene, baked, texcoord, wrap)
+    )
+    textures, stats = _bake_textures(
+        scene, materials, (width, height), padding, values, samples, device, progress, client
+    )
     settings.update(texcoord=texcoord, resolution=(width, height), padding=padding, wrap=wrap)
     stats = dict(stats, max_distance_source=radius_source)
     for texture in textures.values():
@@ -187,8 +217,12 @@ def bake(scene: SceneLike, *, target: str = _OWN["target"], bounces: int = 1, sa
     return Bake(target, None, None, settings, stats, textures)
 
 
-bake.__doc__ = bake.__doc__.rstrip() + "\n\n    The bake's own settings (SPEC 6):\n\n" + "\n".join(
-    textwrap.indent(describe(spec), "    ") for spec in BAKE_SETTINGS.values()) + "\n"
+bake.__doc__ = (
+    bake.__doc__.rstrip()
+    + "\n\n    The bake's own settings (SPEC 6):\n\n"
+    + "\n".join(textwrap.indent(describe(spec), "    ") for spec in BAKE_SETTINGS.values())
+    + "\n"
+)
 
 
 def _baked_triangles(scene, triangles):
@@ -197,12 +231,16 @@ def _baked_triangles(scene, triangles):
         return np.arange(scene.triangle_count, dtype=np.uint32)
     given = np.asarray(triangles)
     if given.ndim != 1 or given.size == 0 or given.dtype.kind not in "iu":
-        raise ValueError(f"triangles must be a non-empty list of triangle indices, got an array of shape "
-                         f"{given.shape} and dtype {given.dtype}")
+        raise ValueError(
+            f"triangles must be a non-empty list of triangle indices, got an array of shape "
+            f"{given.shape} and dtype {given.dtype}"
+        )
     outside = (given < 0) | (given >= scene.triangle_count)
     if outside.any():
-        raise ValueError(f"triangles: {int(given[outside][0])} is not a triangle of the scene, whose triangles are "
-                         f"0 to {scene.triangle_count - 1}")
+        raise ValueError(
+            f"triangles: {int(given[outside][0])} is not a triangle of the scene, whose triangles are "
+            f"0 to {scene.triangle_count - 1}"
+        )
     return np.unique(given).astype(np.uint32)
 
 
@@ -224,8 +262,9 @@ def _bake_textures(scene, materials, resolution, padding, values, samples, devic
     # Every layout first: a UV set that cannot be baked is refused before any ray is traced.
     layouts = {}
     for material in materials:
-        layout = material.layout or _core.TexelLayout(scene, material.texcoords, material.triangles, width, height,
-                                                      *material.wrap)
+        layout = material.layout or _core.TexelLayout(
+            scene, material.texcoords, material.triangles, width, height, *material.wrap
+        )
         _refuse_claimed_twice(layout, material)
         _refuse_or_warn_of_unmapped(scene, material)
         layouts[material.index] = (material, layout)
@@ -233,19 +272,33 @@ def _bake_textures(scene, materials, resolution, padding, values, samples, devic
     for index, (material, layout) in layouts.items():
         with progress_reporter(progress, f"bake {material.name}", "tile") as on_tile:
             if client is None:
-                image, standard_error, filled, stats = _core.bake_texels(layout, resolve(device), values, samples,
-                                                                         padding, on_tile)
+                image, standard_error, filled, stats = _core.bake_texels(
+                    layout, resolve(device), values, samples, padding, on_tile
+                )
             else:
                 recipe = _TexelRecipe(material.texcoords, material.triangles, width, height, material.wrap)
-                mean, second_moment, stats = _traced_on(client, scene, recipe, layout.bake_positions(samples),
-                                                        values, samples, on_tile)
-                image, standard_error, filled = _core.finish_texel_bake(layout, samples, padding, mean,
-                                                                        second_moment)
-        texture_stats = dict(material.stats, covered=layout.covered_count, claimed_twice=layout.claimed_twice,
-                             dilated=int(filled.sum()), unmapped_triangles=layout.unmapped_triangles,
-                             wrap=material.wrap, texels_used=layout.covered_count / (width * height))
-        textures[index] = BakedTexture(image, standard_error, layout.covered.astype(bool), material.set,
-                                       material.triangles, material.texcoords, texture_stats)
+                mean, second_moment, stats = _traced_on(
+                    client, scene, recipe, layout.bake_positions(samples), values, samples, on_tile
+                )
+                image, standard_error, filled = _core.finish_texel_bake(layout, samples, padding, mean, second_moment)
+        texture_stats = dict(
+            material.stats,
+            covered=layout.covered_count,
+            claimed_twice=layout.claimed_twice,
+            dilated=int(filled.sum()),
+            unmapped_triangles=layout.unmapped_triangles,
+            wrap=material.wrap,
+            texels_used=layout.covered_count / (width * height),
+        )
+        textures[index] = BakedTexture(
+            image,
+            standard_error,
+            layout.covered.astype(bool),
+            material.set,
+            material.triangles,
+            material.texcoords,
+            texture_stats,
+        )
         for name in totals:
             totals[name] += stats[name]
     return textures, dict(stats, **totals)
@@ -288,8 +341,9 @@ def _traced_on(client, scene, points, positions, values, samples, on_part):
 def _trace_part(scene, points, values, samples, first, end):
     """On a worker: positions [first, end) of a bake."""
     if isinstance(points, _TexelRecipe):
-        return _core.trace_texel_bake(_layout_on_worker(scene, points), resolve(None), values, samples, first, end,
-                                      None)
+        return _core.trace_texel_bake(
+            _layout_on_worker(scene, points), resolve(None), values, samples, first, end, None
+        )
     return _core.trace_vertex_bake(scene, points, resolve(None), values, samples, first, end, None)
 
 
@@ -315,8 +369,9 @@ def _layout_on_worker(scene, recipe):
     with _layouts_lock:  # a worker's other threads wait for the layout rather than build it again
         layout = _layouts_on_worker.get(recipe)
         if layout is None:
-            layout = _layouts_on_worker[recipe] = _core.TexelLayout(scene, recipe.texcoords, recipe.triangles,
-                                                                     recipe.width, recipe.height, *recipe.wrap)
+            layout = _layouts_on_worker[recipe] = _core.TexelLayout(
+                scene, recipe.texcoords, recipe.triangles, recipe.width, recipe.height, *recipe.wrap
+            )
         return layout
 
 
@@ -346,7 +401,7 @@ class _Material:
     """What a texture bake takes of one material: its triangles and the UV set they are baked into."""
 
     index: int  # the key of Bake.textures: the glTF material, -1 for triangles without one
-    name: str   # for messages
+    name: str  # for messages
     triangles: np.ndarray
     texcoords: np.ndarray  # (K, 3, 2): the UVs of each triangle's corners
     set: object  # n of TEXCOORD_n, or "generated"
@@ -359,20 +414,29 @@ def _texture_materials(scene, baked, texcoord, wrap):
     """The materials of a texture bake of `scene`'s triangles `baked`, each with its UV set (SPEC 6.3)."""
     if isinstance(scene, Mesh):
         if texcoord not in (None, 0):
-            raise ValueError(f"texcoord must be None or 0 for an mbao.Mesh (its one set of texcoords), got {texcoord!r}")
+            raise ValueError(
+                f"texcoord must be None or 0 for an mbao.Mesh (its one set of texcoords), got {texcoord!r}"
+            )
         if scene.texcoords is None:
-            raise ValueError(f"{scene.name}: a texture bake needs UVs, and this mesh has none: give mbao.Mesh "
-                             f"texcoords=, or bake target=\"vertices\"")
+            raise ValueError(
+                f"{scene.name}: a texture bake needs UVs, and this mesh has none: give mbao.Mesh "
+                f'texcoords=, or bake target="vertices"'
+            )
         return [_Material(0, "the mesh", baked, scene.texcoords[scene.indices[baked]], 0, wrap or ("repeat", "repeat"))]
     uv_sets = scene.uv_sets
     if uv_sets is None:
-        raise ValueError(f"{scene.name}: a texture bake needs the file's UV sets: load it with "
-                         f"mbao.load(path, texcoords=True), or pass its path; any scene bakes with "
-                         f"texcoord=\"generate\"")
+        raise ValueError(
+            f"{scene.name}: a texture bake needs the file's UV sets: load it with "
+            f"mbao.load(path, texcoords=True), or pass its path; any scene bakes with "
+            f'texcoord="generate"'
+        )
     materials = []
     for index, triangles in _by_material(scene, baked).items():
-        info = uv_sets["materials"][index] if index >= 0 else dict(name="", occlusion_texcoord=None,
-                                                                   wrap=("repeat", "repeat"))
+        info = (
+            uv_sets["materials"][index]
+            if index >= 0
+            else dict(name="", occlusion_texcoord=None, wrap=("repeat", "repeat"))
+        )
         name = f"material {index} ({info['name']!r})" if index >= 0 else "the triangles without a material"
         used = np.unique(scene.indices[triangles])
         has = [n for n, values in enumerate(uv_sets["sets"]) if np.isfinite(values[used]).all()]
@@ -382,14 +446,19 @@ def _texture_materials(scene, baked, texcoord, wrap):
             if chosen is None:
                 chosen = next((n for n in (1, 0) if n in has), None)
             if chosen is None:
-                raise ValueError(f"{scene.name}: {name} has no UV set on all its triangles to bake into "
-                                 f"(TEXCOORD_1 or TEXCOORD_0); bake target=\"vertices\"")
+                raise ValueError(
+                    f"{scene.name}: {name} has no UV set on all its triangles to bake into "
+                    f'(TEXCOORD_1 or TEXCOORD_0); bake target="vertices"'
+                )
         if chosen not in has:
-            raise ValueError(f"{scene.name}: {name}: TEXCOORD_{chosen} is missing on some of its triangles; "
-                             f"it has {', '.join(f'TEXCOORD_{n}' for n in has) or 'no UV set'}")
+            raise ValueError(
+                f"{scene.name}: {name}: TEXCOORD_{chosen} is missing on some of its triangles; "
+                f"it has {', '.join(f'TEXCOORD_{n}' for n in has) or 'no UV set'}"
+            )
         corners = uv_sets["sets"][chosen][scene.indices[triangles]]
-        materials.append(_Material(index, f"{scene.name}: {name}", triangles, corners, chosen,
-                                   wrap or tuple(info["wrap"])))
+        materials.append(
+            _Material(index, f"{scene.name}: {name}", triangles, corners, chosen, wrap or tuple(info["wrap"]))
+        )
     return materials
 
 
@@ -398,11 +467,16 @@ def _warn_if_packed_closer(name, stats, resolution, padding):
     if stats["chart_padding"] == padding:
         return
     keeping = stats["size_keeping_padding"]
-    keeping = ("no resolution up to 16384 keeps them that far apart" if keeping is None
-               else f"resolution={_resolution_text(keeping)} keeps them {padding} apart")
+    keeping = (
+        "no resolution up to 16384 keeps them that far apart"
+        if keeping is None
+        else f"resolution={_resolution_text(keeping)} keeps them {padding} apart"
+    )
     apart = f"{stats['chart_padding']} texel{'s' if stats['chart_padding'] != 1 else ''} apart"
-    warn(f"{name}: its {stats['charts']} generated charts fit {resolution[0]} x {resolution[1]} texels only "
-         f"{apart}, not padding={padding}, at {stats['texels_per_unit']:.3g} texels per unit; {keeping}")
+    warn(
+        f"{name}: its {stats['charts']} generated charts fit {resolution[0]} x {resolution[1]} texels only "
+        f"{apart}, not padding={padding}, at {stats['texels_per_unit']:.3g} texels per unit; {keeping}"
+    )
 
 
 def _resolution_text(size):
@@ -426,13 +500,15 @@ def _generated_materials(scene, baked, width, height, padding):
         names = {index: f"{scene.name}: material {index}" for index in groups}
     # The materials' UV sets are independent: generated on all cores at once (the core releases the GIL).
     with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count()) as pool:
-        generated = list(pool.map(lambda triangles: _core.lightmap_uvs(scene, triangles, width, height, padding),
-                                  groups.values()))
+        generated = list(
+            pool.map(lambda triangles: _core.lightmap_uvs(scene, triangles, width, height, padding), groups.values())
+        )
     materials = []
     for (index, triangles), (corners, stats, layout) in zip(groups.items(), generated):
         _warn_if_packed_closer(names[index], stats, (width, height), padding)
-        materials.append(_Material(index, names[index], triangles, corners, "generated", ("repeat", "repeat"), stats,
-                                   layout))
+        materials.append(
+            _Material(index, names[index], triangles, corners, "generated", ("repeat", "repeat"), stats, layout)
+        )
     return materials
 
 
@@ -447,12 +523,16 @@ def _refuse_or_warn_of_unmapped(scene, material):
     surface = _areas(scene.vertices[scene.indices[material.triangles]]) > 0
     unmapped = int((surface & ~(_areas(material.texcoords) > 0)).sum())
     if unmapped and unmapped == surface.sum():
-        raise ValueError(f"{material.name}, {_uv_set_name(material)}: the UVs of all its {unmapped} triangles have "
-                         f"no area (each on a line or a point), so nothing can be baked into them; bake into a new "
-                         f"UV set of mbao's (texcoord=\"generate\"), or per vertex (target=\"vertices\")")
+        raise ValueError(
+            f"{material.name}, {_uv_set_name(material)}: the UVs of all its {unmapped} triangles have "
+            f"no area (each on a line or a point), so nothing can be baked into them; bake into a new "
+            f'UV set of mbao\'s (texcoord="generate"), or per vertex (target="vertices")'
+        )
     if unmapped:
-        warn(f"{material.name}, {_uv_set_name(material)}: {unmapped} of its {int(surface.sum())} triangles "
-             f"have UVs without area and are left out of the bake")
+        warn(
+            f"{material.name}, {_uv_set_name(material)}: {unmapped} of its {int(surface.sum())} triangles "
+            f"have UVs without area and are left out of the bake"
+        )
 
 
 def _areas(corners):
@@ -467,8 +547,10 @@ def _refuse_claimed_twice(layout, material):
     if layout.claimed_twice == 0:
         return
     fraction = layout.claimed_twice / layout.covered_count
-    raise _core.Error(f"{material.name}, {_uv_set_name(material)}: {fraction:.1%} of its "
-                      f"{layout.covered_count} covered texels are claimed by more than one surface (overlap: "
-                      f"mirrored halves, tiled UVs or overlapping islands), so one value per texel cannot serve "
-                      f"them; bake into a new UV set of mbao's (texcoord=\"generate\"), into one without overlaps, "
-                      f"or per vertex (target=\"vertices\")")
+    raise _core.Error(
+        f"{material.name}, {_uv_set_name(material)}: {fraction:.1%} of its "
+        f"{layout.covered_count} covered texels are claimed by more than one surface (overlap: "
+        f"mirrored halves, tiled UVs or overlapping islands), so one value per texel cannot serve "
+        f'them; bake into a new UV set of mbao\'s (texcoord="generate"), into one without overlaps, '
+        f'or per vertex (target="vertices")'
+    )

@@ -18,8 +18,15 @@ FLOAT, SCALAR, TRIANGLES = 5126, "SCALAR", 4
 _NUMPY_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
 
 
-def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bit_depth: int = 8,
-              vertex_colors: bool = False, **settings: Any) -> Bake:
+def bake_file(
+    input: PathLike,
+    output: PathLike,
+    *,
+    target: str = "vertices",
+    bit_depth: int = 8,
+    vertex_colors: bool = False,
+    **settings: Any,
+) -> Bake:
     """Bakes the glTF file `input` as mbao.bake does and writes `output`: the
     same document, every node, mesh, material, texture, animation, skin,
     extension and extra kept as it was, plus the bake:
@@ -52,7 +59,7 @@ def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bi
     """
     vertex_colors = _checks.boolean("vertex_colors", vertex_colors)
     if vertex_colors and target != "vertices":
-        raise ValueError("vertex_colors=True multiplies a per-vertex bake into COLOR_0: it needs target=\"vertices\"")
+        raise ValueError('vertex_colors=True multiplies a per-vertex bake into COLOR_0: it needs target="vertices"')
     bit_depth = _checks.integer("bit_depth", bit_depth)
     if bit_depth not in (8, 16):
         raise ValueError(f"bit_depth must be 8 or 16, got {bit_depth}")
@@ -64,7 +71,7 @@ def bake_file(input: PathLike, output: PathLike, *, target: str = "vertices", bi
     else:
         baked = load_with_base_colors(input)
         if target == "texture" and settings.get("texcoord") != "generate" and not baked.uv_sets["sets"]:
-            raise ValueError(f"{os.fspath(input)}: it has no UV sets; bake it with texcoord=\"generate\"")
+            raise ValueError(f'{os.fspath(input)}: it has no UV sets; bake it with texcoord="generate"')
         document, scene = _converted(baked, input, output)
         result = bake(baked, target=target, **settings)
     meshes = _MeshesPerNode(document)
@@ -124,15 +131,24 @@ def _add_vertex_occlusion(document, scene, result, meshes, vertex_colors):
     for placed in scene.uv_sets["primitives"]:
         first, end = placed["vertices"]
         values = np.ascontiguousarray(result.values[first:end], dtype="<f4")
-        accessor = document.add_data(values.tobytes(), componentType=FLOAT, count=int(end - first), type=SCALAR,
-                                     min=[float(values.min())], max=[float(values.max())])
+        accessor = document.add_data(
+            values.tobytes(),
+            componentType=FLOAT,
+            count=int(end - first),
+            type=SCALAR,
+            min=[float(values.min())],
+            max=[float(values.max())],
+        )
         attributes = meshes.primitive(placed)["attributes"]
         if vertex_colors:
             colors = _colors(document, attributes.get("COLOR_0"), len(values))
             colors[:, :3] *= values[:, None]
-            attributes["COLOR_0"] = document.add_data(np.ascontiguousarray(colors, "<f4").tobytes(),
-                                                      componentType=FLOAT, count=len(values),
-                                                      type=f"VEC{colors.shape[1]}")
+            attributes["COLOR_0"] = document.add_data(
+                np.ascontiguousarray(colors, "<f4").tobytes(),
+                componentType=FLOAT,
+                count=len(values),
+                type=f"VEC{colors.shape[1]}",
+            )
         attributes["_OCCLUSION"] = accessor
 
 
@@ -164,8 +180,10 @@ def _add_generated_uvs(document, scene, result, meshes):
     for placed in placed_primitives:
         material = int(triangle_materials[placed["triangles"][0]])
         by_material.setdefault(material, []).append(placed)
-    sets = {material: max(_uv_sets_of(document.original, placed) for placed in group)
-            for material, group in by_material.items()}
+    sets = {
+        material: max(_uv_sets_of(document.original, placed) for placed in group)
+        for material, group in by_material.items()
+    }
     for material, group in by_material.items():
         for placed in group:
             _split_along_seams(document, meshes.primitive(placed), placed, scene, corner_uvs, sets[material])
@@ -207,8 +225,9 @@ def _split_along_seams(document, primitive, placed, scene, corner_uvs, new_set):
     for target in primitive.get("targets", []):
         for name in list(target):
             target[name] = gathered(target[name])
-    uv_accessor = document.add_data(np.ascontiguousarray(new_uvs, "<f4").tobytes(), componentType=FLOAT,
-                                    count=len(source), type="VEC2")
+    uv_accessor = document.add_data(
+        np.ascontiguousarray(new_uvs, "<f4").tobytes(), componentType=FLOAT, count=len(source), type="VEC2"
+    )
     for n in range(new_set + 1):
         attributes.setdefault(f"TEXCOORD_{n}", uv_accessor)
     attributes[f"TEXCOORD_{new_set}"] = uv_accessor
@@ -223,8 +242,10 @@ def _add_occlusion_textures(document, scene, result, bit_depth, generated_sets, 
     without_material = None
     for material, texture in result.textures.items():
         image = document.add_data(_png(texture.image, bit_depth))
-        image_index = document.append("images", {"bufferView": image, "mimeType": "image/png",
-                                                 "name": f"mbao occlusion, b = {result.settings['bounces']}"})
+        image_index = document.append(
+            "images",
+            {"bufferView": image, "mimeType": "image/png", "name": f"mbao occlusion, b = {result.settings['bounces']}"},
+        )
         if material >= 0:
             entry = doc["materials"][material]
             old = entry.get("occlusionTexture")
@@ -271,8 +292,10 @@ def _png(image, bit_depth):
     height, width = image.shape
     kind = oiio.UINT16 if bit_depth == 16 else oiio.UINT8
     buffer = oiio.ImageBuf(oiio.ImageSpec(width, height, 3, kind))
-    buffer.set_pixels(oiio.ROI(0, width, 0, height, 0, 1, 0, 3),
-                      np.ascontiguousarray(np.repeat(image[:, :, None], 3, axis=2), np.float32))
+    buffer.set_pixels(
+        oiio.ROI(0, width, 0, height, 0, 1, 0, 3),
+        np.ascontiguousarray(np.repeat(image[:, :, None], 3, axis=2), np.float32),
+    )
     with tempfile.TemporaryDirectory() as folder:  # OpenImageIO's Python API writes files only
         path = os.path.join(folder, "occlusion.png")
         if not buffer.write(path, kind):

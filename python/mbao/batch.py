@@ -12,8 +12,15 @@ from .scene import as_scene
 _ERRORS = ("raise", "return")
 
 
-def render_many(jobs: Iterable[Job], *, client: Any = None, ordered: bool = True, errors: str = "raise",
-                in_flight: Optional[int] = None, progress: Progress = None) -> Iterator[Union[Result, Exception]]:
+def render_many(
+    jobs: Iterable[Job],
+    *,
+    client: Any = None,
+    ordered: bool = True,
+    errors: str = "raise",
+    in_flight: Optional[int] = None,
+    progress: Progress = None,
+) -> Iterator[Union[Result, Exception]]:
     """Renders a batch, yielding each job's mbao.Result.
 
     jobs: an iterable (a generator too) of dicts of mbao.render's arguments;
@@ -45,7 +52,9 @@ def render_many(jobs: Iterable[Job], *, client: Any = None, ordered: bool = True
     if in_flight is not None:
         in_flight = _checks.integer("in_flight", in_flight, 1, 2**31 - 1, "[1, 2^31 - 1], or None")
     checked_progress(progress)
-    rendered = _rendered_here(jobs, errors) if client is None else _rendered_on(client, jobs, ordered, errors, in_flight)
+    rendered = (
+        _rendered_here(jobs, errors) if client is None else _rendered_on(client, jobs, ordered, errors, in_flight)
+    )
     return _counted(rendered, progress, len(jobs) if hasattr(jobs, "__len__") else None)
 
 
@@ -63,7 +72,7 @@ def _counted(rendered, progress, total):
 
 def _checked_job(job):
     if not isinstance(job, dict) or "scene" not in job:
-        raise TypeError(f"a job is a dict of mbao.render's arguments with a \"scene\", got {job!r:.200}")
+        raise TypeError(f'a job is a dict of mbao.render\'s arguments with a "scene", got {job!r:.200}')
     return dict(job, progress=job.get("progress", False))
 
 

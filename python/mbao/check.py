@@ -26,16 +26,22 @@ def validator_folder():
     installed, saying how to install it."""
     folder = pathlib.Path(os.environ.get(VALIDATOR_VARIABLE) or _CHECKOUT_VALIDATOR)
     if not (folder / "node_modules" / "gltf-validator").is_dir() or shutil.which("node") is None:
-        raise _core.Error(f"the Khronos glTF-Validator is not installed in {folder}: `make gltf-validator` installs "
-                          f"it there (Node.js and npm), or set {VALIDATOR_VARIABLE} to a folder holding "
-                          f"validate.mjs and its node_modules")
+        raise _core.Error(
+            f"the Khronos glTF-Validator is not installed in {folder}: `make gltf-validator` installs "
+            f"it there (Node.js and npm), or set {VALIDATOR_VARIABLE} to a folder holding "
+            f"validate.mjs and its node_modules"
+        )
     return folder
 
 
 def validation_report(path):
     """The glTF-Validator's report on the glTF file at `path`, as its JSON (a dict)."""
-    run = subprocess.run(["node", str(validator_folder() / "validate.mjs"), os.fspath(path)], capture_output=True,
-                         text=True, timeout=_VALIDATOR_SECONDS)
+    run = subprocess.run(
+        ["node", str(validator_folder() / "validate.mjs"), os.fspath(path)],
+        capture_output=True,
+        text=True,
+        timeout=_VALIDATOR_SECONDS,
+    )
     if run.returncode != 0:
         raise _core.Error(f"{os.fspath(path)}: the glTF-Validator stopped: {run.stderr.strip()[-2000:]}")
     return json.loads(run.stdout)
@@ -45,8 +51,10 @@ def validation_lines(report, most=20):
     """The report as lines: the counts per severity, then up to `most` of its errors and warnings."""
     issues = report["issues"]
     counts = ", ".join(_counted(issues[f"num{name.capitalize()}s"], name) for name in _SEVERITIES)
-    lines = [f"{'valid' if issues['numErrors'] == 0 else 'INVALID'}: {counts} "
-             f"({report['validatorVersion']} of the Khronos glTF-Validator)"]
+    lines = [
+        f"{'valid' if issues['numErrors'] == 0 else 'INVALID'}: {counts} "
+        f"({report['validatorVersion']} of the Khronos glTF-Validator)"
+    ]
     shown = [m for m in issues["messages"] if m["severity"] <= 1][:most]
     lines += [f"  {_SEVERITIES[m['severity']]} {m['code']} at {m.get('pointer', '/')}: {m['message']}" for m in shown]
     return lines
@@ -65,17 +73,23 @@ def occlusion_lines(path):
     lines = []
     if stored.vertex_values is not None:
         values = stored.vertex_values[np.isfinite(stored.vertex_values)]
-        lines.append(f"_OCCLUSION on {values.size} of {len(scene.vertices)} vertices: min {values.min():.3f}, mean "
-                     f"{values.mean():.3f}, max {values.max():.3f}")
+        lines.append(
+            f"_OCCLUSION on {values.size} of {len(scene.vertices)} vertices: min {values.min():.3f}, mean "
+            f"{values.mean():.3f}, max {values.max():.3f}"
+        )
     materials = scene.uv_sets["materials"]
     for material, texture in stored.textures.items():
         height, width = texture.image.shape
-        lines.append(f"material {material} ({materials[material]['name']!r}): occlusion texture {width}x{height} "
-                     f"through TEXCOORD_{texture.texcoord}, wrap {'/'.join(texture.wrap)}, mean "
-                     f"{texture.image.mean():.3f}")
+        lines.append(
+            f"material {material} ({materials[material]['name']!r}): occlusion texture {width}x{height} "
+            f"through TEXCOORD_{texture.texcoord}, wrap {'/'.join(texture.wrap)}, mean "
+            f"{texture.image.mean():.3f}"
+        )
     read = stored.triangle_source != OPEN
-    lines.append(f"{int(read.sum())} of {len(read)} triangles read it "
-                 f"({int((stored.triangle_source == VERTICES).sum())} from their vertices)")
+    lines.append(
+        f"{int(read.sum())} of {len(read)} triangles read it "
+        f"({int((stored.triangle_source == VERTICES).sum())} from their vertices)"
+    )
     return lines
 
 

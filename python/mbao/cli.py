@@ -36,6 +36,7 @@ class _Parser(argparse.ArgumentParser):
         """`message`, which names settings as Python does (texcoord="generate",
         max_distance=..., camera=mbao.Camera(...)), with each one this command
         has as an option named as its flag (--texcoord generate)."""
+
         def as_flag(match):
             name, value = match.group("name"), match.group("value")
             flag = "--" + name.replace("_", "-")
@@ -49,8 +50,9 @@ class _Parser(argparse.ArgumentParser):
 
 
 # name=value as Python messages write a setting: a quoted string, a pair, mbao.Camera(...), or a bare word.
-_PYTHON_SETTING = re.compile(r'(?<![\w.-])(?P<name>[a-z][a-z_]*)=(?P<value>"[^"]*"|\(\d+, \d+\)|mbao\.Camera\(\.\.\.\)'
-                             r'|[^\s,;)]+)')
+_PYTHON_SETTING = re.compile(
+    r'(?<![\w.-])(?P<name>[a-z][a-z_]*)=(?P<value>"[^"]*"|\(\d+, \d+\)|mbao\.Camera\(\.\.\.\)' r"|[^\s,;)]+)"
+)
 
 
 def _flag_value(value):
@@ -69,18 +71,32 @@ def _parser():
     parser.commands = commands.choices
 
     r = commands.add_parser("render", help="render a scene (the built-in Cornell box by default) to an image")
-    r.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
-    r.add_argument("-o", "--output", default="ao.png",
-                   help="image to write: .png (8-bit) or .exr (float) (default: %(default)s)")
-    r.add_argument("--no-alpha", action="store_true",
-                   help="write the AO alone, without the coverage that tells the background apart (SPEC 2): a PNG's "
-                        "alpha, an EXR's channel 'coverage'")
-    r.add_argument("--camera", help=f"camera.json (SPEC 3.1.1), or {FRAME} for one framing the whole scene "
-                                    "(default: the scene's own camera, else one framing it)")
+    r.add_argument(
+        "scene",
+        nargs="?",
+        help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box",
+    )
+    r.add_argument(
+        "-o", "--output", default="ao.png", help="image to write: .png (8-bit) or .exr (float) (default: %(default)s)"
+    )
+    r.add_argument(
+        "--no-alpha",
+        action="store_true",
+        help="write the AO alone, without the coverage that tells the background apart (SPEC 2): a PNG's "
+        "alpha, an EXR's channel 'coverage'",
+    )
+    r.add_argument(
+        "--camera",
+        help=f"camera.json (SPEC 3.1.1), or {FRAME} for one framing the whole scene "
+        "(default: the scene's own camera, else one framing it)",
+    )
     for spec in RENDER.values():
         _add_setting(r, spec)
-    r.add_argument("--denoise", action="store_true",
-                   help="filter the image with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)")
+    r.add_argument(
+        "--denoise",
+        action="store_true",
+        help="filter the image with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)",
+    )
     _add_table(r, "denoise options", "for --denoise (SPEC 7.3): mbao.Denoise's settings", DENOISE_SETTINGS, "denoise_")
     _add_table(r, "HBAO options", "for --method hbao (SPEC 4): mbao.HBAO's settings", HBAO_SETTINGS, "hbao_")
     r.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
@@ -89,77 +105,141 @@ def _parser():
     for spec in ENGINE.values():
         _add_setting(engine, spec)
 
-    c = commands.add_parser("compare", formatter_class=argparse.ArgumentDefaultsHelpFormatter, help="the paper's Figure 2 (HBAO | 1 bounce | 2 bounces | difference) "
-                                            "and error against time for every method")
-    c.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
+    c = commands.add_parser(
+        "compare",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        help="the paper's Figure 2 (HBAO | 1 bounce | 2 bounces | difference) "
+        "and error against time for every method",
+    )
+    c.add_argument(
+        "scene",
+        nargs="?",
+        help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box",
+    )
     c.add_argument("-o", "--output", default="compare", help="file name prefix")
-    c.add_argument("--camera", help=f"camera.json, or {FRAME} for one framing the whole scene; None: the scene's own "
-                                    "camera, else one framing it")
+    c.add_argument(
+        "--camera",
+        help=f"camera.json, or {FRAME} for one framing the whole scene; None: the scene's own "
+        "camera, else one framing it",
+    )
     for name in ("width", "height"):
         _add_setting(c, RENDER[name], default=256)
     _add_setting(c, RENDER["samples"])
     _add_setting(c, RENDER["rho"])
-    c.add_argument("--max-distance", type=float,
-                   help="AO radius (HBAO's too); None: camera.json's, else a quarter of the scene's diagonal")
+    c.add_argument(
+        "--max-distance",
+        type=float,
+        help="AO radius (HBAO's too); None: camera.json's, else a quarter of the scene's diagonal",
+    )
     c.add_argument("--target-error", type=float, default=0.01, help="the reference's standard error per pixel")
-    c.add_argument("--sample-counts", type=int, nargs="+", default=[1, 2, 4, 8, 16],
-                   help="r of each method's renders in the study (HBAO: its directions)")
+    c.add_argument(
+        "--sample-counts",
+        type=int,
+        nargs="+",
+        default=[1, 2, 4, 8, 16],
+        help="r of each method's renders in the study (HBAO: its directions)",
+    )
     _add_setting(c, RENDER["seed"])
     c.add_argument("--quiet", action="store_true", help=QUIET_HELP)
-    c.add_argument("--scheduler", metavar="ADDRESS",
-                   help="a Dask scheduler (tcp://HOST:8786): the reference and the study render on its workers' "
-                        "devices (--device then names Figure 2's)")
-    c.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, else the first GPU, "
-                   "else the first device")
+    c.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="a Dask scheduler (tcp://HOST:8786): the reference and the study render on its workers' "
+        "devices (--device then names Figure 2's)",
+    )
+    c.add_argument(
+        "--device",
+        help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, else the first GPU, "
+        "else the first device",
+    )
 
-    b = commands.add_parser("bake", formatter_class=argparse.ArgumentDefaultsHelpFormatter,
-                            help="bake AO into a glTF file's occlusion textures or vertices (SPEC 6)")
+    b = commands.add_parser(
+        "bake",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        help="bake AO into a glTF file's occlusion textures or vertices (SPEC 6)",
+    )
     b.add_argument("input", help="a scene file: glTF, or another format mbao.load reads (OBJ, PLY, FBX, ...)")
-    b.add_argument("-o", "--output", required=True,
-                   help="the baked file, everything else in it kept: .glb for a .glb input, .gltf for a .gltf one; "
-                        "another format is written as a new glTF, .glb or .gltf")
+    b.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="the baked file, everything else in it kept: .glb for a .glb input, .gltf for a .gltf one; "
+        "another format is written as a new glTF, .glb or .gltf",
+    )
     _add_setting(b, BAKE_SETTINGS["target"])
-    b.add_argument("--texcoord", type=_texcoord_argument,
-                   help="n of the UV set TEXCOORD_n, or 'generate' for a new one of charts (written as the next free "
-                        "TEXCOORD_n); None: the occlusion texture's, else TEXCOORD_1, else TEXCOORD_0")
-    b.add_argument("--resolution", type=int, nargs="+", default=[1024], metavar="N",
-                   help="the texture's size: N, or WIDTH HEIGHT")
+    b.add_argument(
+        "--texcoord",
+        type=_texcoord_argument,
+        help="n of the UV set TEXCOORD_n, or 'generate' for a new one of charts (written as the next free "
+        "TEXCOORD_n); None: the occlusion texture's, else TEXCOORD_1, else TEXCOORD_0",
+    )
+    b.add_argument(
+        "--resolution", type=int, nargs="+", default=[1024], metavar="N", help="the texture's size: N, or WIDTH HEIGHT"
+    )
     for spec in BAKE_SETTINGS.values():
         if spec["name"] != "target":
             _add_setting(b, spec)
     for name in ("bounces", "rho"):
         _add_setting(b, RENDER[name])
-    b.add_argument("--max-distance", type=float,
-                   help="AO radius in world units, inf for none; None: the one --camera suggests, else the one the "
-                        "scene's own camera suggests, else inf (SPEC 1)")
-    b.add_argument("--camera", help="a camera.json whose max_distance is the bake's radius (nothing else of it is used)")
+    b.add_argument(
+        "--max-distance",
+        type=float,
+        help="AO radius in world units, inf for none; None: the one --camera suggests, else the one the "
+        "scene's own camera suggests, else inf (SPEC 1)",
+    )
+    b.add_argument(
+        "--camera", help="a camera.json whose max_distance is the bake's radius (nothing else of it is used)"
+    )
     _add_setting(b, RENDER["seed"])
     b.add_argument("--bit-depth", type=int, choices=[8, 16], default=8, help="bits per channel of the textures")
-    b.add_argument("--vertex-colors", action="store_true",
-                   help="with --target vertices, also multiply the AO into COLOR_0, for viewers that show no "
-                        "_OCCLUSION (COLOR_0 darkens direct light too, which occlusion should not)")
+    b.add_argument(
+        "--vertex-colors",
+        action="store_true",
+        help="with --target vertices, also multiply the AO into COLOR_0, for viewers that show no "
+        "_OCCLUSION (COLOR_0 darkens direct light too, which occlusion should not)",
+    )
     b.add_argument("--quiet", action="store_true", help=QUIET_HELP)
-    b.add_argument("--device", help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, "
-                   "else the first GPU, else the first device")
-    b.add_argument("--scheduler", metavar="ADDRESS",
-                   help="a Dask scheduler (tcp://HOST:8786): the bake is traced in parts on its workers' devices, "
-                        "the same bake bit for bit")
+    b.add_argument(
+        "--device",
+        help="index or part of the name, see `python -m mbao devices`; None: $MBAO_DEVICE, "
+        "else the first GPU, else the first device",
+    )
+    b.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="a Dask scheduler (tcp://HOST:8786): the bake is traced in parts on its workers' devices, "
+        "the same bake bit for bit",
+    )
 
     o = commands.add_parser("orbit", help="render a camera's turn around the scene as an animated GIF")
-    o.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
+    o.add_argument(
+        "scene",
+        nargs="?",
+        help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box",
+    )
     o.add_argument("-o", "--output", default="orbit.gif", help="the GIF to write (default: %(default)s)")
-    o.add_argument("--camera", help=f"camera.json of the first frame, or {FRAME} for one framing the whole scene "
-                                    "(default: the scene's own camera, else one framing it); the eye turns about the "
-                                    "vertical line through its target")
+    o.add_argument(
+        "--camera",
+        help=f"camera.json of the first frame, or {FRAME} for one framing the whole scene "
+        "(default: the scene's own camera, else one framing it); the eye turns about the "
+        "vertical line through its target",
+    )
     o.add_argument("--frames", type=int, default=60, help="frames in the turn (default: %(default)s)")
     o.add_argument("--degrees", type=float, default=360.0, help="the turn's angle (default: %(default)s)")
     o.add_argument("--fps", type=float, default=25.0, help="frames per second of the GIF (default: %(default)s)")
-    o.add_argument("--temporal", action="store_true",
-                   help="accumulate each frame with the ones before, reprojected (SPEC 7.4; spp 1, samples >= 2)")
-    o.add_argument("--denoise", action="store_true",
-                   help="filter each frame with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)")
-    _add_table(o, "temporal options", "for --temporal (SPEC 7.4): mbao.Temporal's settings", TEMPORAL_SETTINGS,
-               "temporal_")
+    o.add_argument(
+        "--temporal",
+        action="store_true",
+        help="accumulate each frame with the ones before, reprojected (SPEC 7.4; spp 1, samples >= 2)",
+    )
+    o.add_argument(
+        "--denoise",
+        action="store_true",
+        help="filter each frame with the edge-aware a-trous filter of SPEC 7.3 (spp 1, samples >= 2)",
+    )
+    _add_table(
+        o, "temporal options", "for --temporal (SPEC 7.4): mbao.Temporal's settings", TEMPORAL_SETTINGS, "temporal_"
+    )
     _add_table(o, "denoise options", "for --denoise (SPEC 7.3): mbao.Denoise's settings", DENOISE_SETTINGS, "denoise_")
     for spec in RENDER.values():
         _add_setting(o, spec)
@@ -168,21 +248,24 @@ def _parser():
 
     _add_view(commands)
 
-    k = commands.add_parser("check", help="validate a glTF file (the Khronos glTF-Validator) and say what ambient "
-                                          "occlusion it stores")
+    k = commands.add_parser(
+        "check", help="validate a glTF file (the Khronos glTF-Validator) and say what ambient " "occlusion it stores"
+    )
     k.add_argument("file", help="a .gltf or .glb file, a baked one or any other")
 
     commands.add_parser("devices", help="list the OpenCL devices")
 
     from .blender.install import SUPPORTED
 
-    g = commands.add_parser("blender", help=f"the Blender add-on, which bakes multi-bounce AO in Blender "
-                                            f"({SUPPORTED}; SPEC 9)")
+    g = commands.add_parser(
+        "blender", help=f"the Blender add-on, which bakes multi-bounce AO in Blender " f"({SUPPORTED}; SPEC 9)"
+    )
     where = g.add_mutually_exclusive_group(required=True)
     where.add_argument("--install", action="store_true", help="install it into the user's add-ons and enable it")
     where.add_argument("--zip", metavar="FILE", help="write it as a zip, for Preferences > Add-ons > Install")
-    g.add_argument("--blender", default="blender", help="the Blender executable to install into "
-                                                        "(default: %(default)s)")
+    g.add_argument(
+        "--blender", default="blender", help="the Blender executable to install into " "(default: %(default)s)"
+    )
     return parser
 
 
@@ -190,21 +273,40 @@ def _add_view(commands):
     from .viewer.view_settings import METHODS, VIEWER
 
     v = commands.add_parser("view", help="a live, progressive view in the browser (docs/viewer.md)")
-    v.add_argument("scene", nargs="?", help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box")
-    v.add_argument("--camera", help=f"camera.json of the home view, or {FRAME} for one framing the whole scene "
-                                    "(default: the scene's own camera, else one framing it)")
+    v.add_argument(
+        "scene",
+        nargs="?",
+        help="a scene file (glTF, or OBJ, PLY, FBX, ... through Assimp); omitted: the built-in Cornell box",
+    )
+    v.add_argument(
+        "--camera",
+        help=f"camera.json of the home view, or {FRAME} for one framing the whole scene "
+        "(default: the scene's own camera, else one framing it)",
+    )
     for spec in RENDER.values():
         if spec["name"] != "method":
             _add_setting(v, spec)
-    v.add_argument("--method", choices=METHODS, default="raytraced",
-                   help="what the image shows: ray-traced AO, HBAO, HBAO with the GTAO fit (SPEC 8), or the bake "
-                        "the file holds, at the camera hits (default: %(default)s)")
+    v.add_argument(
+        "--method",
+        choices=METHODS,
+        default="raytraced",
+        help="what the image shows: ray-traced AO, HBAO, HBAO with the GTAO fit (SPEC 8), or the bake "
+        "the file holds, at the camera hits (default: %(default)s)",
+    )
     v.add_argument("--denoise", action="store_true", help=VIEWER["denoise"]["doc"])
-    v.add_argument("--no-temporal", dest="temporal", action="store_false", help="a still view shows one frame, "
-                   "not frames accumulated (SPEC 7.4)")
+    v.add_argument(
+        "--no-temporal",
+        dest="temporal",
+        action="store_false",
+        help="a still view shows one frame, " "not frames accumulated (SPEC 7.4)",
+    )
     v.add_argument("--frames", type=int, default=0, help=VIEWER["frames"]["doc"] + " (default: %(default)s)")
-    v.add_argument("--host", default="127.0.0.1", help="the address to serve on; another than loopback needs the "
-                   "token the printed URL carries (default: %(default)s)")
+    v.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="the address to serve on; another than loopback needs the "
+        "token the printed URL carries (default: %(default)s)",
+    )
     v.add_argument("--port", type=int, help="the port (default: the first free one from 8750)")
     v.add_argument("--no-browser", action="store_true", help="print the URL without opening a browser")
     v.add_argument("--device", help="index or part of the name, see `python -m mbao devices`")
@@ -254,8 +356,12 @@ def _denoise_argument(args):
 
 def _radius(stats, args):
     """The radius a render used, and where it came from (SPEC 1's rule)."""
-    source = {"settings": "--max-distance", "camera": "camera.json" if args.camera else "the scene's camera",
-              "scene": "a quarter of the scene's diagonal", "none": "no camera suggests one"}
+    source = {
+        "settings": "--max-distance",
+        "camera": "camera.json" if args.camera else "the scene's camera",
+        "scene": "a quarter of the scene's diagonal",
+        "none": "no camera suggests one",
+    }
     return f"{stats['max_distance']:g} ({source[stats['max_distance_source']]})"
 
 
@@ -319,8 +425,10 @@ def _render(args):
         f"depth {tree['max_depth']}, {tree['mean_triangles_per_leaf']:.2f} triangles per leaf, SAH {tree['sah_cost']:.1f}"
     )
     print(f"kernels      {s['kernel_build_ms']:.1f} ms ({s['kernel_cache']}: {s['kernel_options']})")
-    print(f"frame        {s['frame_ms']:.1f} ms in {s['tiles']} tile(s)"
-          + (f", {s['denoise_ms']:.1f} ms of it denoising" if args.denoise else ""))
+    print(
+        f"frame        {s['frame_ms']:.1f} ms in {s['tiles']} tile(s)"
+        + (f", {s['denoise_ms']:.1f} ms of it denoising" if args.denoise else "")
+    )
     print(
         f"rays         {s['rays_primary']} primary + {s['rays_secondary']} secondary = "
         f"{rays / s['frame_ms'] / 1e3:.2f} Mrays/s"
@@ -366,8 +474,10 @@ def _client_of(scheduler):
     try:
         return Client(scheduler, timeout=_SCHEDULER_TIMEOUT_S)
     except (OSError, TimeoutError, ValueError) as error:
-        raise OSError(f"--scheduler {scheduler}: cannot reach a Dask scheduler there within "
-                      f"{_SCHEDULER_TIMEOUT_S} s ({error})") from None
+        raise OSError(
+            f"--scheduler {scheduler}: cannot reach a Dask scheduler there within "
+            f"{_SCHEDULER_TIMEOUT_S} s ({error})"
+        ) from None
 
 
 def _bake(args):
@@ -376,33 +486,53 @@ def _bake(args):
     if len(args.resolution) > 2:
         raise ValueError(f"--resolution takes N or WIDTH HEIGHT, got {len(args.resolution)} numbers")
     with _client_of(args.scheduler) as client:
-        result = bake_file(args.input, args.output, target=args.target, bit_depth=args.bit_depth,
-                           vertex_colors=args.vertex_colors, bounces=args.bounces, samples=args.samples,
-                           estimator=args.estimator, directions=args.directions, rho=args.rho,
-                           max_distance=args.max_distance, camera=args.camera, seed=args.seed,
-                           texcoord=args.texcoord,
-                           resolution=tuple(args.resolution) * (3 - len(args.resolution)), padding=args.padding,
-                           device=_device_argument(args.device), progress=_progress_argument(args), client=client)
+        result = bake_file(
+            args.input,
+            args.output,
+            target=args.target,
+            bit_depth=args.bit_depth,
+            vertex_colors=args.vertex_colors,
+            bounces=args.bounces,
+            samples=args.samples,
+            estimator=args.estimator,
+            directions=args.directions,
+            rho=args.rho,
+            max_distance=args.max_distance,
+            camera=args.camera,
+            seed=args.seed,
+            texcoord=args.texcoord,
+            resolution=tuple(args.resolution) * (3 - len(args.resolution)),
+            padding=args.padding,
+            device=_device_argument(args.device),
+            progress=_progress_argument(args),
+            client=client,
+        )
     s = result.stats
     print(f"scene        {args.input}")
     print(f"device       {s['device']}")
-    print(f"settings     {args.target}, bounces={args.bounces}, samples={args.samples}, {args.estimator} with "
-          f"r={args.directions}, rho={args.rho}, seed={args.seed}")
+    print(
+        f"settings     {args.target}, bounces={args.bounces}, samples={args.samples}, {args.estimator} with "
+        f"r={args.directions}, rho={args.rho}, seed={args.seed}"
+    )
     print(f"radius       {_radius(s, args)}")
     for material, texture in result.textures.items():
         t = texture.stats
         height, width = texture.image.shape
         into = "generated UVs" if texture.texcoord == "generated" else f"TEXCOORD_{texture.texcoord}"
         label = f"material {material:<3}" if material >= 0 else "no material "  # the triangles without one
-        print(f"{label} {width}x{height} into {into}: {t['covered']} texels covered, "
-              f"{t['dilated']} dilated, mean {texture.image[texture.coverage].mean():.3f}")
+        print(
+            f"{label} {width}x{height} into {into}: {t['covered']} texels covered, "
+            f"{t['dilated']} dilated, mean {texture.image[texture.coverage].mean():.3f}"
+        )
     if args.vertex_colors:
         print("COLOR_0      multiplied by the AO; glTF's COLOR_0 darkens direct light too, which occlusion should not")
     for material in s["replaced_occlusion"]:
         print(f"replaced     material {material}'s occlusion texture")
     if result.values is not None:
-        print(f"vertices     {len(result.values)}, mean {result.values.mean():.3f}, "
-              f"largest standard error {result.standard_error.max():.3f}")
+        print(
+            f"vertices     {len(result.values)}, mean {result.values.mean():.3f}, "
+            f"largest standard error {result.standard_error.max():.3f}"
+        )
     print(f"bake         {s['frame_ms'] / 1e3:.1f} s, {s['rays_secondary'] / s['frame_ms'] / 1e3:.2f} Mrays/s")
     print(f"wrote        {args.output}")
     return 0
@@ -415,10 +545,14 @@ def _orbit(args):
     scene = load(args.scene) if args.scene else _core.cornell_box()
     first = _camera_argument(args, scene)
     sequence = render_sequence(
-        scene, orbit_cameras(first, args.frames, args.degrees),
-        temporal=_temporal_argument(args), denoise=_denoise_argument(args), device=_device_argument(args.device),
+        scene,
+        orbit_cameras(first, args.frames, args.degrees),
+        temporal=_temporal_argument(args),
+        denoise=_denoise_argument(args),
+        device=_device_argument(args.device),
         progress=False,
-        **{name: getattr(args, name) for name in RENDER})
+        **{name: getattr(args, name) for name in RENDER},
+    )
     with progress_reporter(_progress_argument(args), "orbit", "frame", args.frames) as report:
         count, frames = progress_count(report, args.frames), []
         for frame in sequence:
@@ -428,9 +562,12 @@ def _orbit(args):
     frame_ms = [frame.stats["frame_ms"] for frame in frames]
     print(f"scene        {scene.name} ({scene.triangle_count} triangles)")
     print(f"device       {frames[0].stats['device']}")
-    print(f"settings     {args.width}x{args.height}, bounces={args.bounces}, samples={args.samples}, {args.estimator}, "
-          f"{args.frames} frames over {args.degrees:g} degrees" + (", temporal" if args.temporal else "")
-          + (", denoised" if args.denoise else ""))
+    print(
+        f"settings     {args.width}x{args.height}, bounces={args.bounces}, samples={args.samples}, {args.estimator}, "
+        f"{args.frames} frames over {args.degrees:g} degrees"
+        + (", temporal" if args.temporal else "")
+        + (", denoised" if args.denoise else "")
+    )
     print(f"frames       {sum(frame_ms) / len(frame_ms):.1f} ms each on average, {max(frame_ms):.1f} ms at most")
     print(f"wrote        {args.output} ({args.fps:g} fps)")
     return 0
@@ -444,8 +581,9 @@ def _view(args):
     from .viewer.view_settings import VIEWER
 
     settings = {name: getattr(args, name) for name in list(RENDER) + list(VIEWER)}
-    viewer = open_viewer(args.scene, camera=args.camera, device=_device_argument(args.device), host=args.host,
-                         port=args.port, **settings)
+    viewer = open_viewer(
+        args.scene, camera=args.camera, device=_device_argument(args.device), host=args.host, port=args.port, **settings
+    )
 
     async def serve():
         await viewer.start()
@@ -483,11 +621,15 @@ def _blender(args):
     from .blender import install
 
     if args.zip:
-        print(f"wrote {install.write_zip(args.zip)}: install it in Blender's Preferences > Add-ons > Install, "
-              f"then enable \"Render: mbao\"")
+        print(
+            f"wrote {install.write_zip(args.zip)}: install it in Blender's Preferences > Add-ons > Install, "
+            f'then enable "Render: mbao"'
+        )
     else:
-        print(f"installed and enabled the add-on in {install.install(args.blender)}: see Properties > Render > "
-              f"mbao Multi-Bounce AO, or call bpy.ops.mbao.bake")
+        print(
+            f"installed and enabled the add-on in {install.install(args.blender)}: see Properties > Render > "
+            f"mbao Multi-Bounce AO, or call bpy.ops.mbao.bake"
+        )
     return 0
 
 

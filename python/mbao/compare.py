@@ -41,8 +41,9 @@ def figure2(scene, camera, radius, *, width, height, samples, rho, seed, device)
         ("2 bounces", render(scene, bounces=2, samples=samples, rho=rho, **common)),
     ]
     # Four panels of one size, the difference's colour bar in a narrow fifth column.
-    figure, axes = plt.subplots(1, 5, figsize=(16.6, 4.4 * height / width + 0.4),
-                                gridspec_kw=dict(width_ratios=[1, 1, 1, 1, 0.06]))
+    figure, axes = plt.subplots(
+        1, 5, figsize=(16.6, 4.4 * height / width + 0.4), gridspec_kw=dict(width_ratios=[1, 1, 1, 1, 0.06])
+    )
     for ax, (title, result) in zip(axes, images):
         ax.imshow(result.ao, cmap="gray", vmin=0.0, vmax=1.0)
         ax.set_title(f"{title} ({result.stats['frame_ms']:.1f} ms)")
@@ -77,17 +78,39 @@ def run(scene, camera, args, device, client=None):
         raise ValueError("--max-distance must be finite: it is HBAO's radius")
     print(f"radius       {radius:g} ({source})")
     size, progress = dict(width=args.width, height=args.height), False if args.quiet else None
-    figure2(scene, camera, radius, samples=args.samples, rho=args.rho, seed=args.seed, device=device,
-            **size).savefig(f"{args.output}_figure2.png", dpi=100)
-    converged = reference(scene, camera=camera, bounces=2, rho=args.rho, max_distance=radius,
-                          target_error=args.target_error, device=device, progress=progress, client=client, **size)
-    table = convergence(scene, STUDY_METHODS, converged, sample_counts=args.sample_counts, seed=args.seed,
-                        device=device, progress=progress, plot=False, client=client)
+    figure2(scene, camera, radius, samples=args.samples, rho=args.rho, seed=args.seed, device=device, **size).savefig(
+        f"{args.output}_figure2.png", dpi=100
+    )
+    converged = reference(
+        scene,
+        camera=camera,
+        bounces=2,
+        rho=args.rho,
+        max_distance=radius,
+        target_error=args.target_error,
+        device=device,
+        progress=progress,
+        client=client,
+        **size,
+    )
+    table = convergence(
+        scene,
+        STUDY_METHODS,
+        converged,
+        sample_counts=args.sample_counts,
+        seed=args.seed,
+        device=device,
+        progress=progress,
+        plot=False,
+        client=client,
+    )
     figure = plot_convergence(table, title=f"{short_name(scene)}, {args.width}x{args.height}, 2-bounce reference")
     figure.savefig(f"{args.output}_error_vs_time.png", dpi=100)
     rows = write_table(f"{args.output}_error_vs_time.csv", table)
-    print(f"reference    {converged.settings['passes']} passes of {converged.settings['samples']} paths, "
-          f"{converged.settings['seconds']:.1f} s")
+    print(
+        f"reference    {converged.settings['passes']} passes of {converged.settings['samples']} paths, "
+        f"{converged.settings['seconds']:.1f} s"
+    )
     print(format_convergence(rows))
     print(f"wrote        {args.output}_figure2.png, {args.output}_error_vs_time.png, {args.output}_error_vs_time.csv")
     return rows

@@ -50,10 +50,21 @@ def _least_cost(name):
     return 2 if METHODS[name].get("denoise") or METHODS[name].get("temporal") else 1
 
 
-def convergence(scene: SceneLike, methods: Iterable[str], reference: Reference, *,
-                sample_counts: Sequence[int] = (1, 2, 4, 8, 16), time_budgets: Optional[Sequence[float]] = None,
-                frame_counts: Optional[Sequence[int]] = None, seed: int = 0, device: DeviceLike = None,
-                progress: Progress = None, plot: bool = True, ax: Any = None, client: Any = None) -> Any:
+def convergence(
+    scene: SceneLike,
+    methods: Iterable[str],
+    reference: Reference,
+    *,
+    sample_counts: Sequence[int] = (1, 2, 4, 8, 16),
+    time_budgets: Optional[Sequence[float]] = None,
+    frame_counts: Optional[Sequence[int]] = None,
+    seed: int = 0,
+    device: DeviceLike = None,
+    progress: Progress = None,
+    plot: bool = True,
+    ax: Any = None,
+    client: Any = None,
+) -> Any:
     """Renders each method at increasing cost and measures its error against `reference`.
 
     methods: names from mbao.convergence.METHODS ("hbao", "b1", "b2 branching",
@@ -101,11 +112,16 @@ def convergence(scene: SceneLike, methods: Iterable[str], reference: Reference, 
     stops = _stops(time_budgets, frame_counts)
     for name in methods:
         if METHODS[name].get("temporal") and stops is None:
-            raise ValueError(f"method {name!r} accumulates the frames of a sequence: give time_budgets (ms) or "
-                             f"frame_counts, not sample counts")
+            raise ValueError(
+                f"method {name!r} accumulates the frames of a sequence: give time_budgets (ms) or "
+                f"frame_counts, not sample counts"
+            )
     rows = []
-    renders = (len(methods) * len(stops) if stops is not None
-               else sum(len(_affordable(name, sample_counts)) for name in methods))
+    renders = (
+        len(methods) * len(stops)
+        if stops is not None
+        else sum(len(_affordable(name, sample_counts)) for name in methods)
+    )
     with progress_reporter(progress, "convergence", "render", renders) as report:
         rows_done = progress_count(report, renders)
         if client is None:
@@ -131,8 +147,9 @@ def _rows_on(client, scene, methods, reference, sample_counts, stops, seed):
     from ._cluster import results_of, scene_for_workers  # only studies on a cluster need Dask
 
     on_cluster = scene_for_workers(client, scene, broadcast=True)
-    return results_of(client, ((_method_rows, on_cluster, name, reference, sample_counts, stops, seed)
-                               for name in methods))
+    return results_of(
+        client, ((_method_rows, on_cluster, name, reference, sample_counts, stops, seed) for name in methods)
+    )
 
 
 def _method_names(methods):
@@ -229,8 +246,15 @@ def _averaged(scene, name, reference, seed, device):
 def _sequence(scene, name, reference, seed, device):
     """(frame, ms) of a still camera's sequence with temporal accumulation (seeds seed, seed + 1, ...)."""
     settings, _ = _render_settings(name, reference, _frame_cost(name))
-    for result in render_sequence(scene, itertools.repeat(reference_camera(reference)), temporal=True, seed=seed,
-                                  device=device, progress=False, **settings):
+    for result in render_sequence(
+        scene,
+        itertools.repeat(reference_camera(reference)),
+        temporal=True,
+        seed=seed,
+        device=device,
+        progress=False,
+        **settings,
+    ):
         yield result.ao, result.stats["frame_ms"]
 
 
@@ -238,8 +262,15 @@ def _row(name, cost, ms, image, reference):
     covered = reference.mask
     error = (image - reference.ao)[covered].astype(np.float64)
     noise = reference.standard_error[covered].astype(np.float64)
-    return dict(method=name, cost=cost, frame_ms=ms, rmse=math.sqrt(np.mean(error**2)), bias=float(error.mean()),
-                block_rmse=_block_rmse(image - reference.ao, covered), noise_floor=math.sqrt(np.mean(noise**2)))
+    return dict(
+        method=name,
+        cost=cost,
+        frame_ms=ms,
+        rmse=math.sqrt(np.mean(error**2)),
+        bias=float(error.mean()),
+        block_rmse=_block_rmse(image - reference.ao, covered),
+        noise_floor=math.sqrt(np.mean(noise**2)),
+    )
 
 
 def _block_rmse(error, covered):
@@ -247,9 +278,12 @@ def _block_rmse(error, covered):
     smaller) of each block's mean error over its covered pixels."""
     height, width = error.shape
     padded = (-height % BLOCK, -width % BLOCK)
-    sums, counts = (np.pad(np.where(covered, values, 0.0).astype(np.float64), [(0, padded[0]), (0, padded[1])])
-                    .reshape((height + padded[0]) // BLOCK, BLOCK, (width + padded[1]) // BLOCK, BLOCK)
-                    .sum(axis=(1, 3)) for values in (error, 1.0))
+    sums, counts = (
+        np.pad(np.where(covered, values, 0.0).astype(np.float64), [(0, padded[0]), (0, padded[1])])
+        .reshape((height + padded[0]) // BLOCK, BLOCK, (width + padded[1]) // BLOCK, BLOCK)
+        .sum(axis=(1, 3))
+        for values in (error, 1.0)
+    )
     means = sums[counts > 0] / counts[counts > 0]
     return math.sqrt(np.mean(means**2))
 
@@ -259,12 +293,16 @@ def format_convergence(rows: Any) -> str:
     rows = rows.to_dict("records") if hasattr(rows, "to_dict") else list(rows)
     budgets = "budget_ms" in rows[0]
     width = max(18, 2 + max(len(row["method"]) for row in rows))
-    lines = [f"{'method':<{width}}{'budget ms' if budgets else '':>10}{'cost':>6}{'frame ms':>11}{'rmse':>9}"
-             f"{'bias':>9}{'8x8 rmse':>10}"]
+    lines = [
+        f"{'method':<{width}}{'budget ms' if budgets else '':>10}{'cost':>6}{'frame ms':>11}{'rmse':>9}"
+        f"{'bias':>9}{'8x8 rmse':>10}"
+    ]
     for row in rows:
         budget = f"{row['budget_ms']:>10g}" if budgets else " " * 10
-        lines.append(f"{row['method']:<{width}}{budget}{row['cost']:>6}{row['frame_ms']:>11.2f}{row['rmse']:>9.4f}"
-                     f"{row['bias']:>+9.4f}{row['block_rmse']:>10.4f}")
+        lines.append(
+            f"{row['method']:<{width}}{budget}{row['cost']:>6}{row['frame_ms']:>11.2f}{row['rmse']:>9.4f}"
+            f"{row['bias']:>+9.4f}{row['block_rmse']:>10.4f}"
+        )
     lines.append(f"reference noise floor {rows[0]['noise_floor']:.4f}")
     return "\n".join(lines)
 
@@ -277,8 +315,7 @@ def _table(rows):
     return pandas.DataFrame(rows)
 
 
-_ERROR_LABELS = {"rmse": "RMSE against the reference", "block_rmse": "RMSE of 8 x 8 block means",
-                 "bias": "|mean bias|"}
+_ERROR_LABELS = {"rmse": "RMSE against the reference", "block_rmse": "RMSE of 8 x 8 block means", "bias": "|mean bias|"}
 
 
 def plot_convergence(rows: Any, ax: Any = None, title: Optional[str] = None, error: str = "rmse") -> Any:

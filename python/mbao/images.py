@@ -17,8 +17,10 @@ def check_writable(path, argument="path"):
 
     if oiio.ImageOutput.create(os.fspath(path)) is None:
         extension = os.path.splitext(path)[1] or "none"
-        raise ValueError(f"{argument} {os.fspath(path)!r}: OpenImageIO has no writer for the extension "
-                         f"({extension}); use .png (8-bit) or .exr (float)")
+        raise ValueError(
+            f"{argument} {os.fspath(path)!r}: OpenImageIO has no writer for the extension "
+            f"({extension}); use .png (8-bit) or .exr (float)"
+        )
 
 
 def save_image(path: PathLike, array: ArrayLike, alpha: Optional[ArrayLike] = None) -> None:

@@ -23,10 +23,12 @@ def orbit_cameras(camera, frames, degrees=360.0):
     for k in range(frames):
         angle = math.radians(degrees) * k / frames
         # Rodrigues' rotation of the eye's offset from the target about the axis.
-        turned = (offset * math.cos(angle) + np.cross(axis, offset) * math.sin(angle)
-                  + axis * np.dot(axis, offset) * (1.0 - math.cos(angle)))
-        cameras.append(Camera(tuple(target + turned), camera.target, camera.up, camera.vfov_deg,
-                              camera.max_distance))
+        turned = (
+            offset * math.cos(angle)
+            + np.cross(axis, offset) * math.sin(angle)
+            + axis * np.dot(axis, offset) * (1.0 - math.cos(angle))
+        )
+        cameras.append(Camera(tuple(target + turned), camera.target, camera.up, camera.vfov_deg, camera.max_distance))
     return cameras
 
 
@@ -45,8 +47,9 @@ def save_gif(path, images, fps=25.0):
     from PIL import Image  # imported here: only orbits need Pillow
 
     check_gif(path, fps)
-    frames = [Image.fromarray(np.round(np.clip(image, 0.0, 1.0) * 255.0).astype(np.uint8), mode="L")
-              for image in images]
+    frames = [
+        Image.fromarray(np.round(np.clip(image, 0.0, 1.0) * 255.0).astype(np.uint8), mode="L") for image in images
+    ]
     if not frames:
         raise ValueError("an orbit needs at least one frame")
     frames[0].save(os.fspath(path), save_all=True, append_images=frames[1:], duration=10 * round(100.0 / fps), loop=0)

@@ -68,8 +68,10 @@ class Reference:
         settings = spec.getattribute("mbao:settings")
         names = list(spec.channelnames)
         if sorted(names) != sorted(_CHANNELS) or settings is None:
-            raise _core.LoadError(f"{path}: not an mbao reference (channels {tuple(names)}, "
-                                  f"expected {_CHANNELS} and an mbao:settings attribute)")
+            raise _core.LoadError(
+                f"{path}: not an mbao reference (channels {tuple(names)}, "
+                f"expected {_CHANNELS} and an mbao:settings attribute)"
+            )
         pixels = image.get_pixels(oiio.FLOAT)
         ao, standard_error, mask = (pixels[..., names.index(name)].copy() for name in _CHANNELS)  # EXR sorts them
         return cls(ao, standard_error, mask > 0.5, json.loads(settings))
@@ -78,10 +80,23 @@ class Reference:
 _CHANNELS = ("ao", "standard_error", "mask")
 
 
-def reference(scene: SceneLike, *, camera: CameraLike = None, width: int = 256, height: int = 256, bounces: int = 1,
-              rho: float = 1.0, max_distance: Optional[float] = None, target_error: float = 2e-3, samples: int = 64,
-              min_passes: int = 8, max_passes: int = 100_000, device: DeviceLike = None, progress: Progress = None,
-              client: Any = None) -> "Reference":
+def reference(
+    scene: SceneLike,
+    *,
+    camera: CameraLike = None,
+    width: int = 256,
+    height: int = 256,
+    bounces: int = 1,
+    rho: float = 1.0,
+    max_distance: Optional[float] = None,
+    target_error: float = 2e-3,
+    samples: int = 64,
+    min_passes: int = 8,
+    max_passes: int = 100_000,
+    device: DeviceLike = None,
+    progress: Progress = None,
+    client: Any = None,
+) -> "Reference":
     """Renders until the standard error of every covered pixel is at most target_error.
 
     Each pass is one path-estimator render with `samples` paths per pixel at
@@ -120,8 +135,16 @@ def reference(scene: SceneLike, *, camera: CameraLike = None, width: int = 256, 
     camera = as_camera(camera, scene, (width, height))
     if camera is None:
         camera = scene.default_camera(width, height)
-    settings = dict(camera=camera, width=width, height=height, bounces=bounces, samples=samples, estimator="path",
-                    rho=rho, max_distance=max_distance)
+    settings = dict(
+        camera=camera,
+        width=width,
+        height=height,
+        bounces=bounces,
+        samples=samples,
+        estimator="path",
+        rho=rho,
+        max_distance=max_distance,
+    )
 
     started = time.perf_counter()
     chunks = [(first, min(_PASSES_PER_CHUNK, max_passes - first)) for first in range(0, max_passes, _PASSES_PER_CHUNK)]
@@ -143,13 +166,22 @@ def reference(scene: SceneLike, *, camera: CameraLike = None, width: int = 256, 
         rendered.close()  # with a client: cancels the chunks not needed
     converged = worst <= target_error
     if not converged:
-        warn(f"reference: after {max_passes} passes the largest standard error is {worst:.3g}, "
-             f"above target_error={target_error}")
-    settings.update(scene=scene.name, camera=_camera_dict(camera), max_distance=chunk.max_distance,
-                    passes=passes, target_error=target_error,
-                    converged=converged, seconds=time.perf_counter() - started)
-    return Reference(total.mean.astype(np.float32), total.standard_error().astype(np.float32),
-                     chunk.mask.copy(), settings)
+        warn(
+            f"reference: after {max_passes} passes the largest standard error is {worst:.3g}, "
+            f"above target_error={target_error}"
+        )
+    settings.update(
+        scene=scene.name,
+        camera=_camera_dict(camera),
+        max_distance=chunk.max_distance,
+        passes=passes,
+        target_error=target_error,
+        converged=converged,
+        seconds=time.perf_counter() - started,
+    )
+    return Reference(
+        total.mean.astype(np.float32), total.standard_error().astype(np.float32), chunk.mask.copy(), settings
+    )
 
 
 # Passes per chunk: what a worker renders and sends back at once, and how

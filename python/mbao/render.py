@@ -56,9 +56,17 @@ class Result:
         return f"<mbao.Result {w}x{h}, frame {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
 
 
-def render(scene: SceneLike, *, camera: CameraLike = None, hbao: Optional[_core.HBAO] = None,
-           denoise: Union[None, bool, _core.Denoise] = None, engine: Optional[Engine] = None, device: DeviceLike = None,
-           progress: Progress = None, **settings: Any) -> "Result":
+def render(
+    scene: SceneLike,
+    *,
+    camera: CameraLike = None,
+    hbao: Optional[_core.HBAO] = None,
+    denoise: Union[None, bool, _core.Denoise] = None,
+    engine: Optional[Engine] = None,
+    device: DeviceLike = None,
+    progress: Progress = None,
+    **settings: Any,
+) -> "Result":
     # The signature and the docstring are made below from the settings' table.
     scene = as_scene(scene)
     values = _setting_values("render", _engine(engine, settings), settings)
@@ -66,9 +74,17 @@ def render(scene: SceneLike, *, camera: CameraLike = None, hbao: Optional[_core.
     return _render(scene, camera, values, resolve(device), progress=progress, hbao=hbao, denoise=denoise)
 
 
-def render_sequence(scene: SceneLike, cameras: Iterable[CameraLike], *, temporal: Union[bool, _core.Temporal] = True,
-                    denoise: Union[None, bool, _core.Denoise] = None, engine: Optional[Engine] = None,
-                    device: DeviceLike = None, progress: Progress = None, **settings: Any) -> Iterator["Result"]:
+def render_sequence(
+    scene: SceneLike,
+    cameras: Iterable[CameraLike],
+    *,
+    temporal: Union[bool, _core.Temporal] = True,
+    denoise: Union[None, bool, _core.Denoise] = None,
+    engine: Optional[Engine] = None,
+    device: DeviceLike = None,
+    progress: Progress = None,
+    **settings: Any,
+) -> Iterator["Result"]:
     """Renders a frame per camera, yielding a Result for each as it is done.
 
     scene: as render's; loaded once for the whole sequence.
@@ -99,8 +115,15 @@ def _frames(scene, cameras, values, device, denoise, history, progress):
     first_seed = values.get("seed", RENDER["seed"]["default"])
     for k, camera in enumerate(cameras):
         frame = dict(values, seed=checked(RENDER["seed"], first_seed + k))
-        yield _render(scene, as_camera(camera, scene, render_size(values)), frame, device, progress=progress,
-                      denoise=denoise, history=history)
+        yield _render(
+            scene,
+            as_camera(camera, scene, render_size(values)),
+            frame,
+            device,
+            progress=progress,
+            denoise=denoise,
+            history=history,
+        )
 
 
 def render_size(values):
@@ -113,8 +136,10 @@ def _setting_values(function, engine, settings):
     values = {}
     for name, value in settings.items():
         if name not in RENDER:
-            raise TypeError(f"{function}() got an unexpected keyword argument {name!r}; its settings are "
-                            f"{', '.join(RENDER)}, and engine=mbao.Engine(...) takes {', '.join(ENGINE)}")
+            raise TypeError(
+                f"{function}() got an unexpected keyword argument {name!r}; its settings are "
+                f"{', '.join(RENDER)}, and engine=mbao.Engine(...) takes {', '.join(ENGINE)}"
+            )
         values[name] = checked(RENDER[name], value)
     values.update(engine_values(engine))
     return values
@@ -123,7 +148,8 @@ def _setting_values(function, engine, settings):
 def _render(scene, camera, values, device, *, progress=None, hbao=None, denoise=None, history=None):
     with progress_reporter(progress, "render", "tile") as on_tile:
         ao, coverage, variance, history_length, stats = _core.render(
-            scene, camera, device, values, on_tile, _hbao_settings(hbao), _denoise_settings(denoise), history)
+            scene, camera, device, values, on_tile, _hbao_settings(hbao), _denoise_settings(denoise), history
+        )
     mask = coverage > 0
     warn_if_closed(scene, ao, mask, stats, "covered pixels")
     return Result(ao, mask, stats, coverage.astype(np.float32) / 255, variance, history_length)
@@ -138,9 +164,11 @@ def warn_if_closed(scene, ao, mask, stats, values):
     covered = ao[mask]
     if not math.isinf(stats["max_distance"]) or covered.size < 100 or np.mean(covered < 0.01) < 0.99:
         return
-    warn(f"{scene.name}: {np.mean(covered < 0.01):.0%} of the {values} are below 0.01 with "
-         f"max_distance=inf: the scene looks closed, so every AO ray hits something. Give a radius in "
-         f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)")
+    warn(
+        f"{scene.name}: {np.mean(covered < 0.01):.0%} of the {values} are below 0.01 with "
+        f"max_distance=inf: the scene looks closed, so every AO ray hits something. Give a radius in "
+        f"world units (max_distance=...), or a camera.json that suggests one (SPEC 1)"
+    )
 
 
 render.__doc__ = f"""Renders b-bounce ambient occlusion (SPEC 1) and returns a Result.
@@ -175,11 +203,18 @@ next render works as usual.
 """
 
 render.__signature__ = inspect.Signature(
-    [inspect.Parameter("scene", inspect.Parameter.POSITIONAL_OR_KEYWORD),
-     inspect.Parameter("camera", inspect.Parameter.KEYWORD_ONLY, default=None)]
-    + [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=spec["default"]) for name, spec in RENDER.items()]
-    + [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=None)
-       for name in ("hbao", "denoise", "engine", "device", "progress")]
+    [
+        inspect.Parameter("scene", inspect.Parameter.POSITIONAL_OR_KEYWORD),
+        inspect.Parameter("camera", inspect.Parameter.KEYWORD_ONLY, default=None),
+    ]
+    + [
+        inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=spec["default"])
+        for name, spec in RENDER.items()
+    ]
+    + [
+        inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=None)
+        for name in ("hbao", "denoise", "engine", "device", "progress")
+    ]
 )
 
 
@@ -192,8 +227,11 @@ def _engine(engine, settings):
         return engine or Engine()
     if engine is not None:
         raise TypeError(f"{', '.join(old)} given beside engine=: give engine settings in mbao.Engine(...) only")
-    warn(f"render({', '.join(f'{name}=...' for name in old)}) is deprecated and will go in the next "
-         f"release: pass engine=mbao.Engine({', '.join(f'{name}=...' for name in old)})", DeprecationWarning)
+    warn(
+        f"render({', '.join(f'{name}=...' for name in old)}) is deprecated and will go in the next "
+        f"release: pass engine=mbao.Engine({', '.join(f'{name}=...' for name in old)})",
+        DeprecationWarning,
+    )
     return Engine(**old)
 
 
@@ -223,9 +261,17 @@ def _hbao_settings(hbao):
     return hbao
 
 
-def trace(scene: SceneLike, origins: ArrayLike, directions: ArrayLike, *, t_max: Union[float, ArrayLike] = math.inf,
-          any_hit: bool = False, traversal: str = "auto", device: DeviceLike = None,
-          traversal_stats: bool = False) -> Tuple[np.ndarray, ...]:
+def trace(
+    scene: SceneLike,
+    origins: ArrayLike,
+    directions: ArrayLike,
+    *,
+    t_max: Union[float, ArrayLike] = math.inf,
+    any_hit: bool = False,
+    traversal: str = "auto",
+    device: DeviceLike = None,
+    traversal_stats: bool = False,
+) -> Tuple[np.ndarray, ...]:
     """Traces rays through the scene's kd-tree.
 
     origins, directions: (N, 3) arrays (directions need not be unit length; t is
@@ -293,9 +339,15 @@ class GBuffer:
         return f"<mbao.GBuffer {w}x{h}, {self.stats['frame_ms']:.1f} ms on {self.stats['device']}>"
 
 
-def gbuffer(scene: SceneLike, *, camera: CameraLike = None, width: int = RENDER["width"]["default"],
-            height: int = RENDER["height"]["default"], engine: Optional[Engine] = None,
-            device: DeviceLike = None) -> "GBuffer":
+def gbuffer(
+    scene: SceneLike,
+    *,
+    camera: CameraLike = None,
+    width: int = RENDER["width"]["default"],
+    height: int = RENDER["height"]["default"],
+    engine: Optional[Engine] = None,
+    device: DeviceLike = None,
+) -> "GBuffer":
     """The G-buffer (SPEC 7.2) of scene seen from camera, as HBAO's frames make
     it: a GBuffer. scene, camera, width, height, engine and device are as for
     render; the engine's traversal walks the camera rays ("auto": in packets
@@ -309,7 +361,14 @@ def gbuffer(scene: SceneLike, *, camera: CameraLike = None, width: int = RENDER[
     triangle[~mask] = -1
     position = np.stack([plane["x"], plane["y"], plane["z"]], axis=-1)
     position[mask] += np.asarray(origin, dtype=np.float32)
-    return GBuffer(position=position, t=plane["t"], depth=plane["depth"],
-                   geometric_normal=np.stack([plane["nx"], plane["ny"], plane["nz"]], axis=-1),
-                   shading_normal=np.stack([plane["sx"], plane["sy"], plane["sz"]], axis=-1),
-                   footprint=plane["footprint"], triangle=triangle, mask=mask, stats=stats)
+    return GBuffer(
+        position=position,
+        t=plane["t"],
+        depth=plane["depth"],
+        geometric_normal=np.stack([plane["nx"], plane["ny"], plane["nz"]], axis=-1),
+        shading_normal=np.stack([plane["sx"], plane["sy"], plane["sz"]], axis=-1),
+        footprint=plane["footprint"],
+        triangle=triangle,
+        mask=mask,
+        stats=stats,
+    )

@@ -20,8 +20,13 @@ class Mesh(_core._Mesh):
     UVs, one set, which mbao.bake(target="texture") bakes into. Arrays are copied.
     """
 
-    def __init__(self, vertices: ArrayLike, indices: ArrayLike, normals: Optional[ArrayLike] = None,
-                 texcoords: Optional[ArrayLike] = None) -> None:
+    def __init__(
+        self,
+        vertices: ArrayLike,
+        indices: ArrayLike,
+        normals: Optional[ArrayLike] = None,
+        texcoords: Optional[ArrayLike] = None,
+    ) -> None:
         vertices = _checks.rows("vertices", vertices, 3, "fiu", np.float32)
         indices = _checks.rows("indices", indices, 3, "iu", np.int64)
         if indices.size and (indices.min() < 0 or indices.max() >= len(vertices)):
@@ -113,7 +118,9 @@ def as_scene(scene):
         return scene
     if isinstance(scene, (str, os.PathLike)):
         return load(scene)
-    raise TypeError(f"scene must be an mbao.Scene, an mbao.Mesh or the path of a scene file, got {type(scene).__name__}")
+    raise TypeError(
+        f"scene must be an mbao.Scene, an mbao.Mesh or the path of a scene file, got {type(scene).__name__}"
+    )
 
 
 # camera="frame": the camera that frames the whole scene, whatever camera it has (SPEC 3.1).
@@ -132,5 +139,7 @@ def as_camera(camera, scene=None, size=None):
         return scene.framing_camera(*size)
     if isinstance(camera, (str, os.PathLike)):
         return _core.Camera.load(os.fspath(camera))
-    raise TypeError(f"camera must be an mbao.Camera, the path of a camera.json file, \"frame\" or None, "
-                    f"got {type(camera).__name__}")
+    raise TypeError(
+        f'camera must be an mbao.Camera, the path of a camera.json file, "frame" or None, '
+        f"got {type(camera).__name__}"
+    )

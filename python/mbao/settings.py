@@ -55,8 +55,9 @@ def describe(spec):
     else:
         default = repr(default)
     allowed = "" if spec["kind"] in ("choice", "flag", "auto count") else f", allowed {spec['range']}"
-    return textwrap.fill(f"{spec['name']}: {spec['doc']} Default {default}{allowed}.", width=100,
-                         subsequent_indent="    ")
+    return textwrap.fill(
+        f"{spec['name']}: {spec['doc']} Default {default}{allowed}.", width=100, subsequent_indent="    "
+    )
 
 
 def _check_engine(engine):
@@ -66,12 +67,15 @@ def _check_engine(engine):
 
 def _engine_class():
     fields = [(name, object, dataclasses.field(default=spec["default"])) for name, spec in ENGINE.items()]
-    doc = ("How mbao does the work of a render; no engine setting changes the image.\n\n"
-           "    mbao.render(scene, engine=mbao.Engine(traversal=\"stack\", traversal_stats=True))\n\n"
-           + "\n".join(describe(spec) for spec in ENGINE.values())
-           + "\n\nstats[\"plan\"] of a render says what \"auto\" chose and why (docs/kernel-variants.md).")
-    engine = dataclasses.make_dataclass("Engine", fields, frozen=True,
-                                        namespace={"__doc__": doc, "__post_init__": _check_engine})
+    doc = (
+        "How mbao does the work of a render; no engine setting changes the image.\n\n"
+        '    mbao.render(scene, engine=mbao.Engine(traversal="stack", traversal_stats=True))\n\n'
+        + "\n".join(describe(spec) for spec in ENGINE.values())
+        + '\n\nstats["plan"] of a render says what "auto" chose and why (docs/kernel-variants.md).'
+    )
+    engine = dataclasses.make_dataclass(
+        "Engine", fields, frozen=True, namespace={"__doc__": doc, "__post_init__": _check_engine}
+    )
     engine.__module__ = "mbao"
     return engine
 
@@ -87,7 +91,8 @@ def engine_values(engine):
 def markdown_table(table):
     """A settings table of the core (_core.setting_specs(table)) as docs/spec.md shows it."""
     rows = ["| setting | meaning | default | allowed |", "|---|---|---|---|"]
-    rows += [f"| `{spec['name']}` | {spec['doc']} | {spec['default']!r} | {spec['range']} |"
-             for spec in _core.setting_specs(table)]
+    rows += [
+        f"| `{spec['name']}` | {spec['doc']} | {spec['default']!r} | {spec['range']} |"
+        for spec in _core.setting_specs(table)
+    ]
     return "\n".join(rows)
-

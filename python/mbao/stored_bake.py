@@ -102,8 +102,10 @@ class StoredBake:
     triangle_source: np.ndarray
 
     def __repr__(self):
-        return (f"<mbao StoredBake from {self.source}: {len(self.textures)} textures, "
-                f"{int((self.triangle_source == OPEN).sum())} of {len(self.triangle_source)} triangles open>")
+        return (
+            f"<mbao StoredBake from {self.source}: {len(self.textures)} textures, "
+            f"{int((self.triangle_source == OPEN).sum())} of {len(self.triangle_source)} triangles open>"
+        )
 
 
 def load_bake(path: PathLike, scene: Optional[_core.Scene] = None) -> Optional["StoredBake"]:
@@ -119,8 +121,10 @@ def load_bake(path: PathLike, scene: Optional[_core.Scene] = None) -> Optional["
         scene = load(path, texcoords=True)
     uv_sets = scene.uv_sets  # a fresh copy per access: read it once
     if uv_sets is None:
-        raise ValueError(f"{os.fspath(path)}: load_bake needs the scene's UV sets and materials: "
-                         f"load it with mbao.load(path, texcoords=True)")
+        raise ValueError(
+            f"{os.fspath(path)}: load_bake needs the scene's UV sets and materials: "
+            f"load it with mbao.load(path, texcoords=True)"
+        )
     document = GltfDocument(path)
     indices = scene.indices
     values = _vertex_values(document, uv_sets, len(scene.vertices))
@@ -176,11 +180,14 @@ def _scalars(document, index, count, what):
     entry = accessors[index]
     kind = entry.get("componentType")
     if entry.get("type") != "SCALAR" or kind not in _SCALAR_TYPES or (kind != _FLOAT and not entry.get("normalized")):
-        raise _core.LoadError(f"{document.path}: {what} (accessor {index}) is {entry.get('type')} of component type "
-                              f"{kind}; mbao reads FLOAT SCALAR values (or normalized unsigned bytes or shorts)")
+        raise _core.LoadError(
+            f"{document.path}: {what} (accessor {index}) is {entry.get('type')} of component type "
+            f"{kind}; mbao reads FLOAT SCALAR values (or normalized unsigned bytes or shorts)"
+        )
     if entry.get("count") != count:
-        raise _core.LoadError(f"{document.path}: {what} (accessor {index}) has {entry.get('count')} values for "
-                              f"{count} positions")
+        raise _core.LoadError(
+            f"{document.path}: {what} (accessor {index}) has {entry.get('count')} values for " f"{count} positions"
+        )
     with _reading(document, f"{what} (accessor {index})"):
         values = document.elements(index).copy().view(_SCALAR_TYPES[kind]).ravel()
     if kind == _FLOAT:
@@ -250,7 +257,7 @@ def _image_bytes(document, image):
     if "bufferView" in image:
         view = document.doc["bufferViews"][image["bufferView"]]
         start = view.get("byteOffset", 0)
-        data = document.buffer_data(view["buffer"])[start:start + view["byteLength"]]
+        data = document.buffer_data(view["buffer"])[start : start + view["byteLength"]]
         return data, _SUFFIXES.get(mime, ".png")
     uri = image["uri"]
     if uri.startswith("data:"):

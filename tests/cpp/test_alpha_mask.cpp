@@ -24,9 +24,9 @@ const std::vector<std::uint8_t> kTwoTexels = {0, 255};
 
 TEST(AlphaMask, BilinearBetweenTexelCentres) {
   const MaskTexture t = texture(2, 1, MBAO_WRAP_CLAMP_TO_EDGE, MBAO_WRAP_CLAMP_TO_EDGE);
-  EXPECT_FLOAT_EQ(mask_alpha(t, kTwoTexels.data(), 0.25f, 0.5f), 0.0f);   // centre of texel 0
-  EXPECT_FLOAT_EQ(mask_alpha(t, kTwoTexels.data(), 0.75f, 0.5f), 1.0f);   // centre of texel 1
-  EXPECT_FLOAT_EQ(mask_alpha(t, kTwoTexels.data(), 0.5f, 0.5f), 0.5f);    // half way
+  EXPECT_FLOAT_EQ(mask_alpha(t, kTwoTexels.data(), 0.25f, 0.5f), 0.0f);  // centre of texel 0
+  EXPECT_FLOAT_EQ(mask_alpha(t, kTwoTexels.data(), 0.75f, 0.5f), 1.0f);  // centre of texel 1
+  EXPECT_FLOAT_EQ(mask_alpha(t, kTwoTexels.data(), 0.5f, 0.5f), 0.5f);   // half way
   EXPECT_FLOAT_EQ(mask_alpha(t, kTwoTexels.data(), 0.375f, 0.5f), 0.25f);
 }
 
@@ -41,7 +41,7 @@ TEST(AlphaMask, WrapModes) {
   const MaskTexture mirrored = texture(2, 1, MBAO_WRAP_MIRRORED_REPEAT, MBAO_WRAP_REPEAT);
   EXPECT_FLOAT_EQ(mask_alpha(mirrored, kTwoTexels.data(), 1.25f, 0.5f), 1.0f);  // u in [1, 2] reads 2 - u
   EXPECT_FLOAT_EQ(mask_alpha(mirrored, kTwoTexels.data(), 1.75f, 0.5f), 0.0f);
-  EXPECT_FLOAT_EQ(mask_alpha(mirrored, kTwoTexels.data(), 1.0f, 0.5f), 1.0f);   // no seam at the mirror
+  EXPECT_FLOAT_EQ(mask_alpha(mirrored, kTwoTexels.data(), 1.0f, 0.5f), 1.0f);  // no seam at the mirror
 }
 
 TEST(AlphaMask, RowsRunFromTheTopOfTheImage) {

@@ -27,7 +27,7 @@ std::unique_ptr<aiScene> triangle_without_materials() {
   mesh->mFaces[0].mNumIndices = 3;
   mesh->mFaces[0].mIndices = new unsigned[3]{0, 1, 2};
   scene->mNumMeshes = 1;
-  scene->mMeshes = new aiMesh*[1]{mesh};
+  scene->mMeshes = new aiMesh* [1] { mesh };
   scene->mRootNode = new aiNode("root");
   scene->mRootNode->mNumMeshes = 1;
   scene->mRootNode->mMeshes = new unsigned[1]{0};
@@ -38,8 +38,9 @@ TEST(AssimpScene, AnIncompleteSceneWithTrianglesLoadsThemWithAWarning) {
   const ImportedScene s = scene_from_assimp(*triangle_without_materials(), "objects.lws", LoadOptions{});
   ASSERT_EQ(s.mesh.triangles.size(), 1u);
   ASSERT_EQ(s.warnings.size(), 1u);
-  EXPECT_EQ(s.warnings[0], "objects.lws: Assimp flagged the scene incomplete (it has no materials); its triangles "
-                           "are loaded");
+  EXPECT_EQ(s.warnings[0],
+            "objects.lws: Assimp flagged the scene incomplete (it has no materials); its triangles "
+            "are loaded");
 }
 
 TEST(AssimpScene, ASceneWithoutMeshesSaysSo) {

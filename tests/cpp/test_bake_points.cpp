@@ -94,8 +94,8 @@ TEST(TexelLayout, DrawsEachTexelsSurfaceUniformly) {
   for (int i = 0; i < n; ++i) {
     const SurfacePoint p = *layout.point(texel, estimate_random(std::uint32_t(texel), std::uint32_t(i), 3));
     const glm::uvec3 t = mesh.triangles[p.triangle];
-    const glm::vec3 q = (1.0f - p.b1 - p.b2) * mesh.positions[t.x] + p.b1 * mesh.positions[t.y] +
-                        p.b2 * mesh.positions[t.z];
+    const glm::vec3 q =
+        (1.0f - p.b1 - p.b2) * mesh.positions[t.x] + p.b1 * mesh.positions[t.y] + p.b2 * mesh.positions[t.z];
     ASSERT_GE(q.x, 0.5f - 1e-6f);
     ASSERT_GE(q.z, 0.5f - 1e-6f);
     x += q.x;

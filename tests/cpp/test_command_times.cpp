@@ -38,8 +38,8 @@ TEST(CommandTimes, AFrameOfATimedRendererShowsEachOfItsCommandsWithinItsTime) {
   // queue read back for the second; the pixels' values; then the image (AO, coverage, rays per pixel)
   // read back.
   const std::vector<std::pair<std::string, std::size_t>> expected = {
-      {"trace_camera_rays", 1}, {"fill", 1},          {"wavefront_first_bounce", 1},
-      {"read-back", 4},         {"wavefront_bounce", 1}, {"wavefront_finish", 1}};
+      {"trace_camera_rays", 1}, {"fill", 1}, {"wavefront_first_bounce", 1}, {"read-back", 4}, {"wavefront_bounce", 1},
+      {"wavefront_finish", 1}};
   ASSERT_EQ(totals.size(), expected.size());
   double span_ms = 0.0;
   for (std::size_t i = 0; i < totals.size(); ++i) {

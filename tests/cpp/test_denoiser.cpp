@@ -37,7 +37,8 @@ GBufferTexel hit_texel(float x, float y, float z, float nx, float ny, float nz) 
 std::vector<GBufferTexel> facing_plane() {
   std::vector<GBufferTexel> g(kSide * kSide);
   for (int y = 0; y < kSide; ++y)
-    for (int x = 0; x < kSide; ++x) g[y * kSide + x] = hit_texel(x * kFootprint, -y * kFootprint, 0.0f, 0.0f, 0.0f, 1.0f);
+    for (int x = 0; x < kSide; ++x)
+      g[y * kSide + x] = hit_texel(x * kFootprint, -y * kFootprint, 0.0f, 0.0f, 0.0f, 1.0f);
   return g;
 }
 
@@ -59,8 +60,8 @@ Images denoise(Images images, const DenoiseSettings& settings = {}) {
   ComputeContext compute(default_device());
   const cl::Program& program = compute.programs().get("denoise.cl", "").program;
   const auto buffer = [&](auto& host) {
-    return cl::Buffer(compute.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                      host.size() * sizeof(host[0]), host.data());
+    return cl::Buffer(compute.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, host.size() * sizeof(host[0]),
+                      host.data());
   };
   std::vector<float> planes(GBUFFER_PLANES * images.gbuffer.size());
   for (std::size_t i = 0; i < images.gbuffer.size(); ++i)
@@ -124,7 +125,8 @@ Images filtered_as_specified(Images images, const DenoiseSettings& s) {
             if (!hit(qx, qy)) continue;
             const GBufferTexel& gq = images.gbuffer[q];
             const double plane = std::abs(double(gp.nx) * (gq.x - gp.x) + double(gp.ny) * (gq.y - gp.y) +
-                                          double(gp.nz) * (gq.z - gp.z)) / (s.sigma_plane * gp.footprint);
+                                          double(gp.nz) * (gq.z - gp.z)) /
+                                 (s.sigma_plane * gp.footprint);
             const double facing = std::max(0.0, double(gp.nx) * gq.nx + double(gp.ny) * gq.ny + double(gp.nz) * gq.nz);
             const double value = std::abs(double(images.ao[p]) - images.ao[q]) / value_scale;
             const double w = dx == 0 && dy == 0 ? 1.0 : std::exp(-plane - value) * std::pow(facing, s.sigma_normal);

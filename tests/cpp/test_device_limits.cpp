@@ -34,9 +34,9 @@ TEST(FrameMemory, IsKnownExactlyBeforeAllocation) {
   };
   const RenderSettings base = small(KernelOrganisation::Megakernel, 1, false);
   const std::size_t base_bytes = renderer.render(scene, camera, base).stats.memory_bytes;
-  for (const RenderSettings& settings : {small(KernelOrganisation::Megakernel, 3, true),
-                                         small(KernelOrganisation::Wavefront, 2, false),
-                                         small(KernelOrganisation::Wavefront, 4, true)}) {
+  for (const RenderSettings& settings :
+       {small(KernelOrganisation::Megakernel, 3, true), small(KernelOrganisation::Wavefront, 2, false),
+        small(KernelOrganisation::Wavefront, 4, true)}) {
     const std::size_t bytes = renderer.render(scene, camera, settings).stats.memory_bytes;
     EXPECT_EQ(bytes - base_bytes, frame_bytes(settings) - frame_bytes(base));
   }

@@ -26,7 +26,9 @@ TEST(DeviceSceneLimits, RefusesABufferPastTheLargestAllocationBeforeTheTree) {
     FAIL() << "no error";
   } catch (const DeviceError& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("triangles' corners need one device buffer of 1536 bytes (32 triangles), more than the 1024 bytes"), std::string::npos)
+    EXPECT_NE(message.find(
+                  "triangles' corners need one device buffer of 1536 bytes (32 triangles), more than the 1024 bytes"),
+              std::string::npos)
         << message;
     EXPECT_NE(message.find("that a device allocates at most (CL_DEVICE_MAX_MEM_ALLOC_SIZE): about 21 triangles fit"),
               std::string::npos)

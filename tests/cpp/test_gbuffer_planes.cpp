@@ -19,11 +19,19 @@ namespace {
 const struct {
   const char* name;
   int plane;
-} kPlaneNames[] = {{"GBUFFER_X", GBUFFER_X},         {"GBUFFER_Y", GBUFFER_Y},         {"GBUFFER_Z", GBUFFER_Z},
-                   {"GBUFFER_T", GBUFFER_T},         {"GBUFFER_NX", GBUFFER_NX},       {"GBUFFER_NY", GBUFFER_NY},
-                   {"GBUFFER_NZ", GBUFFER_NZ},       {"GBUFFER_FOOTPRINT", GBUFFER_FOOTPRINT},
-                   {"GBUFFER_DEPTH", GBUFFER_DEPTH}, {"GBUFFER_SX", GBUFFER_SX},       {"GBUFFER_SY", GBUFFER_SY},
-                   {"GBUFFER_SZ", GBUFFER_SZ},       {"GBUFFER_TRIANGLE", GBUFFER_TRIANGLE}};
+} kPlaneNames[] = {{"GBUFFER_X", GBUFFER_X},
+                   {"GBUFFER_Y", GBUFFER_Y},
+                   {"GBUFFER_Z", GBUFFER_Z},
+                   {"GBUFFER_T", GBUFFER_T},
+                   {"GBUFFER_NX", GBUFFER_NX},
+                   {"GBUFFER_NY", GBUFFER_NY},
+                   {"GBUFFER_NZ", GBUFFER_NZ},
+                   {"GBUFFER_FOOTPRINT", GBUFFER_FOOTPRINT},
+                   {"GBUFFER_DEPTH", GBUFFER_DEPTH},
+                   {"GBUFFER_SX", GBUFFER_SX},
+                   {"GBUFFER_SY", GBUFFER_SY},
+                   {"GBUFFER_SZ", GBUFFER_SZ},
+                   {"GBUFFER_TRIANGLE", GBUFFER_TRIANGLE}};
 static_assert(std::size(kPlaneNames) == GBUFFER_PLANES);
 
 // The planes a program's text names, as a mask.

@@ -39,7 +39,8 @@ std::string triangle_gltf(const std::string& bin) {
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
     "bufferViews": [{"buffer": 0, "byteLength": 36}],
-    "buffers": [{"uri": ")" + bin + R"(", "byteLength": 36}]})";
+    "buffers": [{"uri": ")" +
+         bin + R"(", "byteLength": 36}]})";
 }
 
 TEST(GltfLoader, FromMemoryEqualsFromFile) {

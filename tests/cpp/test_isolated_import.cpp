@@ -32,9 +32,10 @@ ImportedScene everything() {
   s.uv_sets.triangle_materials = {1};
   s.uv_sets.materials = {
       MaterialUvs{"default", -1, WrapMode::Repeat, WrapMode::Repeat, std::nullopt},
-      MaterialUvs{"floor", 1, WrapMode::ClampToEdge, WrapMode::MirroredRepeat,
-                  BaseColor{{0.5f, 0.25f, 1.0f, 0.75f}, {0x89, 'P', 'N', 'G'}, 2, WrapMode::MirroredRepeat,
-                            WrapMode::ClampToEdge}}};
+      MaterialUvs{
+          "floor", 1, WrapMode::ClampToEdge, WrapMode::MirroredRepeat,
+          BaseColor{
+              {0.5f, 0.25f, 1.0f, 0.75f}, {0x89, 'P', 'N', 'G'}, 2, WrapMode::MirroredRepeat, WrapMode::ClampToEdge}}};
   s.uv_sets.primitives = {LoadedPrimitive{2, 0, 0, 0, 3, 0, 1}};
   return s;
 }
@@ -106,10 +107,12 @@ TEST(IsolatedImport, TurnsACrashIntoALoadErrorNamingTheFile) {
 TEST(IsolatedImport, ReportsACrashByItsSignal) {
   for (const int crash : {SIGSEGV, SIGBUS, SIGFPE}) {
     try {
-      import_isolated([crash]() -> ImportedScene {
-        std::raise(crash);
-        return {};
-      }, "file.off", 60.0);
+      import_isolated(
+          [crash]() -> ImportedScene {
+            std::raise(crash);
+            return {};
+          },
+          "file.off", 60.0);
       FAIL() << "no error for signal " << crash;
     } catch (const LoadError& e) {
       const std::string message = e.what();

@@ -215,7 +215,8 @@ TriangleMesh shrinking_spiral(std::size_t n, float shrink) {
   for (std::size_t i = 0; i < n; ++i) {
     const float r = std::pow(shrink, float(i));
     const glm::vec3 center(r * std::cos(float(i)), r * std::sin(float(i)), r);
-    for (int k = 0; k < 3; ++k) mesh.positions.push_back(center + 1e-3f * r * glm::vec3(jitter(rng), jitter(rng), jitter(rng)));
+    for (int k = 0; k < 3; ++k)
+      mesh.positions.push_back(center + 1e-3f * r * glm::vec3(jitter(rng), jitter(rng), jitter(rng)));
     const auto base = std::uint32_t(3 * i);
     mesh.triangles.push_back({base, base + 1, base + 2});
   }
@@ -369,9 +370,9 @@ TEST(KdTree, DepthStaysWithinTheLimit) {
 // than the best found; ties go as the full sweep meets them (axis 0 first,
 // then along the axis), so the tree is the same. The grid's planes tie often.
 TEST(KdTree, PruningTheSweepKeepsTheTree) {
-  std::vector<TriangleMesh> meshes = {random_soup(3000, 31), random_soup(500, 32), axis_aligned_grid(8),
-                                      overlapping_coplanar(400, 33), shrinking_spiral(300, 0.99f),
-                                      cornell_box()->mesh()};
+  std::vector<TriangleMesh> meshes = {random_soup(3000, 31),        random_soup(500, 32),
+                                      axis_aligned_grid(8),         overlapping_coplanar(400, 33),
+                                      shrinking_spiral(300, 0.99f), cornell_box()->mesh()};
   TriangleMesh slab = random_soup(3000, 34);  // long cells: whole axes are skipped
   for (glm::vec3& p : slab.positions) p *= glm::vec3(40.0f, 1.0f, 0.2f);
   meshes.push_back(slab);
@@ -508,8 +509,8 @@ TEST(KdTree, NeedlesAndSliversKeepTheLeafContract) {
   for (int i = 0; i < 100; ++i) {
     const auto base = std::uint32_t(mesh.positions.size());
     const glm::vec3 start(-0.5f, float(i) * 0.01f - 0.5f, 0.3f);
-    mesh.positions.insert(mesh.positions.end(), {start, start + glm::vec3(1.0f, 0.5f, 0.2f),
-                                                 start + glm::vec3(0.5f, 0.25f + 1e-6f, 0.1f)});
+    mesh.positions.insert(mesh.positions.end(),
+                          {start, start + glm::vec3(1.0f, 0.5f, 0.2f), start + glm::vec3(0.5f, 0.25f + 1e-6f, 0.1f)});
     mesh.triangles.push_back({base, base + 1, base + 2});
   }
   const KdTree tree = checked_tree(mesh);

@@ -27,8 +27,7 @@ struct Pair {
 };
 
 TEST(KernelArgs, AnEmptyBufferIsNullInTheKernel) {
-  EXPECT_EQ(device_outputs<cl_uint>(kSource, "null_or_value", 1, cl::Buffer(), cl_uint(7)),
-            std::vector<cl_uint>{7});
+  EXPECT_EQ(device_outputs<cl_uint>(kSource, "null_or_value", 1, cl::Buffer(), cl_uint(7)), std::vector<cl_uint>{7});
 }
 
 TEST(KernelArgs, ACountThatIsNotTheKernelsIsRefusedNamingTheKernel) {
@@ -47,8 +46,7 @@ TEST(KernelArgs, ACountThatIsNotTheKernelsIsRefusedNamingTheKernel) {
   };
   EXPECT_EQ(refusal(cl::Buffer(), cl_uint(1)), "kernel null_or_value takes 3 arguments, given 2");
   // A group counts as its members: here one too many.
-  EXPECT_NE(refusal(cl::Buffer(), Pair{1, 2}, out).find("kernel null_or_value refused argument 2"),
-            std::string::npos);
+  EXPECT_NE(refusal(cl::Buffer(), Pair{1, 2}, out).find("kernel null_or_value refused argument 2"), std::string::npos);
   // A buffer where the kernel takes a uint.
   EXPECT_NE(refusal(cl::Buffer(), out, out).find("kernel null_or_value refused argument 1"), std::string::npos);
   EXPECT_EQ(refusal(cl::Buffer(), cl_uint(1), out), "");

@@ -69,8 +69,8 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
   ASSERT_GE(traits.tree_depth, 16);  // deep enough for the short stack to run dry and paths to be long
   // The triangles as a GPU reads them (their coordinates) and as a CPU does (the mesh's vertices).
   const bool shares_host_memory = device_profile(compute.device()).shares_host_memory;
-  const DeviceScene coordinates(compute.context(), compute.queue(), *scene, scene->kd_tree(), false,
-                                shares_host_memory, false);
+  const DeviceScene coordinates(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, shares_host_memory,
+                                false);
   const DeviceScene indexed(compute.context(), compute.queue(), *scene, scene->kd_tree(), false, true, true);
   const Camera camera = scene->default_camera(1.0f).relative_to(scene->render_origin());
   RenderSettings s;
@@ -135,8 +135,9 @@ TEST(KernelVariants, EveryRenderVariantOfThePlanDrawsTheSameImage) {
 TEST(KernelVariants, SponzaIsTheSameImageFromEitherTriangleLayout) {
   const char* shared = std::getenv("MBAO_SHARED_SCENES");
   const std::filesystem::path folder =
-      (shared ? std::filesystem::path(shared) : std::filesystem::path(MBAO_SOURCE_DIR).parent_path() / "shared" /
-                                                     "scenes") / "sponza";
+      (shared ? std::filesystem::path(shared)
+              : std::filesystem::path(MBAO_SOURCE_DIR).parent_path() / "shared" / "scenes") /
+      "sponza";
   if (!std::filesystem::exists(folder / "scene.glb")) GTEST_SKIP() << "no shared scene at " << folder;
   ComputeContext compute(default_device());
   const std::shared_ptr<const Scene> sponza = load_gltf((folder / "scene.glb").string());

@@ -190,8 +190,8 @@ TEST(OriginPaths, RaysAlongAPathFindWhatRaysFromTheRootFind) {
       cl::Program program(compute.context(), source);
       const std::string options = "-DMBAO_TRAVERSAL=" + std::to_string(int(traversal)) +
                                   " -DMBAO_COUNT_TRAVERSAL=1 -DMBAO_ORIGIN_PATHS=1 -DMBAO_LOAD_BOTH_CHILDREN=" +
-                                  std::to_string(load_both_children) + " -DMBAO_INDEXED_TRIANGLES=" +
-                                  std::to_string(int(indexed));
+                                  std::to_string(load_both_children) +
+                                  " -DMBAO_INDEXED_TRIANGLES=" + std::to_string(int(indexed));
       program.build(options.c_str());
       cl::Kernel kernel(program, "rays_from_one_point");
       cl::Buffer points = buffer_of(compute, p.points), dirs = buffer_of(compute, directions);

@@ -40,10 +40,29 @@ TEST(OutwardRounding, EdgeCasesAreTheNextFloatOnTheirSide) {
   const double tiny = std::numeric_limits<double>::denorm_min();
   const double float_max = std::numeric_limits<float>::max();
   const double float_denorm = std::numeric_limits<float>::denorm_min();
-  std::vector<double> cases = {0.0, -0.0, tiny, -tiny, 1e-300, -1e-300, float_denorm, -float_denorm,
-                               float_denorm / 3, -float_denorm / 3, 1.0, -1.0, 1.0 + 1e-12, -1.0 - 1e-12,
-                               0.1, -0.1, float_max, -float_max, float_max * 1.0000001, -float_max * 1.0000001,
-                               1e300, -1e300, std::numeric_limits<double>::infinity(),
+  std::vector<double> cases = {0.0,
+                               -0.0,
+                               tiny,
+                               -tiny,
+                               1e-300,
+                               -1e-300,
+                               float_denorm,
+                               -float_denorm,
+                               float_denorm / 3,
+                               -float_denorm / 3,
+                               1.0,
+                               -1.0,
+                               1.0 + 1e-12,
+                               -1.0 - 1e-12,
+                               0.1,
+                               -0.1,
+                               float_max,
+                               -float_max,
+                               float_max * 1.0000001,
+                               -float_max * 1.0000001,
+                               1e300,
+                               -1e300,
+                               std::numeric_limits<double>::infinity(),
                                -std::numeric_limits<double>::infinity()};
   for (double x : cases) expect_matches_reference(x);
   // Through zero: the smallest denormal of the direction's sign.

@@ -85,8 +85,8 @@ TEST(SettingSpecs, EngineSettingsAreTheOnesThatCannotChangeTheImage) {
   std::set<std::string> engine;
   for (const SettingSpec& spec : setting_specs())
     if (spec.group == SettingGroup::Engine) engine.insert(spec.name);
-  EXPECT_EQ(engine, (std::set<std::string>{"traversal", "organisation", "tile_pixels", "work_group_size",
-                                           "traversal_stats"}));
+  EXPECT_EQ(engine,
+            (std::set<std::string>{"traversal", "organisation", "tile_pixels", "work_group_size", "traversal_stats"}));
 }
 
 template <typename Settings>

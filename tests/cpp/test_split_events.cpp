@@ -16,9 +16,18 @@ namespace {
 // order: by position as floats order (the two zeros one position), then ends
 // before planars before starts, then by triangle.
 TEST(SplitEvent, IntegerOrderIsPositionThenTypeThenTriangle) {
-  const std::vector<float> positions{-std::numeric_limits<float>::max(), -1e20f, -2.0f, -1.0f, -1e-30f,
-                                     -std::numeric_limits<float>::denorm_min(), 0.0f,
-                                     std::numeric_limits<float>::denorm_min(), 1e-30f, 1.0f, 3.5f, 1e30f,
+  const std::vector<float> positions{-std::numeric_limits<float>::max(),
+                                     -1e20f,
+                                     -2.0f,
+                                     -1.0f,
+                                     -1e-30f,
+                                     -std::numeric_limits<float>::denorm_min(),
+                                     0.0f,
+                                     std::numeric_limits<float>::denorm_min(),
+                                     1e-30f,
+                                     1.0f,
+                                     3.5f,
+                                     1e30f,
                                      std::numeric_limits<float>::max()};
   std::vector<Event> events;
   for (float p : positions)
@@ -62,8 +71,8 @@ TEST(SplitEvent, RadixSortOfEventsMadeByTriangleIsTheFullOrder) {
       sort_events_made_by_triangle(events.data(), events.data() + events.size());
       ASSERT_EQ(events.size(), expected.size());
       for (std::size_t i = 0; i < events.size(); ++i)
-        ASSERT_EQ(events[i].bits, expected[i].bits) << triangles << " triangles, " << centre << " +- " << spread
-                                                    << ", at " << i;
+        ASSERT_EQ(events[i].bits, expected[i].bits)
+            << triangles << " triangles, " << centre << " +- " << spread << ", at " << i;
     }
 }
 

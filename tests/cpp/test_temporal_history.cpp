@@ -40,8 +40,8 @@ std::vector<GBufferTexel> wall() {
       const float t = -kCamera.eye.z / d.z;
       const glm::vec3 p = kCamera.eye + t * d;
       const float depth = glm::dot(p - kCamera.eye, basis.forward);
-      g.push_back({p.x, p.y, p.z, t, 0.0f, 0.0f, 1.0f, 2.0f * t * basis.tan_half_vfov / kHeight, depth, 0.0f, 0.0f,
-                   1.0f, 0});
+      g.push_back(
+          {p.x, p.y, p.z, t, 0.0f, 0.0f, 1.0f, 2.0f * t * basis.tan_half_vfov / kHeight, depth, 0.0f, 0.0f, 1.0f, 0});
     }
   return g;
 }

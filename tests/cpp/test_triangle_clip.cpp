@@ -44,15 +44,12 @@ TEST(TriangleClip, SplitCellGivesEachChildsBox) {
   std::mt19937 random(7);
   std::uniform_real_distribution<float> coordinate(-0.5f, 1.5f), plane(0.05f, 0.95f);
   std::uniform_real_distribution<double> weight(0.0, 1.0);
-  const auto within_a_step = [](float a, float b) {
-    return a == b || std::nextafter(a, b) == b;
-  };
+  const auto within_a_step = [](float a, float b) { return a == b || std::nextafter(a, b) == b; };
   int split_triangles = 0;
   for (int trial = 0; trial < 2000; ++trial) {
-    const std::array<glm::vec3, 3> triangle = {
-        glm::vec3(coordinate(random), coordinate(random), coordinate(random)),
-        glm::vec3(coordinate(random), coordinate(random), coordinate(random)),
-        glm::vec3(coordinate(random), coordinate(random), coordinate(random))};
+    const std::array<glm::vec3, 3> triangle = {glm::vec3(coordinate(random), coordinate(random), coordinate(random)),
+                                               glm::vec3(coordinate(random), coordinate(random), coordinate(random)),
+                                               glm::vec3(coordinate(random), coordinate(random), coordinate(random))};
     Bounds3 cell;
     cell.extend(glm::vec3(0.0f));
     cell.extend(glm::vec3(1.0f));

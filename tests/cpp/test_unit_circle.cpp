@@ -24,7 +24,8 @@ TEST(UnitCircle, IsWithinItsBoundOfDoublePrecisionOverTheCircle) {
   for (int i = 0; i <= kAngles; ++i) {
     const float angle = angle_at(i);
     const UnitCirclePoint p = unit_circle_point(angle);
-    worst = std::fmax(worst, std::fmax(std::fabs(p.c - std::cos(double(angle))), std::fabs(p.s - std::sin(double(angle)))));
+    worst =
+        std::fmax(worst, std::fmax(std::fabs(p.c - std::cos(double(angle))), std::fabs(p.s - std::sin(double(angle)))));
   }
   EXPECT_LE(worst, kBound);
   EXPECT_GT(worst, 0.0);  // a polynomial, not the library's functions

@@ -28,7 +28,8 @@ Sharing::Do run_task() {
 }
 
 TEST(WorkSharing, TheOwnerTakesBackWhatNobodyTook) {
-  Sharing sharing(0, [] { return 0; }, run_task());
+  Sharing sharing(
+      0, [] { return 0; }, run_task());
   bool ran = false;
   const Sharing::OfferHandle offer = sharing.offer({[&ran](int&) {
     ran = true;
@@ -43,7 +44,8 @@ TEST(WorkSharing, TheOwnerTakesBackWhatNobodyTook) {
 }
 
 TEST(WorkSharing, AnIdleThreadTakesAnOfferItsOwnerHasNotComeBackTo) {
-  Sharing sharing(1, [] { return 0; }, run_task());
+  Sharing sharing(
+      1, [] { return 0; }, run_task());
   std::promise<std::thread::id> started;
   const Sharing::OfferHandle offer = sharing.offer({[&started](int&) {
     started.set_value(std::this_thread::get_id());
@@ -60,7 +62,8 @@ TEST(WorkSharing, AnIdleThreadTakesAnOfferItsOwnerHasNotComeBackTo) {
 TEST(WorkSharing, AWaitingOwnerDoesTheOffersOfTheTaskItWaitsFor) {
   // The helper takes the outer task, which offers an inner one and waits
   // until someone takes it: only the owner, waiting for the outer task, can.
-  Sharing sharing(1, [] { return 0; }, run_task());
+  Sharing sharing(
+      1, [] { return 0; }, run_task());
   const std::thread::id owner = std::this_thread::get_id();
   std::thread::id inner_ran_on;
   std::promise<void> outer_started;
@@ -85,7 +88,8 @@ TEST(WorkSharing, AWaitingOwnerDoesTheOffersOfTheTaskItWaitsFor) {
 }
 
 TEST(WorkSharing, ATaskThrowsToItsOwner) {
-  Sharing sharing(1, [] { return 0; }, run_task());
+  Sharing sharing(
+      1, [] { return 0; }, run_task());
   std::promise<void> started;
   const Sharing::OfferHandle offer = sharing.offer({[&started](int&) -> int {
     started.set_value();
@@ -123,7 +127,8 @@ int sum_range(Sharing& sharing, int first, int last, int& context) {
 
 TEST(WorkSharing, EveryOfferIsDoneOnceWhateverTheThreads) {
   for (int helpers : {0, 1, 3, 7}) {
-    Sharing sharing(helpers, [] { return 0; }, run_task());
+    Sharing sharing(
+        helpers, [] { return 0; }, run_task());
     int context = 0;
     const int n = 20000;
     EXPECT_EQ(sum_range(sharing, 0, n, context), n * (n - 1) / 2) << helpers << " helpers";
@@ -131,7 +136,8 @@ TEST(WorkSharing, EveryOfferIsDoneOnceWhateverTheThreads) {
 }
 
 TEST(WorkSharing, HelpersWithoutAContextLeaveTheOffersToTheirOwners) {
-  Sharing sharing(3, []() -> int { throw std::bad_alloc(); }, run_task());
+  Sharing sharing(
+      3, []() -> int { throw std::bad_alloc(); }, run_task());
   int context = 0;
   EXPECT_EQ(sum_range(sharing, 0, 20000, context), 20000 * 19999 / 2);
 }

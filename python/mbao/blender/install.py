@@ -35,27 +35,35 @@ def write_zip(path):
 def install(blender="blender"):
     """Copies the add-on into the user's add-on folder of `blender` (its
     executable) and enables it in the user's preferences; returns the folder."""
-    said = _ask_blender(blender, "import bpy; print('addons:', bpy.utils.user_resource('SCRIPTS', path='addons', "
-                                 "create=True))")
-    folder = Path(next(line for line in said.splitlines() if line.startswith("addons: "))[len("addons: "):]) / ADDON
+    said = _ask_blender(
+        blender, "import bpy; print('addons:', bpy.utils.user_resource('SCRIPTS', path='addons', " "create=True))"
+    )
+    folder = Path(next(line for line in said.splitlines() if line.startswith("addons: "))[len("addons: ") :]) / ADDON
     if folder.exists():
         shutil.rmtree(folder)
     folder.mkdir(parents=True)
     for file in _addon_files():
         shutil.copy2(file, folder / file.name)
     (folder / "location.json").write_text(json.dumps(location(), indent=2))
-    _ask_blender(blender, f"import bpy; bpy.ops.preferences.addon_enable(module={ADDON!r}); "
-                          f"bpy.ops.wm.save_userpref()")
+    _ask_blender(
+        blender, f"import bpy; bpy.ops.preferences.addon_enable(module={ADDON!r}); " f"bpy.ops.wm.save_userpref()"
+    )
     return folder
 
 
 def _ask_blender(blender, expression):
     """Runs a Python expression in `blender`, in the background; returns what it printed."""
     if shutil.which(blender) is None:
-        raise OSError(f"no Blender at {blender!r}: install it (Debian: apt-get install blender), or name its "
-                      f"executable with --blender")
-    run = subprocess.run([blender, "-b", "--python-exit-code", "1", "--python-expr", expression],
-                         capture_output=True, text=True, timeout=120)
+        raise OSError(
+            f"no Blender at {blender!r}: install it (Debian: apt-get install blender), or name its "
+            f"executable with --blender"
+        )
+    run = subprocess.run(
+        [blender, "-b", "--python-exit-code", "1", "--python-expr", expression],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     if run.returncode != 0:
         raise OSError(f"{blender} failed ({run.returncode}): {run.stderr.strip() or run.stdout.strip()}")
     return run.stdout

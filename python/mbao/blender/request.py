@@ -18,6 +18,7 @@ import warnings
 
 import numpy as np
 
+
 def bake(arrays, settings, progress=None):
     """mbao.bake of the triangles arrays["triangles"] of the mesh the arrays
     describe (vertices, indices, optional normals and texcoords), with

@@ -27,8 +27,16 @@ def open_viewer(scene=None, *, camera=None, device=None, host="127.0.0.1", port=
         path = scene
         scene = load(path, texcoords=is_gltf_path(path))  # only a glTF file stores a bake mbao reads
         bake = load_bake(path, scene)
-    return Viewer(scene, as_camera(camera, scene, render_size(settings)), settings, resolve(device), bake=bake,
-                  host=host, port=port, token=token)
+    return Viewer(
+        scene,
+        as_camera(camera, scene, render_size(settings)),
+        settings,
+        resolve(device),
+        bake=bake,
+        host=host,
+        port=port,
+        token=token,
+    )
 
 
 class View:
@@ -93,15 +101,25 @@ class View:
         return self._viewer.active
 
     def _iframe(self):
-        return (f'<iframe src="{html.escape(self.url)}" title="mbao view" style="width: 100%; '
-                f'height: {int(self._cell_height)}px; border: 0"></iframe>')
+        return (
+            f'<iframe src="{html.escape(self.url)}" title="mbao view" style="width: 100%; '
+            f'height: {int(self._cell_height)}px; border: 0"></iframe>'
+        )
 
     def __repr__(self):
         return f"<mbao.View of {self._viewer.scene.name} at {self.url}>"
 
 
-def view(scene: Optional[SceneLike] = None, *, camera: CameraLike = None, device: DeviceLike = None,
-         host: str = "127.0.0.1", port: Optional[int] = None, cell_height: int = 620, **settings: Any) -> "View":
+def view(
+    scene: Optional[SceneLike] = None,
+    *,
+    camera: CameraLike = None,
+    device: DeviceLike = None,
+    host: str = "127.0.0.1",
+    port: Optional[int] = None,
+    cell_height: int = 620,
+    **settings: Any,
+) -> "View":
     """Shows a live, progressive view of `scene` in a notebook cell and returns
     its handle, an mbao.View.
 

@@ -40,8 +40,15 @@ def baked_occlusion(scene, bake, camera, width, height, device):
         values[here] = bake.textures[material].sample(uv)
     ao.flat[pixels] = values
     lookup_ms = (time.perf_counter() - start) * 1e3
-    stats = dict(hits.stats, method="baked", source=bake.source, unbaked_pixels=int((source == OPEN).sum()),
-                 gbuffer_ms=hits.stats["frame_ms"], lookup_ms=lookup_ms, frame_ms=hits.stats["frame_ms"] + lookup_ms)
+    stats = dict(
+        hits.stats,
+        method="baked",
+        source=bake.source,
+        unbaked_pixels=int((source == OPEN).sum()),
+        gbuffer_ms=hits.stats["frame_ms"],
+        lookup_ms=lookup_ms,
+        frame_ms=hits.stats["frame_ms"] + lookup_ms,
+    )
     return Result(ao, hits.mask, stats, hits.mask.astype(np.float32))
 
 

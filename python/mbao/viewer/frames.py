@@ -94,8 +94,9 @@ class StillView:
         """The next frame; raises Superseded where `cancelled` does."""
         self._cancelled = cancelled
         if self.settings["method"] == "baked":
-            frame = _baked_frame(self.scene, self.camera, render_settings(self.settings), self.device, self.bake,
-                                 moving=False)
+            frame = _baked_frame(
+                self.scene, self.camera, render_settings(self.settings), self.device, self.bake, moving=False
+            )
         elif not self.accumulates:
             frame = self._single()
         else:
@@ -106,16 +107,30 @@ class StillView:
 
     def _single(self):
         values = _with_variance(render_settings(self.settings))
-        result = render(self.scene, camera=self.camera, device=self.device, progress=self._progress,
-                        denoise=self.settings["denoise"] or None, **values, engine=_STILL_ENGINE)
+        result = render(
+            self.scene,
+            camera=self.camera,
+            device=self.device,
+            progress=self._progress,
+            denoise=self.settings["denoise"] or None,
+            **values,
+            engine=_STILL_ENGINE,
+        )
         return _frame(result, self.settings, frames=1, moving=False)
 
     def _accumulated(self):
         if self._sequence is None:
             values = _with_variance(render_settings(self.settings))
-            self._sequence = render_sequence(self.scene, _forever(self.camera), temporal=True,
-                                             denoise=self.settings["denoise"] or None, device=self.device,
-                                             progress=self._progress, engine=_STILL_ENGINE, **values)
+            self._sequence = render_sequence(
+                self.scene,
+                _forever(self.camera),
+                temporal=True,
+                denoise=self.settings["denoise"] or None,
+                device=self.device,
+                progress=self._progress,
+                engine=_STILL_ENGINE,
+                **values,
+            )
         # A frame that raises Superseded ends the generator, and this view with it: its session starts another.
         return _frame(next(self._sequence), self.settings, frames=self.done + 1, moving=False)
 

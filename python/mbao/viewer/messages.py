@@ -36,8 +36,10 @@ def parse(text, settings, methods, suggested_radius=None):
         raise ValueError(f"message type must be one of {', '.join(map(repr, _FIELDS))}; got {kind!r}")
     unknown = set(message) - _FIELDS[kind] - {"type"}
     if unknown:
-        raise ValueError(f"a {kind!r} message has no field {', '.join(map(repr, sorted(unknown)))}; "
-                         f"its fields are {', '.join(sorted(_FIELDS[kind]))}")
+        raise ValueError(
+            f"a {kind!r} message has no field {', '.join(map(repr, sorted(unknown)))}; "
+            f"its fields are {', '.join(sorted(_FIELDS[kind]))}"
+        )
     if kind == "set":
         return _set(message, settings, methods, suggested_radius)
     return {"pick": _pick, "save": _save}[kind](message)
@@ -75,8 +77,9 @@ def camera_from_json(value, suggested_radius=None):
         raise TypeError(f"camera must be an object {{eye, target, up, vfov_deg}}, got {type(value).__name__}")
     unknown = set(value) - {"eye", "target", "up", "vfov_deg"}
     if unknown:
-        raise ValueError(f"camera has no field {', '.join(map(repr, sorted(unknown)))}; "
-                         "its fields are eye, target, up, vfov_deg")
+        raise ValueError(
+            f"camera has no field {', '.join(map(repr, sorted(unknown)))}; " "its fields are eye, target, up, vfov_deg"
+        )
     missing = {"eye", "target", "up", "vfov_deg"} - set(value)
     if missing:
         raise ValueError(f"camera lacks {', '.join(sorted(missing))}")

@@ -154,11 +154,20 @@ class Viewer:
         """What the page learns first: the scene, the device, the home camera
         and the view's first, the settings and their specs."""
         lo, hi = (np.asarray(corner) for corner in self.scene.bounds)
-        return dict(scene=dict(name=self.scene.name, triangles=self.scene.triangle_count, bounds=[lo.tolist(), hi.tolist()],
-                               radius=self.suggested_radius(), default_radius=self._default_radius()),
-                    device=self.device.name, home=messages.camera_json(self.home_camera),
-                    camera=messages.camera_json(self.camera),
-                    settings=messages.settings_json(self.settings), specs=view_settings.described(self.methods))
+        return dict(
+            scene=dict(
+                name=self.scene.name,
+                triangles=self.scene.triangle_count,
+                bounds=[lo.tolist(), hi.tolist()],
+                radius=self.suggested_radius(),
+                default_radius=self._default_radius(),
+            ),
+            device=self.device.name,
+            home=messages.camera_json(self.home_camera),
+            camera=messages.camera_json(self.camera),
+            settings=messages.settings_json(self.settings),
+            specs=view_settings.described(self.methods),
+        )
 
     def suggested_radius(self):
         """The radius the slider centres on: the camera's suggestion, else a quarter of the scene's diagonal (SPEC 1)."""
@@ -206,6 +215,7 @@ def _sender(socket):
             await socket.send_str(data)
         else:
             await socket.send_bytes(data)
+
     return send
 
 

@@ -79,11 +79,17 @@ class ViewSession:
             self._wake.clear()
             generation, camera, messages_read = self.generation, self.camera, self.messages_read
             if self._still is None and not self.interactive:
-                self._still = StillView(self.viewer.scene, self.camera, self.settings, self.viewer.device,
-                                        self.viewer.bake)
+                self._still = StillView(
+                    self.viewer.scene, self.camera, self.settings, self.viewer.device, self.viewer.bake
+                )
             try:
-                frame, payload = await self.viewer.run(self._render_and_encode, generation, camera,
-                                                       self.settings, None if self.interactive else self._still)
+                frame, payload = await self.viewer.run(
+                    self._render_and_encode,
+                    generation,
+                    camera,
+                    self.settings,
+                    None if self.interactive else self._still,
+                )
             except Superseded:
                 continue
             except (ValueError, TypeError, OSError, _core.Error) as error:
@@ -105,6 +111,7 @@ class ViewSession:
     def _render_and_encode(self, generation, camera, settings, still):
         """On the render thread: the next frame of the view as it was at
         `generation` (a moving one where `still` is None), encoded."""
+
         def cancelled():
             if generation != self.generation:
                 raise Superseded()
@@ -126,11 +133,21 @@ class ViewSession:
         height, width = frame.result.ao.shape
         stats = frame.result.stats
         rays = stats.get("rays_primary", 0) + stats.get("rays_secondary", 0)
-        header = dict(type="frame", format="jpeg" if frame.moving else "png", width=width, height=height,
-                      frames=frame.frames, final=frame.final, moving=frame.moving, frame_ms=stats["frame_ms"],
-                      mrays_per_s=rays / stats["frame_ms"] / 1e3 if stats["frame_ms"] > 0 else None,
-                      standard_error=frame.standard_error, camera=messages.camera_json(camera),
-                      generation=generation, messages_read=messages_read)
+        header = dict(
+            type="frame",
+            format="jpeg" if frame.moving else "png",
+            width=width,
+            height=height,
+            frames=frame.frames,
+            final=frame.final,
+            moving=frame.moving,
+            frame_ms=stats["frame_ms"],
+            mrays_per_s=rays / stats["frame_ms"] / 1e3 if stats["frame_ms"] > 0 else None,
+            standard_error=frame.standard_error,
+            camera=messages.camera_json(camera),
+            generation=generation,
+            messages_read=messages_read,
+        )
         await self._send(pack(header, payload))
 
     async def _save(self, what):
@@ -152,8 +169,9 @@ class ViewSession:
         await self._send(json.dumps(message, allow_nan=False))
 
     async def send_state(self):
-        await self.send_json(type="state", camera=messages.camera_json(self.camera),
-                             settings=messages.settings_json(self.settings))
+        await self.send_json(
+            type="state", camera=messages.camera_json(self.camera), settings=messages.settings_json(self.settings)
+        )
 
 
 def pack(header, payload):

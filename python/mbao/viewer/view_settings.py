@@ -16,13 +16,25 @@ METHODS = ("raytraced", "hbao", "hbao+gtao", "baked")
 
 # The viewer's own settings, described as the render table describes its.
 VIEWER = {
-    "denoise": dict(name="denoise", kind="flag", default=False,
-                    doc="Filter each frame with the edge-aware a-trous filter (SPEC 7.3)."),
-    "temporal": dict(name="temporal", kind="flag", default=True,
-                     doc="A still camera accumulates its frames as render_sequence does (SPEC 7.4)."),
-    "frames": dict(name="frames", kind="count", default=0,
-                   doc="Stop a still view's accumulation after this many frames; 0: once the history is full "
-                       "(mbao.Temporal's max_length)."),
+    "denoise": dict(
+        name="denoise",
+        kind="flag",
+        default=False,
+        doc="Filter each frame with the edge-aware a-trous filter (SPEC 7.3).",
+    ),
+    "temporal": dict(
+        name="temporal",
+        kind="flag",
+        default=True,
+        doc="A still camera accumulates its frames as render_sequence does (SPEC 7.4).",
+    ),
+    "frames": dict(
+        name="frames",
+        kind="count",
+        default=0,
+        doc="Stop a still view's accumulation after this many frames; 0: once the history is full "
+        "(mbao.Temporal's max_length).",
+    ),
 }
 
 
@@ -54,7 +66,9 @@ def checked_setting(name, value, methods):
         return _checks.boolean(name, value)
     if name == "frames":
         return _checks.integer("frames", value, 0, 2**31 - 1, "[0, 2^31)")
-    raise ValueError(f"unknown setting {name!r}; a view's settings are {', '.join(sorted(list(RENDER) + list(VIEWER)))}")
+    raise ValueError(
+        f"unknown setting {name!r}; a view's settings are {', '.join(sorted(list(RENDER) + list(VIEWER)))}"
+    )
 
 
 def described(methods):

@@ -25,8 +25,10 @@ def location():
     try:
         return json.loads(LOCATION_FILE.read_text())
     except (OSError, ValueError) as error:
-        raise RuntimeError(f"the add-on does not know where mbao is ({LOCATION_FILE}: {error}); install it with "
-                           f"`python -m mbao blender --install`") from None
+        raise RuntimeError(
+            f"the add-on does not know where mbao is ({LOCATION_FILE}: {error}); install it with "
+            f"`python -m mbao blender --install`"
+        ) from None
 
 
 def request_module(place):
@@ -63,15 +65,19 @@ class BakeJob:
         if run_in == "AUTO":
             run_in = "BLENDER" if imports_mbao(place) else "CHILD"
         elif run_in == "BLENDER" and not imports_mbao(place):
-            raise RuntimeError(f"Blender's Python {sys.version.split()[0]} cannot import mbao from "
-                               f"{place['package']}; run it as a child process (the add-on's preferences)")
+            raise RuntimeError(
+                f"Blender's Python {sys.version.split()[0]} cannot import mbao from "
+                f"{place['package']}; run it as a child process (the add-on's preferences)"
+            )
         self.run_in = run_in
         self.fraction, self.result, self.error, self.warnings = 0.0, None, None, []
         self._cancel = threading.Event()
         self._finished = threading.Event()
         self._child = None
         # The module itself where it runs here; else its file, for the request it writes.
-        self._request = importlib.import_module("mbao.blender.request") if run_in == "BLENDER" else request_module(place)
+        self._request = (
+            importlib.import_module("mbao.blender.request") if run_in == "BLENDER" else request_module(place)
+        )
         run = self._run_here if run_in == "BLENDER" else self._run_child
         threading.Thread(target=self._finishing(run), args=(arrays, settings, place), daemon=True).start()
 
@@ -103,6 +109,7 @@ class BakeJob:
                 if self.cancelled:
                     self.result = None
                 self._finished.set()
+
         return finishing
 
     def _progress(self, done, total):
@@ -123,11 +130,19 @@ class BakeJob:
         with tempfile.TemporaryDirectory(prefix="mbao-blender-") as folder:
             request, result = os.path.join(folder, "request.npz"), os.path.join(folder, "result.npz")
             self._request.write_request(request, arrays, settings)
-            environment = dict(os.environ, PYTHONPATH=os.pathsep.join(
-                [place["package"]] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
-            self._child = subprocess.Popen([place["python"], "-m", "mbao.blender.request", request, result],
-                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                           env=environment)
+            environment = dict(
+                os.environ,
+                PYTHONPATH=os.pathsep.join(
+                    [place["package"]] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+                ),
+            )
+            self._child = subprocess.Popen(
+                [place["python"], "-m", "mbao.blender.request", request, result],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                text=True,
+                env=environment,
+            )
             if self.cancelled:  # cancelled while it started
                 self._child.terminate()
             errors = []

@@ -85,6 +85,9 @@ class MBAO_OT_bake(bpy.types.Operator):
         except (RuntimeError, OSError) as error:  # an image Blender cannot save, say
             self.report({"ERROR"}, f"mbao: baked, but could not write the result: {error}")
             return {"CANCELLED"}
-        self.report({"INFO"}, f"mbao: baked {written} in {time.monotonic() - self._started:.1f} s "
-                              f"({'in Blender' if job.run_in == 'BLENDER' else 'in a child process'})")
+        self.report(
+            {"INFO"},
+            f"mbao: baked {written} in {time.monotonic() - self._started:.1f} s "
+            f"({'in Blender' if job.run_in == 'BLENDER' else 'in a child process'})",
+        )
         return {"FINISHED"}

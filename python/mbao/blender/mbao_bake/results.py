@@ -16,8 +16,12 @@ def write(bake_input, result, settings):
         written = _write_attributes(bake_input.targets, result, settings)
     if settings["preview"]:
         for part in bake_input.targets:
-            _preview_material(part.obj, _source_node("ShaderNodeTexImage", image=image) if image is not None
-                              else _source_node("ShaderNodeAttribute", attribute_name=settings["attribute"]))
+            _preview_material(
+                part.obj,
+                _source_node("ShaderNodeTexImage", image=image)
+                if image is not None
+                else _source_node("ShaderNodeAttribute", attribute_name=settings["attribute"]),
+            )
     return written
 
 
@@ -105,9 +109,11 @@ def _preview_material(obj, source_node):
 
 def _source_node(node_type, **settings):
     """What makes a preview material's source node: a node of `node_type` with `settings`."""
+
     def node_in(nodes):
         node = nodes.new(node_type)
         for name, value in settings.items():
             setattr(node, name, value)
         return node
+
     return node_in

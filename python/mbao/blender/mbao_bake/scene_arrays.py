@@ -28,9 +28,9 @@ class Part:
 
 @dataclasses.dataclass
 class BakeInput:
-    arrays: dict       # vertices, indices, normals, texcoords (per texel only), triangles
-    targets: list      # a Part per object baked
-    image: object      # the image baked into, or None per vertex
+    arrays: dict  # vertices, indices, normals, texcoords (per texel only), triangles
+    targets: list  # a Part per object baked
+    image: object  # the image baked into, or None per vertex
 
 
 @dataclasses.dataclass
@@ -38,11 +38,11 @@ class _Evaluated:
     """An object's evaluated mesh as arrays, in world space."""
 
     positions: np.ndarray  # (V, 3)
-    normals: np.ndarray    # (V, 3), zero where a face beside the vertex is flat-shaded
+    normals: np.ndarray  # (V, 3), zero where a face beside the vertex is flat-shaded
     triangles: np.ndarray  # (T, 3) vertex indices, counter-clockwise seen from the front in world space
-    corners: np.ndarray    # (T, 3) face-corner (loop) indices of the same triangles
+    corners: np.ndarray  # (T, 3) face-corner (loop) indices of the same triangles
     corner_vertices: np.ndarray  # (L,) each face corner's vertex
-    uvs: object            # (L, 2) the active UV map's, or None where the mesh has none
+    uvs: object  # (L, 2) the active UV map's, or None where the mesh has none
 
 
 def bake_input(context, settings):
@@ -99,20 +99,25 @@ def _refuse_shared_meshes(targets):
         by_mesh.setdefault(obj.data.name, []).append(obj.name)
     shared = next((names for names in by_mesh.values() if len(names) > 1), None)
     if shared:
-        raise BakeInputError(f"objects {', '.join(shared)} share one mesh, which can hold only one bake: select one "
-                             f"of them, or make the mesh single-user")
+        raise BakeInputError(
+            f"objects {', '.join(shared)} share one mesh, which can hold only one bake: select one "
+            f"of them, or make the mesh single-user"
+        )
 
 
 def _refuse_unbakeable(obj, evaluated, per_texel):
     if len(evaluated.triangles) == 0:
         raise BakeInputError(f"object {obj.name} has no faces to bake")
     if per_texel and evaluated.uvs is None:
-        raise BakeInputError(f"object {obj.name} has no UV map to bake the image into: add one, or bake to a "
-                             f"color attribute")
+        raise BakeInputError(
+            f"object {obj.name} has no UV map to bake the image into: add one, or bake to a " f"color attribute"
+        )
     if not per_texel and len(evaluated.positions) != len(obj.data.vertices):
-        raise BakeInputError(f"object {obj.name}'s modifiers make {len(evaluated.positions)} vertices of its "
-                             f"{len(obj.data.vertices)}, so its vertices cannot hold their values: apply the "
-                             f"modifiers, or bake to an image")
+        raise BakeInputError(
+            f"object {obj.name}'s modifiers make {len(evaluated.positions)} vertices of its "
+            f"{len(obj.data.vertices)}, so its vertices cannot hold their values: apply the "
+            f"modifiers, or bake to an image"
+        )
 
 
 def _image_of(targets, name):
@@ -126,11 +131,15 @@ def _image_of(targets, name):
         images = {_active_node_image(obj) for obj in targets}
         if None in images:
             obj = next(obj for obj in targets if _active_node_image(obj) is None)
-            raise BakeInputError(f"object {obj.name} has no image to bake into: name one in Image, or make an Image "
-                                 f"Texture node with an image active in its material")
+            raise BakeInputError(
+                f"object {obj.name} has no image to bake into: name one in Image, or make an Image "
+                f"Texture node with an image active in its material"
+            )
         if len(images) > 1:
-            raise BakeInputError("the selected objects' active Image Texture nodes show different images; bake "
-                                 "them one image at a time, or name one image in Image")
+            raise BakeInputError(
+                "the selected objects' active Image Texture nodes show different images; bake "
+                "them one image at a time, or name one image in Image"
+            )
         image = images.pop()
     if image.size[0] == 0 or image.size[1] == 0:
         raise BakeInputError(f"image {image.name} has no pixels (its file cannot be read?)")
@@ -206,5 +215,9 @@ def _per_corner(evaluated):
     """A vertex per face corner, so that a UV seam splits vertices as it splits corners."""
     at = evaluated.corner_vertices
     uvs = evaluated.uvs if evaluated.uvs is not None else np.zeros((len(at), 2))
-    return {"vertices": evaluated.positions[at], "indices": evaluated.corners, "normals": evaluated.normals[at],
-            "texcoords": uvs}
+    return {
+        "vertices": evaluated.positions[at],
+        "indices": evaluated.corners,
+        "normals": evaluated.normals[at],
+        "texcoords": uvs,
+    }
