@@ -1,19 +1,16 @@
 """The Python API's contract: what mbao.render and mbao.trace accept, return
-and refuse, the one definition of their settings, and the GIL they release
-(mbao.Mesh and mbao.Camera: test_mesh_and_camera.py; mbao.devices and
-mbao.save_image: test_devices_and_images.py).
+and refuse, and the GIL they release (their settings' one definition:
+test_settings_tables.py; mbao.Mesh and mbao.Camera: test_mesh_and_camera.py;
+mbao.devices and mbao.save_image: test_devices_and_images.py).
 
 Each test states one promise of the public API (python/mbao, docs/spec.md). Renders
 are tiny (a few dozen pixels) unless a test needs real work to measure.
 """
 
-import inspect
 import json
 import math
 import os
 import pathlib
-import pickle
-import re
 import subprocess
 import sys
 import textwrap
@@ -25,7 +22,6 @@ import numpy as np
 import pytest
 
 import mbao
-from conftest import shared_scene
 from meshes import box, merge, plane
 
 STATS_KEYS = {
@@ -213,253 +209,6 @@ def test_kd_tree_arrays(cornell):
     lo, hi = (np.asarray(corner) + origin for corner in tree["bounds"])
     scene_lo, scene_hi = (np.asarray(corner) for corner in cornell.bounds)
     assert np.all(lo <= scene_lo) and np.all(hi >= scene_hi)
-
-
-# -- argument checking ---------------------------------------------------------------
-
-# (arguments, exception, regular expression the message must match)
-BAD_ARGUMENTS = [
-    (dict(width=0), ValueError, r"width.*\[1, 16384\]"),
-    (dict(width=20000), ValueError, r"width.*\[1, 16384\]"),
-    (dict(width=2.5), TypeError, r"width"),
-    (dict(width=True), TypeError, r"width"),
-    (dict(height=0), ValueError, r"height.*\[1, 16384\]"),
-    (dict(height=20000), ValueError, r"height.*\[1, 16384\]"),
-    (dict(height=2.5), TypeError, r"height"),
-    (dict(height=True), TypeError, r"height"),
-    (dict(bounces=0), ValueError, r"bounces.*\[1, 16\]"),
-    (dict(bounces=17), ValueError, r"bounces.*\[1, 16\]"),
-    (dict(samples=0), ValueError, r"samples.*\[1, "),
-    (dict(spp=0), ValueError, r"spp.*\[1, "),
-    (dict(rho=-0.1), ValueError, r"rho.*\[0, 1\]"),
-    (dict(rho=1.5), ValueError, r"rho.*\[0, 1\]"),
-    (dict(rho=math.nan), ValueError, r"rho.*\[0, 1\]"),
-    (dict(rho="1"), TypeError, r"rho"),
-    (dict(max_distance=0), ValueError, r"max_distance.*> ?0"),
-    (dict(max_distance=-1), ValueError, r"max_distance.*> ?0"),
-    (dict(max_distance=math.nan), ValueError, r"max_distance.*> ?0"),
-    (dict(estimator="foo"), ValueError, r"estimator.*branching.*path"),
-    (dict(estimator=3), TypeError, r"estimator"),
-    (dict(normals="smooth"), ValueError, r"normals.*shading.*geometric"),
-    (dict(engine=dict(traversal="kd")), ValueError, r"traversal.*auto.*pushdown.*restart.*short-stack.*stack.*lanes"),
-    (dict(engine=dict(organisation="queue")), ValueError, r"organisation.*megakernel.*wavefront"),
-    (dict(engine=dict(organisation="wavefront"), estimator="path"), ValueError, r"wavefront.*branching.*path"),
-    (
-        dict(engine=dict(traversal="lanes", organisation="megakernel")),
-        ValueError,
-        r"lanes.*wavefront.*not \"megakernel\"",
-    ),
-    (dict(engine=dict(traversal="lanes"), estimator="path"), ValueError, r"lanes.*branching estimator only"),
-    (dict(engine=dict(traversal_stats=1)), TypeError, r"traversal_stats"),
-    (dict(seed=-1), ValueError, r"seed.*(2\*\*64|2\^64)"),
-    (dict(seed=2**64), ValueError, r"seed.*(2\*\*64|2\^64)"),
-    (dict(seed=1.5), TypeError, r"seed"),
-    (dict(camera=5), TypeError, r"camera"),
-    (dict(engine=dict(tile_pixels=0)), ValueError, r"tile_pixels"),
-    (dict(engine=dict(work_group_size=0)), ValueError, r"work_group_size"),
-    (dict(engine="stack"), TypeError, r"engine.*mbao.Engine"),
-    (dict(traversl="stack"), TypeError, r"traversl.*width.*engine=mbao.Engine"),
-    (dict(device=1.5), TypeError, r"device"),
-]
-
-
-@pytest.mark.parametrize(
-    "arguments, error, message",
-    BAD_ARGUMENTS,
-    ids=[",".join(f"{k}={v!r}" for k, v in a.items()) for (a, _, _) in BAD_ARGUMENTS],
-)
-def test_bad_argument_is_refused_by_name(cornell, arguments, error, message):
-    settings = dict(width=1, height=1)
-    settings.update(arguments)
-    with pytest.raises(error, match=message):
-        if isinstance(settings.get("engine"), dict):
-            settings["engine"] = mbao.Engine(**settings["engine"])
-        mbao.render(cornell, **settings)
-
-
-# -- one definition of the settings --------------------------------------------------------
-
-ENGINE_KNOBS = ("traversal", "organisation", "tile_pixels", "work_group_size", "traversal_stats")
-
-
-def test_render_lists_the_users_settings_with_the_tables_defaults():
-    parameters = inspect.signature(mbao.render).parameters
-    specs = {spec["name"]: spec for spec in mbao._core.setting_specs()}
-    assert not set(ENGINE_KNOBS) & set(parameters), "engine settings belong in engine=mbao.Engine(...)"
-    for name, spec in specs.items():
-        if spec["group"] == "render":
-            assert parameters[name].default == spec["default"], name
-            assert f"{name}: {spec['doc'].split()[0]}" in mbao.render.__doc__, f"{name} is not documented"
-        else:
-            assert getattr(mbao.Engine(), name) == spec["default"], name
-            assert f"{name}: " in mbao.Engine.__doc__, f"{name} is not documented"
-    assert {"camera", "hbao", "engine", "device", "progress"} <= set(parameters)
-
-
-def test_the_defaults_are_the_cores(cornell):
-    """A render with no settings and one with every default spelt out are the same render."""
-    specs = mbao._core.setting_specs()
-    spelt_out = {spec["name"]: spec["default"] for spec in specs if spec["group"] == "render"}
-    spelt_out.update(width=6, height=5, seed=4)
-    engine = mbao.Engine(**{spec["name"]: spec["default"] for spec in specs if spec["group"] == "engine"})
-    a = mbao.render(cornell, engine=engine, **spelt_out)
-    b = mbao.render(cornell, width=6, height=5, seed=4)
-    np.testing.assert_array_equal(a.ao, b.ao)
-    assert a.stats["kernel_options"] == b.stats["kernel_options"]
-
-
-@pytest.mark.parametrize("cls", [mbao.HBAO, mbao.Denoise, mbao.Temporal])
-def test_the_cores_settings_classes_have_real_signatures_whose_defaults_they_take(cls):
-    """inspect.signature (help(), IDEs, notebooks' completion) reads a core class
-    as it is called; each default is what the constructor gives."""
-    parameters = inspect.signature(cls).parameters
-    made = cls()
-    assert parameters and all(getattr(made, name) == p.default for name, p in parameters.items())
-
-
-@pytest.mark.parametrize("cls, table", [(mbao.HBAO, "hbao"), (mbao.Denoise, "denoise"), (mbao.Temporal, "temporal")])
-def test_the_cores_settings_classes_are_their_tables(cls, table):
-    """One table per class (cpp/render/setting_specs.h) names its parameters in
-    order, gives their defaults, documents each, and makes its repr and pickle."""
-    specs = mbao._core.setting_specs(table)
-    parameters = inspect.signature(cls).parameters
-    assert list(parameters) == [spec["name"] for spec in specs]
-    assert [p.default for p in parameters.values()] == pytest.approx([spec["default"] for spec in specs])
-    for spec in specs:
-        assert f"{spec['name']}: {spec['doc']}" in cls.__doc__ and f"allowed {spec['range']}." in cls.__doc__
-    made = cls(**{spec["name"]: spec["hi"] if spec["kind"] == "integer" else spec["lo"] + 0.5 for spec in specs})
-    again = eval("mbao." + repr(made))
-    assert pickle.loads(pickle.dumps(made)) is not made
-    assert [getattr(again, s["name"]) for s in specs] == [getattr(made, s["name"]) for s in specs]
-    assert [getattr(pickle.loads(pickle.dumps(made)), s["name"]) for s in specs] == [
-        getattr(made, s["name"]) for s in specs
-    ]
-
-
-@pytest.mark.parametrize("table", ["render", "hbao", "bake", "denoise", "temporal"])
-def test_the_spec_shows_each_settings_table_as_the_core_has_it(table):
-    """docs/spec.md's tables of a render's (3.5), HBAO's (4), the bake's own
-    (6), the denoiser's (7.3) and temporal accumulation's (7.4) settings are
-    mbao.settings.markdown_table's, which prints the one to paste where they
-    differ."""
-    spec = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "spec.md").read_text()
-    assert mbao.settings.markdown_table(table) in spec, mbao.settings.markdown_table(table)
-
-
-def test_a_camera_has_a_real_signature_and_a_repr_that_makes_it_again():
-    signature = inspect.signature(mbao.Camera)
-    assert list(signature.parameters) == ["eye", "target", "up", "vfov_deg", "max_distance"]
-    camera = mbao.Camera((0.0, 1.0, 5.0), (0.0, 0.0, 0.0))
-    assert [camera.up, camera.vfov_deg, camera.max_distance] == [
-        tuple(signature.parameters["up"].default),
-        signature.parameters["vfov_deg"].default,
-        None,
-    ]
-    suggesting = mbao.Camera((0.0, 1.0, 5.0), (0.0, 0.0, 0.0), max_distance=2.5)
-    again = eval("mbao." + repr(suggesting))
-    assert (again.eye, again.target, again.max_distance) == (suggesting.eye, suggesting.target, 2.5)
-    assert "does not use it" not in mbao.Camera.__doc__ and "max_distance_source" in mbao.Camera.__doc__
-
-
-@pytest.mark.parametrize("cls, maker", [(mbao.Scene, "mbao.load"), (mbao.Device, "mbao.devices()")])
-def test_classes_made_elsewhere_say_where_when_called(cls, maker):
-    assert not inspect.signature(cls).parameters
-    with pytest.raises(TypeError, match=re.escape(maker)):
-        cls()
-
-
-def test_a_mesh_keeps_its_own_signature():
-    assert list(inspect.signature(mbao.Mesh).parameters) == ["vertices", "indices", "normals", "texcoords"]
-
-
-def test_engine_keywords_of_render_still_work_for_one_release(cornell):
-    settings = dict(width=8, height=8, bounces=2, seed=3)
-    with pytest.warns(DeprecationWarning, match=r"engine=mbao.Engine\(traversal=...\)"):
-        old = mbao.render(cornell, traversal="restart", **settings)
-    new = mbao.render(cornell, engine=mbao.Engine(traversal="restart"), **settings)
-    assert old.stats["traversal_mode"] == new.stats["traversal_mode"] == "restart"
-    np.testing.assert_array_equal(old.ao, new.ao)
-    with pytest.raises(TypeError, match="beside engine="):
-        mbao.render(cornell, engine=mbao.Engine(), traversal="restart", **settings)
-
-
-def test_an_engine_is_checked_when_it_is_made():
-    with pytest.raises(ValueError, match="organisation must be one of"):
-        mbao.Engine(organisation="queue")
-    assert mbao.Engine(tile_pixels=np.int64(9)).tile_pixels == 9
-    assert "traversal='stack'" in repr(mbao.Engine(traversal="stack"))
-
-
-def test_scene_must_be_a_scene_or_a_path():
-    vertices, indices = box((0, 0, 0), (1, 1, 1))
-    with pytest.raises(TypeError, match="scene.*path"):
-        mbao.render(vertices, width=1, height=1)
-    with pytest.raises(mbao.LoadError, match="no_such_scene.glb"):
-        mbao.render("no_such_scene.glb", width=1, height=1)
-    with pytest.raises(mbao.LoadError, match="no_such_camera.json"):
-        mbao.render(mbao.cornell_box(), camera="no_such_camera.json", width=1, height=1)
-
-
-@pytest.mark.parametrize("as_path", [str, pathlib.Path])
-def test_paths_are_taken_where_a_scene_or_a_camera_is(as_path):
-    folder = shared_scene("cornell_box")
-    scene, camera = mbao.load(folder / "scene.glb"), mbao.Camera.load(str(folder / "camera.json"))
-    settings = dict(width=12, height=10, bounces=2, seed=5)
-    expected = mbao.render(scene, camera=camera, **settings)
-    by_path = mbao.render(as_path(folder / "scene.glb"), camera=as_path(folder / "camera.json"), **settings)
-    np.testing.assert_array_equal(by_path.ao, expected.ao)
-    reference = mbao.reference(
-        as_path(folder / "scene.glb"),
-        camera=as_path(folder / "camera.json"),
-        width=6,
-        height=5,
-        target_error=1.0,
-        min_passes=2,
-        samples=4,
-        progress=False,
-    )
-    assert reference.settings["scene"] == scene.name and reference.ao.shape == (5, 6)
-    rows = mbao.convergence(
-        as_path(folder / "scene.glb"), ["b1"], reference, sample_counts=(1,), progress=False, plot=False
-    )
-    assert len(rows) == 1
-    t, triangle, _ = mbao.trace(as_path(folder / "scene.glb"), [camera.eye], [np.subtract(camera.target, camera.eye)])
-    np.testing.assert_array_equal(
-        triangle, mbao.trace(scene, [camera.eye], [np.subtract(camera.target, camera.eye)])[1]
-    )
-
-
-def test_bad_device_index_lists_the_devices(cornell, device):
-    with pytest.raises(ValueError, match="device") as info:
-        mbao.render(cornell, width=1, height=1, device=99)
-    assert "99" in str(info.value) and device.name in str(info.value)
-
-
-def test_unknown_device_name_lists_the_devices(cornell, device):
-    with pytest.raises(ValueError, match="device") as info:
-        mbao.render(cornell, width=1, height=1, device="no-such-gpu")
-    assert "no-such-gpu" in str(info.value) and device.name in str(info.value)
-
-
-def test_more_than_16_bounces_are_fine_with_the_path_estimator(cornell):
-    result = mbao.render(cornell, width=1, height=1, bounces=17, estimator="path")
-    assert result.ao.shape == (1, 1)
-
-
-def test_infinite_max_distance_is_fine(cornell):
-    result = mbao.render(cornell, width=2, height=2, max_distance=math.inf)
-    assert result.ao.shape == (2, 2)
-
-
-@pytest.mark.parametrize("seed", [0, 2**32, 2**63, 2**64 - 1, np.uint64(2**64 - 1)])
-def test_seed_takes_any_value_in_0_to_2_pow_64(cornell, seed):
-    result = mbao.render(cornell, width=1, height=1, seed=seed)
-    assert result.ao.shape == (1, 1)
-
-
-def test_exploding_branching_work_points_to_the_path_estimator(cornell):
-    with pytest.raises(ValueError, match="path"):
-        mbao.render(cornell, width=1, height=1, samples=64, bounces=6)
 
 
 # -- backgrounds (SPEC 2) --------------------------------------------------------------------

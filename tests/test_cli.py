@@ -1,63 +1,20 @@
 """`python -m mbao`: the command line, run as a user would, in a subprocess."""
 
 import json
-import csv
-import os
-import pathlib
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 import mbao
+from command_line import output_lines, read_image, run_mbao, write_box_scene
 from gltf_writer import GltfBuilder
-from meshes import box, merge, plane
-
-# The package directory's parent, so that the subprocess runs this same mbao.
-PACKAGE_ROOT = str(pathlib.Path(mbao.__file__).resolve().parents[1])
-
-
-def run_mbao(*args, cwd):
-    env = dict(os.environ, PYTHONPATH=PACKAGE_ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    return subprocess.run(
-        [sys.executable, "-m", "mbao", *map(str, args)], capture_output=True, text=True, timeout=120, cwd=cwd, env=env
-    )
-
-
-def read_image(path):
-    import OpenImageIO as oiio
-
-    image = oiio.ImageBuf(str(path))
-    assert not image.has_error, image.geterror()
-    return image.spec(), image.get_pixels(oiio.FLOAT)
-
-
-def output_lines(stdout):
-    """The report, as {first word: rest of the line}."""
-    lines = {}
-    for line in stdout.splitlines():
-        if line.strip():
-            key, _, rest = line.partition(" ")
-            lines[key] = rest.strip()
-    return lines
+from meshes import box, plane
 
 
 @pytest.fixture(scope="module")
 def gltf_scene(tmp_path_factory):
-    """A box on a floor as a .gltf file, and a camera.json looking at it."""
-    folder = tmp_path_factory.mktemp("cli_scene")
-    vertices, indices = merge(plane(2.0), box((-0.5, 0.0, -0.5), (0.5, 1.0, 0.5)))
-    b = GltfBuilder()
-    mesh = b.add_mesh([b.primitive(vertices, indices)])
-    b.add_scene([b.add_node(mesh=mesh)], default=True)
-    scene = b.write(folder / "scene.gltf")
-    camera = folder / "camera.json"
-    camera.write_text(json.dumps({"eye": [2.0, 2.5, 3.0], "target": [0, 0.3, 0], "up": [0, 1, 0], "vfov_deg": 40}))
-    away = folder / "away.json"  # looks up into the empty sky
-    away.write_text(json.dumps({"eye": [0, 3, 0], "target": [0, 10, 0], "up": [0, 0, 1], "vfov_deg": 30}))
-    return scene, camera, away
+    return write_box_scene(tmp_path_factory.mktemp("cli_scene"))
 
 
 def test_render_cornell_box_to_png(tmp_path, device):
@@ -168,52 +125,6 @@ def test_help_gives_every_setting_its_default_and_the_engine_options_a_group(tmp
         "(default: 0, allowed [0, 2^64))",
     ):
         assert default in render_part, default
-
-
-def test_orbit_writes_the_sequence_as_a_looping_gif(tmp_path):
-    """Each GIF frame is the sequence's frame in 8-bit greys; frames alike in a
-    row may be merged by Pillow, but the loop's length is frames / fps."""
-    from PIL import Image, ImageSequence
-
-    proc = run_mbao(
-        "orbit",
-        "--frames",
-        6,
-        "--fps",
-        20,
-        "--width",
-        24,
-        "--height",
-        16,
-        "--bounces",
-        2,
-        "--temporal",
-        "-o",
-        "turn.gif",
-        cwd=tmp_path,
-    )
-    assert proc.returncode == 0, proc.stderr
-    assert output_lines(proc.stdout)["wrote"].startswith("turn.gif")
-    gif = Image.open(tmp_path / "turn.gif")
-    assert gif.size == (24, 16) and gif.info["loop"] == 0
-    frames = [(np.asarray(frame.convert("L")), frame.info["duration"]) for frame in ImageSequence.Iterator(gif)]
-    assert sum(duration for _, duration in frames) == 6 * 50
-    first = mbao.cornell_box().default_camera(24, 16)
-    expected = next(mbao.render_sequence(mbao.cornell_box(), [first], width=24, height=16, bounces=2))
-    np.testing.assert_array_equal(frames[0][0], np.round(expected.ao * 255).astype(np.uint8))
-
-
-def test_orbit_cameras_turn_the_eye_about_the_target():
-    from mbao.orbit import orbit_cameras
-
-    start = mbao.Camera((0.0, 1.0, 2.0), (0.0, 1.0, 0.0), vfov_deg=45.0, max_distance=3.0)
-    quarter_turns = orbit_cameras(start, 4)
-    np.testing.assert_allclose(
-        [c.eye for c in quarter_turns], [(0, 1, 2), (2, 1, 0), (0, 1, -2), (-2, 1, 0)], atol=1e-6
-    )
-    assert all(c.target == start.target and c.vfov_deg == 45.0 and c.max_distance == 3.0 for c in quarter_turns)
-    with pytest.raises(ValueError, match="frames must be an integer >= 1"):
-        orbit_cameras(start, 0)
 
 
 def test_version(tmp_path):
@@ -415,93 +326,6 @@ def test_denoise_options_reach_the_filter_and_are_checked_without_denoise(tmp_pa
     assert refused.returncode != 0 and "denoise iterations must be in [1, 14], got 0" in refused.stderr
 
 
-def test_compare_writes_figure_2_the_error_plot_and_its_table(tmp_path, gltf_scene):
-    scene, camera, _ = gltf_scene
-    proc = run_mbao("compare", scene, "--camera", camera, "--width", 16, "--height", 12, "--max-distance", 1.0,
-                    "--target-error", 0.05, "--sample-counts", 1, 2, "--quiet", "-o", "study", cwd=tmp_path)  # fmt: skip
-    assert proc.returncode == 0, proc.stderr
-    assert output_lines(proc.stdout)["radius"] == "1 (--max-distance)"
-    for name in ("study_figure2.png", "study_error_vs_time.png"):
-        spec, _ = read_image(tmp_path / name)
-        assert spec.width > 400 and spec.height > 100
-    lines = (tmp_path / "study_error_vs_time.csv").read_text().splitlines()
-    assert lines[0] == "method,cost,frame_ms,rmse,bias,block_rmse,noise_floor"
-    methods = [line.split(",")[0] for line in lines[1:]]
-    assert methods == [
-        m for m in ("hbao", "b1", "b2 branching", "b2 path", "b1 + gtao fit", "hbao + gtao fit") for _ in (1, 2)
-    ] + [
-        "b2 branching + denoise"
-    ]  # from r = 2 only
-
-
-def test_compare_on_a_dask_scheduler_has_the_local_errors(tmp_path, gltf_scene, dask_client):
-    scene, camera, _ = gltf_scene
-    common = [
-        "compare",
-        scene,
-        "--camera",
-        camera,
-        "--width",
-        16,
-        "--height",
-        12,
-        "--max-distance",
-        1.0,
-        "--target-error",
-        0.05,
-        "--sample-counts",
-        1,
-        2,
-        "--quiet",
-    ]
-    tables = {}
-    for name, extra in (("here", []), ("cluster", ["--scheduler", dask_client.scheduler.address])):
-        proc = run_mbao(*common, "-o", name, *extra, cwd=tmp_path)
-        assert proc.returncode == 0, proc.stderr
-        rows = list(csv.DictReader((tmp_path / f"{name}_error_vs_time.csv").open()))
-        tables[name] = [{k: v for k, v in row.items() if k != "frame_ms"} for row in rows]
-    assert tables["cluster"] == tables["here"]
-
-
-def test_compare_names_a_scheduler_it_cannot_reach(tmp_path):
-    proc = run_mbao("compare", "--width", 8, "--height", 8, "--quiet", "--scheduler", "tcp://127.0.0.1:9", cwd=tmp_path)
-    assert proc.returncode == 2
-    assert "--scheduler tcp://127.0.0.1:9: cannot reach a Dask scheduler there" in proc.stderr
-
-
-def test_compares_figures_name_the_scene_and_keep_their_panels_one_size():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    from mbao import compare
-
-    class Named:
-        def __init__(self, name):
-            self.name = name
-
-    assert compare.short_name(Named("../shared/scenes/sibenik/scene.glb")) == "sibenik"
-    assert compare.short_name(Named("/data/bunny.ply.glb")) == "bunny.ply"
-    assert compare.short_name(Named("cornell_box")) == "cornell_box"
-    figure = compare.figure2(
-        mbao.cornell_box(), None, 0.5, width=16, height=12, samples=2, rho=1.0, seed=0, device=None
-    )
-    panels = figure.axes[:4]
-    widths = {round(ax.get_position().width, 6) for ax in panels}
-    heights = {round(ax.get_position().height, 6) for ax in panels}
-    assert len(widths) == 1 and len(heights) == 1, (widths, heights)
-    assert figure._suptitle.get_text().startswith("cornell_box, 16x12")
-
-
-def test_compare_takes_the_radius_from_camera_json(tmp_path, gltf_scene):
-    scene, camera, _ = gltf_scene
-    with_radius = tmp_path / "camera.json"
-    with_radius.write_text(json.dumps({**json.loads(camera.read_text()), "max_distance": 0.7}))
-    proc = run_mbao("compare", scene, "--camera", with_radius, "--width", 8, "--height", 8, "--target-error", 0.2,
-                    "--sample-counts", 1, "--quiet", cwd=tmp_path)  # fmt: skip
-    assert proc.returncode == 0, proc.stderr
-    assert output_lines(proc.stdout)["radius"] == "0.7 (camera.json)"
-
-
 def test_devices_lists_the_devices(tmp_path, device):
     proc = run_mbao("devices", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
@@ -531,21 +355,6 @@ def test_bad_input_gives_a_one_line_message(tmp_path, args, message):
     assert len(lines) == 1 and lines[0].startswith("mbao: "), f"stderr is not one 'mbao: ...' line:\n{proc.stderr}"
     assert re.search(message, lines[0]), lines[0]
     assert not (tmp_path / "x.png").exists()
-
-
-@pytest.mark.parametrize(
-    "args, message",
-    [
-        (["--fps", "0"], r"fps must be in \(0, 100\]"),
-        (["--temporal", "--samples", "1"], r"temporal accumulation .* samples >= 2"),
-    ],
-    ids=["0 fps", "temporal with r = 1"],
-)
-def test_a_bad_orbit_gives_a_one_line_message_and_no_gif(tmp_path, args, message):
-    proc = run_mbao("orbit", *args, "--frames", 2, "--width", 4, "--height", 4, "-o", "x.gif", cwd=tmp_path)
-    assert proc.returncode != 0 and "Traceback" not in proc.stderr
-    assert re.fullmatch("mbao: " + message + r".*\n", proc.stderr), proc.stderr
-    assert not (tmp_path / "x.gif").exists()
 
 
 def test_unknown_device_lists_the_devices(tmp_path, device):
