@@ -341,7 +341,7 @@ def test_an_assimp_format_bakes_into_its_own_uvs_and_keeps_them_beside_generated
     materials and UV sets into the glTF it makes, and a generated set after
     them (issue 60: the vt set was dropped)."""
     from mbao._gltf import GltfDocument
-    from test_bake_file import validation_errors
+    from baked_files import validation_errors
 
     path = two_material_obj(tmp_path)
     with pytest.raises(ValueError, match=r"material \d+ \('wall'\) has no UV set"):
@@ -375,7 +375,7 @@ def test_bake_file_keeps_an_assimp_formats_base_colours(tmp_path):
     import OpenImageIO as oiio
     from mbao._gltf import GltfDocument
     from mbao.scene import load_with_base_colors
-    from test_bake_file import validation_errors
+    from baked_files import validation_errors
 
     texels = np.random.default_rng(3).integers(0, 256, (4, 6, 3), dtype=np.uint8)
     (tmp_path / "floor.tga").write_bytes(tga_bytes(texels))
