@@ -40,10 +40,10 @@
 #include <string>
 #include <thread>
 
+#include "accel/event_partition.h"
 #include "accel/kd_tree.h"
 #include "accel/sah_sweep.h"
 #include "accel/split_events.h"
-#include "accel/triangle_clip.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "core/work_sharing.h"
@@ -63,40 +63,14 @@ constexpr std::size_t kMinTrianglesToOffer = 2048;
 // room reserved and never written is never touched, so it takes no memory.
 constexpr std::size_t kRowsReservedPerTriangle = 6;
 
-enum Side : std::uint8_t { Below, Above, Both };
-
-// What a thread needs while it splits a node, reused from node to node.
+// What a thread needs while it builds a node, reused from node to node.
 struct Scratch {
-  // `side` is zeroed once (classify reads a triangle's side before it
-  // selects what to write) and written for every triangle of a node before
-  // its side is used. `straddlers` has one slot more than a node can list: the
-  // partition writes a triangle before it knows whether to keep it.
-  explicit Scratch(std::size_t triangles) : side(new Side[triangles]()), straddlers(new std::uint32_t[triangles + 1]) {}
+  explicit Scratch(std::size_t triangles) : partition(triangles) {}
 
-  std::unique_ptr<Side[]> side;                 // by triangle index
-  std::unique_ptr<std::uint32_t[]> straddlers;  // of a node, to be clipped
-  // New events of straddling triangles, by axis, before they are merged in.
-  std::array<std::vector<Event>, 3> clipped_below, clipped_above;
+  PartitionScratch partition;
   std::vector<std::uint32_t> leaf_entries;  // of a leaf, before they are sorted
   std::size_t rows_not_counted = 0;         // written since the last Builder::count_rows
   SweepBlocks sweep;
-
-  void clear_new_events() {
-    for (int axis = 0; axis < 3; ++axis) {
-      clipped_below[axis].clear();
-      clipped_above[axis].clear();
-    }
-  }
-};
-
-// A split's children: first their triangle counts (from partition or
-// partition_cutting_boxes), then their events (fill_children).
-struct Children {
-  NodeEvents below, above;
-  std::size_t n_below = 0, n_above = 0;
-  // The split axis where straddlers' boxes were cut (their events along the
-  // other axes then go to both children), or -1 where they were clipped.
-  int cut_axis = -1;
 };
 
 // A node's triangles and the leaf entries its subtree may hold.
@@ -169,9 +143,7 @@ class Builder {
  public:
   Builder(const TriangleMesh& mesh, const KdBuildOptions& options, const glm::vec3& origin,
           const std::vector<std::uint32_t>& triangle_mask)
-      : positions_(mesh.positions),
-        triangles_(mesh.triangles),
-        origin_(origin),
+      : mesh_{mesh.positions, mesh.triangles, origin},
         triangle_mask_(triangle_mask),
         options_(options),
         threads_(options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()))) {}
@@ -179,8 +151,8 @@ class Builder {
   KdTree build() {
     Stopwatch clock;
     KdTree tree;
-    for (const glm::vec3& p : positions_) tree.bounds.extend(p - origin_);
-    const std::size_t n = triangles_.size();
+    for (std::uint32_t v = 0; v < mesh_.positions.size(); ++v) tree.bounds.extend(mesh_.position(v));
+    const std::size_t n = mesh_.triangles.size();
     if (n > std::size_t(kMaxEventTriangle) + 1) throw Error("kd-tree: more than 2^30 triangles");
     max_depth_ = options_.max_depth > 0 ? options_.max_depth
                                         : int(std::lround(8.0 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1)))));
@@ -218,26 +190,18 @@ class Builder {
   }
 
  private:
-  // The tree's frame: positions less the origin.
-  glm::vec3 position(std::uint32_t vertex) const { return positions_[vertex] - origin_; }
-
-  std::array<glm::vec3, 3> corners(std::uint32_t t) const {
-    const glm::uvec3& v = triangles_[t];
-    return {position(v[0]), position(v[1]), position(v[2])};
-  }
-
   // Exact for float input: the differences and products of floats are exact
   // in double, so only a triangle whose corners are collinear gets a zero
   // cross product. No ray can hit such a triangle, so it stays out of the tree.
   bool has_zero_area(std::uint32_t t) const {
-    const std::array<glm::vec3, 3> p = corners(t);
+    const std::array<glm::vec3, 3> p = mesh_.corners(t);
     const glm::dvec3 n = glm::cross(glm::dvec3(p[1]) - glm::dvec3(p[0]), glm::dvec3(p[2]) - glm::dvec3(p[0]));
     return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
   }
 
   // The triangles of non-zero area, in order.
   std::vector<std::uint32_t> triangles_with_area(bool parallel) const {
-    const std::size_t n = triangles_.size();
+    const std::size_t n = mesh_.triangles.size();
     std::unique_ptr<bool[]> has_area(new bool[n]);
     for_each_range(n, parallel ? threads_ : 1, [&](std::size_t first, std::size_t last) {
       for (std::size_t t = first; t < last; ++t) has_area[t] = !has_zero_area(std::uint32_t(t));
@@ -254,14 +218,14 @@ class Builder {
   // sorted (make_sorted_events), with no boxes kept: those took 24 bytes a
   // triangle at the build's peak.
   NodeEvents root_events(const Bounds3& bounds, std::size_t& placed) const {
-    const bool parallel = threads_ > 1 && triangles_.size() >= kMinTrianglesToOffer;  // else threads cost more
+    const bool parallel = threads_ > 1 && mesh_.triangles.size() >= kMinTrianglesToOffer;  // else threads cost more
     const std::vector<std::uint32_t> kept = triangles_with_area(parallel);
     placed = kept.size();
     NodeEvents events(2 * kept.size());
     for_each_axis(parallel, [&](int axis) {
       const auto make = [&](auto&& push) {
         for (const std::uint32_t t : kept) {
-          const std::array<glm::vec3, 3> p = corners(t);
+          const std::array<glm::vec3, 3> p = mesh_.corners(t);
           const float lo = std::min({p[0][axis], p[1][axis], p[2][axis]});
           const float hi = std::max({p[0][axis], p[1][axis], p[2][axis]});
           for_interval_events(lo, hi, t, push);
@@ -296,8 +260,9 @@ class Builder {
     if (one_sided) {
       (empty_below ? children.n_above : children.n_below) = n;
     } else {
-      children = n >= options_.min_triangles_to_clip ? partition(events, split, below_box, above_box, scratch)
-                                                     : partition_cutting_boxes(events, split, scratch);
+      children = n >= options_.min_triangles_to_clip
+                     ? partition_clipping(events, split, below_box, above_box, mesh_, scratch.partition)
+                     : partition_cutting_boxes(events, split, scratch.partition);
     }
     const double entries = double(children.n_below) + double(children.n_above);
     if (entries > share.budget) {
@@ -307,7 +272,7 @@ class Builder {
     if (one_sided) {
       (empty_below ? children.above : children.below) = std::move(events);
     } else {
-      fill_children(events, scratch, children);
+      fill_children(events, scratch.partition, children);
     }
     events = NodeEvents{};  // release the parent's events before going deeper
 
@@ -344,160 +309,6 @@ class Builder {
     reserve_rows(part, subtree.share.triangles);
     build_node(part, scratch, subtree.box, std::move(subtree.events), subtree.share, subtree.depth);
     return part;
-  }
-
-  // Which side of the split each triangle goes to (in scratch.side), and the
-  // children's triangle counts. A triangle on both sides is clipped to each
-  // child: where it misses a child's cell it stays out of it, elsewhere it
-  // gets new events for its clipped box (in scratch, for fill_children).
-  Children partition(const NodeEvents& events, const Split& split, const Bounds3& below_box, const Bounds3& above_box,
-                     Scratch& scratch) const {
-    Side* side = scratch.side.get();
-    classify(events, split, side);
-    scratch.clear_new_events();
-    Children children;
-    // Which side a triangle is on is a coin flip to the branch predictor:
-    // the counts add comparisons, and each triangle is written to the list of
-    // straddlers and kept there by moving its end past it.
-    std::uint32_t* straddlers = scratch.straddlers.get();
-    std::size_t n_straddlers = 0;
-    for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
-      const std::uint32_t t = e->triangle();
-      const bool begins = begins_triangle(e->type());
-      const Side s = side[t];
-      children.n_below += begins & (s == Below);
-      children.n_above += begins & (s == Above);
-      straddlers[n_straddlers] = t;
-      n_straddlers += begins & (s == Both);
-    }
-    for (std::size_t i = 0; i < n_straddlers; ++i) {
-      const std::uint32_t t = straddlers[i];
-      const auto [below_part, above_part] = clipped_bounds_of_split(corners(t), below_box, above_box, split.axis);
-      children.n_below += add_events(t, below_part, scratch.clipped_below);
-      children.n_above += add_events(t, above_part, scratch.clipped_above);
-    }
-    return children;
-  }
-
-  // Which side of the split each triangle of the node is on, from one pass
-  // over the split axis's events in order: a start below the split makes a
-  // triangle straddle until its end, if that is below too, makes it Below;
-  // an end at or above the split leaves what its start made it. Positions
-  // compare as their order bits, and the side is selected, not branched to.
-  static void classify(const NodeEvents& events, const Split& split, Side* side) {
-    const std::uint32_t split_order = Event::make(split.position, EventType::End, 0).position_order();
-    for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
-      const std::uint32_t t = e->triangle(), order = e->position_order();
-      const EventType type = e->type();
-      const bool below = order<split_order, above = order> split_order;
-      const Side made = below ? (type == EventType::Start ? Both : Below) : (above ? Above : Both);
-      const Side before = side[t];
-      side[t] = below || type != EventType::End ? made : before;
-    }
-  }
-
-  // Like partition, but a straddling triangle's box is cut at the split: its
-  // interval [s, e] along the split axis becomes [s, split] below and
-  // [split, e] above (planar where that is one point), and its events along
-  // the other axes go to both children as they are.
-  Children partition_cutting_boxes(const NodeEvents& events, const Split& split, Scratch& scratch) const {
-    Side* side = scratch.side.get();
-    classify(events, split, side);
-    scratch.clear_new_events();
-    std::vector<Event>& below = scratch.clipped_below[std::size_t(split.axis)];
-    std::vector<Event>& above = scratch.clipped_above[std::size_t(split.axis)];
-    Children children;
-    children.cut_axis = split.axis;
-    for (const Event *e = events.begin(split.axis), *end = events.end(split.axis); e != end; ++e) {
-      const std::uint32_t t = e->triangle();
-      const EventType type = e->type();
-      if (side[t] != Both) {
-        (side[t] == Below ? children.n_below : children.n_above) += begins_triangle(type);
-      } else if (type == EventType::Planar) {  // on the split plane
-        below.push_back(*e);
-        above.push_back(*e);
-        ++children.n_below;
-        ++children.n_above;
-      } else if (type == EventType::Start) {  // s <= split
-        ++children.n_below;
-        ++children.n_above;
-        if (e->position() < split.position) {
-          below.push_back(*e);
-          below.push_back(Event::make(split.position, EventType::End, t));
-        } else {
-          below.push_back(Event::make(split.position, EventType::Planar, t));
-        }
-      } else if (e->position() > split.position) {  // e > split
-        above.push_back(Event::make(split.position, EventType::Start, t));
-        above.push_back(*e);
-      } else {  // e == split
-        above.push_back(Event::make(split.position, EventType::Planar, t));
-      }
-    }
-    return children;
-  }
-
-  // Adds the events of `box`, the part of triangle t in a child's cell, if
-  // there is one; returns whether there was.
-  static bool add_events(std::uint32_t t, const std::optional<Bounds3>& box, std::array<std::vector<Event>, 3>& out) {
-    if (!box) return false;
-    for (std::size_t axis = 0; axis < 3; ++axis)
-      for_box_events(int(axis), *box, t, [&](const Event& e) { out[axis].push_back(e); });
-    return true;
-  }
-
-  // Allocates the children's events and merges them in, axis by axis, from
-  // the parent's events and the sides and new events that partition or
-  // partition_cutting_boxes left in scratch. Each of the parent's axes is
-  // released once merged.
-  static void fill_children(NodeEvents& parent, Scratch& scratch, Children& children) {
-    children.below = NodeEvents(2 * children.n_below);
-    children.above = NodeEvents(2 * children.n_above);
-    for (int axis = 0; axis < 3; ++axis) {
-      merge_sides(parent, axis, scratch.side.get(), scratch.clipped_below[std::size_t(axis)],
-                  scratch.clipped_above[std::size_t(axis)], children,
-                  children.cut_axis >= 0 && axis != children.cut_axis);
-      parent.release(axis);
-    }
-  }
-
-  // The children's events along `axis`: the parent's events of triangles
-  // wholly on one side go to that side (and with `both_to_both`, those of
-  // triangles on both sides to both), merged with the clipped triangles' new
-  // events. One pass over the parent's events fills both children.
-  static void merge_sides(NodeEvents& parent, int axis, const Side* side, std::vector<Event>& clipped_below,
-                          std::vector<Event>& clipped_above, Children& children, bool both_to_both) {
-    // A sentinel above every event ends each run of new events without a bounds check.
-    for (std::vector<Event>* clipped : {&clipped_below, &clipped_above}) {
-      sort_events(clipped->data(), clipped->data() + clipped->size());
-      clipped->push_back(Event::after_all());
-    }
-    const Event *extra_below = clipped_below.data(), *extra_above = clipped_above.data();
-    Event* below = children.below.begin(axis);
-    Event* above = children.above.begin(axis);
-    // The side an event goes to is a coin flip to the branch predictor: each
-    // event is written to both children and kept where it belongs.
-    const std::array<std::uint8_t, 3> keep_below{1, 0, both_to_both}, keep_above{0, 1, both_to_both};  // by Side
-    // In chunks, each one's pages handed back once merged: the root's split
-    // would otherwise hold its events along the axis and the children's whole.
-    constexpr std::ptrdiff_t kChunk = std::ptrdiff_t(1) << 17;
-    for (const Event *e = parent.begin(axis), *end = parent.end(axis); e != end;) {
-      for (const Event* chunk_end = e + std::min(end - e, kChunk); e != chunk_end; ++e) {
-        const Event event = *e;
-        while (*extra_below < event) *below++ = *extra_below++;
-        while (*extra_above < event) *above++ = *extra_above++;
-        const Side s = side[event.triangle()];
-        *below = event;
-        below += keep_below[s];
-        *above = event;
-        above += keep_above[s];
-      }
-      parent.release_before(axis, e);
-    }
-    below = std::copy(extra_below, static_cast<const Event*>(&clipped_below.back()), below);
-    above = std::copy(extra_above, static_cast<const Event*>(&clipped_above.back()), above);
-    children.below.close_axis(axis, below);
-    children.above.close_axis(axis, above);
   }
 
   // The leaf's node, then its entries two to a node (the last one's second
@@ -540,9 +351,7 @@ class Builder {
     return masked ? triangle | MBAO_KD_ENTRY_MASKED : triangle;
   }
 
-  const std::vector<glm::vec3>& positions_;
-  const std::vector<glm::uvec3>& triangles_;
-  const glm::vec3 origin_;
+  const TreeFrameMesh mesh_;
   const std::vector<std::uint32_t>& triangle_mask_;
   const KdBuildOptions& options_;
   const int threads_;
