@@ -3,8 +3,6 @@ the file, everything else kept, and the Khronos glTF-Validator's verdict on
 what mbao writes."""
 
 import copy
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -14,6 +12,7 @@ from gltf_writer import GltfBuilder
 from meshes import plane
 from mbao._gltf import GltfDocument
 from baked_files import floor_and_wall_obj, validation_errors
+from command_line import run_mbao
 from test_bake_gltf import floor_and_wall
 
 
@@ -205,70 +204,44 @@ def test_outputs_that_cannot_be_written_are_refused_before_the_bake(tmp_path, ou
 def test_the_command_line_bakes_a_file(tmp_path):
     source = floor_and_wall(tmp_path)
     output = tmp_path / "baked.glb"
-    run = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "mbao",
-            "bake",
-            str(source),
-            "-o",
-            str(output),
-            "--target",
-            "texture",
-            "--resolution",
-            "16",
-            "--samples",
-            "4",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
+    run = run_mbao(
+        "bake",
+        source,
+        "-o",
+        output,
+        "--target",
+        "texture",
+        "--resolution",
+        "16",
+        "--samples",
+        "4",
+        "--quiet",
+        cwd=tmp_path,
     )
     assert run.returncode == 0, run.stderr
     assert "replaced     material 0's occlusion texture" in run.stdout and f"wrote        {output}" in run.stdout
     assert validation_errors(output) == []
-    generated = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "mbao",
-            "bake",
-            str(source),
-            "-o",
-            str(tmp_path / "g.glb"),
-            "--target",
-            "texture",
-            "--texcoord",
-            "generate",
-            "--resolution",
-            "32",
-            "16",
-            "--samples",
-            "2",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
+    generated = run_mbao(
+        "bake",
+        source,
+        "-o",
+        tmp_path / "g.glb",
+        "--target",
+        "texture",
+        "--texcoord",
+        "generate",
+        "--resolution",
+        "32",
+        "16",
+        "--samples",
+        "2",
+        "--quiet",
+        cwd=tmp_path,
     )
     assert generated.returncode == 0, generated.stderr
     assert "32x16 into generated UVs" in generated.stdout and validation_errors(tmp_path / "g.glb") == []
-    colored = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "mbao",
-            "bake",
-            str(source),
-            "-o",
-            str(tmp_path / "c.glb"),
-            "--vertex-colors",
-            "--samples",
-            "2",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
+    colored = run_mbao(
+        "bake", source, "-o", tmp_path / "c.glb", "--vertex-colors", "--samples", "2", "--quiet", cwd=tmp_path
     )
     assert colored.returncode == 0, colored.stderr
     assert "darkens direct light too" in colored.stdout and validation_errors(tmp_path / "c.glb") == []
@@ -276,74 +249,45 @@ def test_the_command_line_bakes_a_file(tmp_path):
     (tmp_path / "camera.json").write_text(
         '{"eye": [0, 1, 3], "target": [0, 0, 0], "up": [0, 1, 0], "vfov_deg": 60, "max_distance": 0.25}'
     )
-    limited = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "mbao",
-            "bake",
-            str(source),
-            "-o",
-            str(tmp_path / "l.glb"),
-            "--camera",
-            str(tmp_path / "camera.json"),
-            "--samples",
-            "2",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
+    limited = run_mbao(
+        "bake",
+        source,
+        "-o",
+        tmp_path / "l.glb",
+        "--camera",
+        tmp_path / "camera.json",
+        "--samples",
+        "2",
+        "--quiet",
+        cwd=tmp_path,
     )
     assert limited.returncode == 0, limited.stderr
     assert "radius       0.25 (camera.json)" in limited.stdout
-    obj = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "mbao",
-            "bake",
-            str(floor_and_wall_obj(tmp_path)),
-            "-o",
-            str(tmp_path / "o.gltf"),
-            "--samples",
-            "2",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
+    obj = run_mbao(
+        "bake", floor_and_wall_obj(tmp_path), "-o", tmp_path / "o.gltf", "--samples", "2", "--quiet", cwd=tmp_path
     )
     assert obj.returncode == 0, obj.stderr
     assert validation_errors(tmp_path / "o.gltf") == []
-    obj_texture = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "mbao",
-            "bake",
-            str(floor_and_wall_obj(tmp_path)),
-            "-o",
-            str(tmp_path / "ot.glb"),
-            "--target",
-            "texture",
-            "--texcoord",
-            "generate",
-            "--resolution",
-            "32",
-            "--samples",
-            "2",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
+    obj_texture = run_mbao(
+        "bake",
+        floor_and_wall_obj(tmp_path),
+        "-o",
+        tmp_path / "ot.glb",
+        "--target",
+        "texture",
+        "--texcoord",
+        "generate",
+        "--resolution",
+        "32",
+        "--samples",
+        "2",
+        "--quiet",
+        cwd=tmp_path,
     )
     assert obj_texture.returncode == 0, obj_texture.stderr
     # Assimp gives an OBJ without materials one (its DefaultMaterial), which the file written keeps.
     assert "material 0   32x32 into generated UVs" in obj_texture.stdout and "material -1" not in obj_texture.stdout
-    refused = subprocess.run(
-        [sys.executable, "-m", "mbao", "bake", str(source), "-o", str(tmp_path / "x.gltf")],
-        capture_output=True,
-        text=True,
-    )
+    refused = run_mbao("bake", source, "-o", tmp_path / "x.gltf", cwd=tmp_path)
     assert refused.returncode == 2 and refused.stderr.startswith("mbao: output") and "must be a .glb" in refused.stderr
 
 
@@ -352,26 +296,20 @@ def test_the_command_line_bakes_on_a_dask_scheduler_the_same_file(tmp_path, dask
     outputs = {}
     for name, extra in (("here", []), ("cluster", ["--scheduler", dask_client.scheduler.address])):
         outputs[name] = tmp_path / f"{name}.glb"
-        run = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "mbao",
-                "bake",
-                str(source),
-                "-o",
-                str(outputs[name]),
-                "--target",
-                "texture",
-                "--resolution",
-                "16",
-                "--samples",
-                "4",
-                "--quiet",
-                *extra,
-            ],
-            capture_output=True,
-            text=True,
+        run = run_mbao(
+            "bake",
+            source,
+            "-o",
+            outputs[name],
+            "--target",
+            "texture",
+            "--resolution",
+            "16",
+            "--samples",
+            "4",
+            "--quiet",
+            *extra,
+            cwd=tmp_path,
         )
         assert run.returncode == 0, run.stderr
     assert outputs["cluster"].read_bytes() == outputs["here"].read_bytes()

@@ -8,6 +8,7 @@ import sys
 
 import pytest
 
+from command_line import run_mbao
 from gltf_writer import GltfBuilder
 from meshes import plane
 from test_bake_gltf import floor_and_wall
@@ -25,23 +26,7 @@ def check(path, **environment):
 
 def baked(tmp_path, *arguments):
     output = tmp_path / "baked.glb"
-    run = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "mbao",
-            "bake",
-            str(floor_and_wall(tmp_path)),
-            "-o",
-            str(output),
-            "--samples",
-            "2",
-            "--quiet",
-            *arguments,
-        ],
-        capture_output=True,
-        text=True,
-    )
+    run = run_mbao("bake", floor_and_wall(tmp_path), "-o", output, "--samples", 2, "--quiet", *arguments, cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     return output
 
