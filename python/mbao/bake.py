@@ -85,24 +85,24 @@ class Bake:
         return f"<mbao.Bake {self.target}: {what}, {self.stats['frame_ms'] / 1e3:.1f} s on {self.stats['device']}>"
 
 
-_OWN = {name: spec["default"] for name, spec in BAKE_SETTINGS.items()}
+_DEFAULTS = {name: spec["default"] for name, spec in BAKE_SETTINGS.items()}
 
 
 def bake(
     scene: SceneLike,
     *,
-    target: str = _OWN["target"],
+    target: str = _DEFAULTS["target"],
     bounces: int = 1,
-    samples: int = _OWN["samples"],
-    estimator: str = _OWN["estimator"],
-    directions: int = _OWN["directions"],
+    samples: int = _DEFAULTS["samples"],
+    estimator: str = _DEFAULTS["estimator"],
+    directions: int = _DEFAULTS["directions"],
     rho: float = 1.0,
     max_distance: Optional[float] = None,
     camera: CameraLike = None,
     normals: str = "shading",
     texcoord: Union[None, int, str] = None,
     resolution: Union[int, Tuple[int, int]] = 1024,
-    padding: int = _OWN["padding"],
+    padding: int = _DEFAULTS["padding"],
     wrap: Union[None, str, Tuple[str, str]] = None,
     seed: int = 0,
     max_rays: int = _core.DEFAULT_MAX_RAYS,
