@@ -39,6 +39,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "accel/event_partition.h"
 #include "accel/kd_tree.h"
@@ -296,7 +297,15 @@ class Builder {
       }
       above_part = std::move(*taken_back);
     }
+    if (above.triangles < kMinTrianglesToOffer) {
+      build_node(tree, scratch, above_part.box, std::move(above_part.events), above_part.share, above_part.depth);
+      return;
+    }
+    // A subtree that could have been offered has its cost summed on its own,
+    // as a helper thread sums it, so the total does not depend on who built it.
+    const double before = std::exchange(tree.stats.sah_cost, 0.0);
     build_node(tree, scratch, above_part.box, std::move(above_part.events), above_part.share, above_part.depth);
+    tree.stats.sah_cost += before;
   }
 
   void reserve_rows(KdTree& tree, std::size_t triangles) const {
