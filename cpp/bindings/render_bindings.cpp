@@ -1,4 +1,3 @@
-#include <algorithm>
 #include <iterator>
 
 #include <pybind11/numpy.h>
@@ -40,16 +39,21 @@ SettingValue from_python(const SettingRange& spec, const py::handle& value) {
   throw std::logic_error("unknown setting kind");
 }
 
-}  // namespace
-
-RenderSettings settings_from(const py::dict& values) {
-  RenderSettings settings;
+// A settings struct with {name: value} of its table `table` set, the rest at their defaults.
+template <typename Settings>
+Settings settings_of(const std::vector<SettingSpecOf<Settings>>& specs, const std::string& table,
+                     const py::dict& values) {
+  Settings settings;
   for (const auto& [name, value] : values) {
-    const SettingSpec& spec = setting_spec(name.cast<std::string>());
+    const SettingSpecOf<Settings>& spec = setting_spec_in(specs, table, py::str(name));
     spec.set(settings, from_python(spec, value));
   }
   return settings;
 }
+
+}  // namespace
+
+RenderSettings settings_from(const py::dict& values) { return settings_of(setting_specs(), "render", values); }
 
 Renderer::TileCallback tile_callback(const py::object& progress) {
   // Ctrl-C is seen between tiles: the signal handler only sets a flag while
@@ -140,16 +144,7 @@ py::list specs_of(const std::string& table) {
 
 // Throws std::invalid_argument for a name the table lacks or a value outside its range.
 void check_settings(const std::string& table, const py::dict& values) {
-  with_table(table, [&](const auto& specs) {
-    typename std::decay_t<decltype(specs)>::value_type::SettingsType settings;
-    for (const auto& [key, value] : values) {
-      const std::string name = py::str(key);
-      const auto spec = std::find_if(specs.begin(), specs.end(), [&](const auto& s) { return s.name == name; });
-      if (spec == specs.end()) throw std::invalid_argument("no " + table + " setting \"" + name + "\"");
-      spec->set(settings, from_python(*spec, value));
-    }
-    settings.validate();
-  });
+  with_table(table, [&](const auto& specs) { settings_of(specs, table, values).validate(); });
 }
 
 // A settings class's docstring: `intro`, then each setting with what it means, its default and its range.

@@ -335,14 +335,7 @@ const std::vector<SettingSpec>& setting_specs() {
   return specs;
 }
 
-const SettingSpec& setting_spec(const std::string& name) {
-  std::string names;
-  for (const SettingSpec& spec : setting_specs()) {
-    if (spec.name == name) return spec;
-    names += (names.empty() ? "" : ", ") + spec.name;
-  }
-  throw std::invalid_argument("no render setting \"" + name + "\"; the settings are " + names);
-}
+const SettingSpec& setting_spec(const std::string& name) { return setting_spec_in(setting_specs(), "render", name); }
 
 const std::vector<SettingSpecOf<HbaoSettings>>& hbao_setting_specs() {
   static const std::vector<SettingSpecOf<HbaoSettings>> specs = make_hbao_specs();

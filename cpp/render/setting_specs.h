@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
@@ -48,7 +49,6 @@ struct SettingRange {
 // One setting of a `Settings` struct.
 template <typename Settings>
 struct SettingSpecOf : SettingRange {
-  using SettingsType = Settings;
   std::string name;  // the Python keyword; the command line's option is --name with '-' for '_'
   SettingGroup group = SettingGroup::Render;
   std::string doc;         // what it means, a sentence or two
@@ -62,6 +62,19 @@ struct SettingSpecOf : SettingRange {
 };
 
 using SettingSpec = SettingSpecOf<RenderSettings>;
+
+// The setting `name` of a table; throws std::invalid_argument naming the table and listing its settings
+// where there is none of that name.
+template <typename Settings>
+const SettingSpecOf<Settings>& setting_spec_in(const std::vector<SettingSpecOf<Settings>>& specs,
+                                               const std::string& table, const std::string& name) {
+  std::string names;
+  for (const SettingSpecOf<Settings>& spec : specs) {
+    if (spec.name == name) return spec;
+    names += (names.empty() ? "" : ", ") + spec.name;
+  }
+  throw std::invalid_argument("no " + table + " setting \"" + name + "\"; the settings are " + names);
+}
 
 // Every render setting, in the order the docs list them: the render group first.
 const std::vector<SettingSpec>& setting_specs();
