@@ -201,23 +201,14 @@ def test_outputs_that_cannot_be_written_are_refused_before_the_bake(tmp_path, ou
         mbao.bake_file(source, tmp_path / output, samples=2, progress=False)
 
 
+# A texture bake of the floor and wall small enough for a test, as `python -m mbao bake` options.
+SMALL_TEXTURE_BAKE = ("--target", "texture", "--resolution", 16, "--samples", 4, "--quiet")
+
+
 def test_the_command_line_bakes_a_file(tmp_path):
     source = floor_and_wall(tmp_path)
     output = tmp_path / "baked.glb"
-    run = run_mbao(
-        "bake",
-        source,
-        "-o",
-        output,
-        "--target",
-        "texture",
-        "--resolution",
-        "16",
-        "--samples",
-        "4",
-        "--quiet",
-        cwd=tmp_path,
-    )
+    run = run_mbao("bake", source, "-o", output, *SMALL_TEXTURE_BAKE, cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     assert "replaced     material 0's occlusion texture" in run.stdout and f"wrote        {output}" in run.stdout
     assert validation_errors(output) == []
@@ -296,20 +287,6 @@ def test_the_command_line_bakes_on_a_dask_scheduler_the_same_file(tmp_path, dask
     outputs = {}
     for name, extra in (("here", []), ("cluster", ["--scheduler", dask_client.scheduler.address])):
         outputs[name] = tmp_path / f"{name}.glb"
-        run = run_mbao(
-            "bake",
-            source,
-            "-o",
-            outputs[name],
-            "--target",
-            "texture",
-            "--resolution",
-            "16",
-            "--samples",
-            "4",
-            "--quiet",
-            *extra,
-            cwd=tmp_path,
-        )
+        run = run_mbao("bake", source, "-o", outputs[name], *SMALL_TEXTURE_BAKE, *extra, cwd=tmp_path)
         assert run.returncode == 0, run.stderr
     assert outputs["cluster"].read_bytes() == outputs["here"].read_bytes()
