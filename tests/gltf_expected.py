@@ -3,12 +3,12 @@ and normals with numpy, and the helpers that load a file and check its errors.""
 
 import math
 import re
-import warnings
 
 import numpy as np
 import pytest
 
 import mbao
+from caught_warnings import caught_warnings
 from gltf_writer import CONTAINERS, UNSIGNED_SHORT, GltfBuilder
 
 # -- geometry and transforms, computed independently of the loader ------------
@@ -80,8 +80,7 @@ def assert_close(actual, expected, scale=1.0):
 
 def load_clean(path):
     """mbao.load, asserting that a well-formed file loads without any warning."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with caught_warnings() as caught:
         scene = mbao.load(path)
     assert [str(w.message) for w in caught] == []
     assert scene.warnings == []

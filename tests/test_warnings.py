@@ -2,11 +2,11 @@
 package, however deep inside mbao it was raised, so that Python's filters and
 its message point at the code that asked (python/mbao/_warnings.py)."""
 
-import warnings
 
 import numpy as np
 
 import mbao
+from caught_warnings import caught_warnings
 from gltf_writer import LINES, GltfBuilder
 from meshes import box, merge
 
@@ -19,8 +19,7 @@ def closed_boxes():
 
 def only_warning(call):
     """The one warning `call` gives."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with caught_warnings() as caught:
         call()
     assert len(caught) == 1, [str(w.message) for w in caught]
     return caught[0]
