@@ -1,6 +1,6 @@
 """`pip install .` builds the C++ core (scikit-build + CMake) into a working package.
 
-Slow (it compiles the core): a minute or more.
+Slow (it compiles the core, a job per core): a minute or more.
 """
 
 import os
@@ -14,10 +14,12 @@ REPO = pathlib.Path(__file__).resolve().parents[1]
 
 def test_pip_install_gives_a_working_package(tmp_path):
     target = tmp_path / "site"
+    # scikit-build runs `cmake --build` without -j: the environment asks for a job per core, as `make build` does.
+    build_env = dict(os.environ, CMAKE_BUILD_PARALLEL_LEVEL=str(os.cpu_count()))
     install = subprocess.run(
         [sys.executable, "-m", "pip", "install", "--no-build-isolation", "--no-deps", "--no-input",
          "--target", str(target), str(REPO)],
-        capture_output=True, text=True, timeout=600,
+        capture_output=True, text=True, timeout=600, env=build_env,
     )  # fmt: skip
     assert install.returncode == 0, f"pip install failed:\n{install.stdout[-4000:]}\n{install.stderr[-4000:]}"
     assert list((target / "mbao").glob("_core*.so")), sorted(p.name for p in (target / "mbao").iterdir())
