@@ -18,7 +18,7 @@ NPM_TOOLS := $(GLTF_VALIDATOR) tests/gltf_transform/node_modules/.installed
 
 # The C++ core and benchmark need only the first line; the rest is for the
 # Python module, the tests, image files and running the notebooks headless.
-APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libassimp-dev libdraco-dev libmeshoptimizer-dev \
+APT_PACKAGES := cmake g++ make ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libassimp-dev libdraco-dev libmeshoptimizer-dev libeigen3-dev \
   pocl-opencl-icd pybind11-dev python3-pybind11 python3-dev python3-venv python3-pip python3-numpy python3-pytest \
   python3-pyopencl python3-openimageio python3-skbuild python3-nbclient python3-nbconvert python3-nbformat python3-ipykernel \
   python3-matplotlib python3-tqdm python3-pil python3-distributed python3-dask python3-aiohttp libgtest-dev

@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "bake/chart_packing.h"
+#include "bake/conformal_map.h"
 
 namespace mbao {
 namespace {
@@ -51,11 +52,13 @@ void plane_axes(const glm::dvec3& n, glm::dvec3* u, glm::dvec3* v) {
   *v = {b, sign + n.y * n.y * a, -n.y};
 }
 
-// The triangles asked for: their unit normals, areas and neighbours.
+// The triangles asked for: their unit normals, areas, neighbours and corners.
 struct Surface {
   std::vector<glm::dvec3> normals;
   std::vector<double> areas;
   std::vector<std::vector<std::uint32_t>> neighbours;  // local indices, across edges between equal positions
+  std::vector<glm::dvec3> corners;                     // three per triangle
+  std::vector<std::uint32_t> corner_ids;               // equal where corners' positions are
 };
 
 Surface surface_of(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles) {
@@ -64,14 +67,16 @@ Surface surface_of(const TriangleMesh& mesh, const std::vector<std::uint32_t>& t
   s.normals.resize(n);
   s.areas.resize(n);
   s.neighbours.resize(n);
+  const std::vector<std::uint32_t> welded = welded_ids(mesh);
   for (std::size_t i = 0; i < n; ++i) {
     const glm::uvec3 t = mesh.triangles[triangles[i]];
     const glm::dvec3 p0(mesh.positions[t.x]), p1(mesh.positions[t.y]), p2(mesh.positions[t.z]);
     const glm::dvec3 c = glm::cross(p1 - p0, p2 - p0);
     s.areas[i] = 0.5 * glm::length(c);
     s.normals[i] = s.areas[i] > 0.0 ? c / (2.0 * s.areas[i]) : glm::dvec3(0.0);
+    s.corners.insert(s.corners.end(), {p0, p1, p2});
+    s.corner_ids.insert(s.corner_ids.end(), {welded[t.x], welded[t.y], welded[t.z]});
   }
-  const std::vector<std::uint32_t> welded = welded_ids(mesh);
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> edges;
   for (std::uint32_t i = 0; i < n; ++i) {
     if (!(s.areas[i] > 0.0)) continue;
@@ -111,16 +116,13 @@ Cone enclosing(const Cone& a, const Cone& b) {
   return {std::cos(from_a) * a.axis + std::sin(from_a) * (across / length), angle};
 }
 
-// The widest cone a chart may have: no triangle stretched by more than 1 / kChartCosine.
-const double kWidestCone = std::acos(kChartCosine);
-
 // Charts grown from the largest triangles not yet taken across edges, each
-// while the normals of its triangles fit a cone no wider than kWidestCone
-// (its axis turning as it grows, which gives a third fewer charts on the
-// helmet than a cone around the seed's normal); a triangle joins only charts
-// of its own round (those that overlapped in a round start anew in the next).
-std::vector<std::vector<std::uint32_t>> grown_charts(const Surface& surface, const std::vector<int>& round,
-                                                     std::vector<Cone>* cones) {
+// while the normals of its triangles fit a cone no wider than `widest` (its
+// axis turning as it grows, which gives a third fewer charts on the helmet
+// than a cone around the seed's normal); a triangle joins only charts of its
+// own group, and none where its group is negative.
+std::vector<std::vector<std::uint32_t>> grown_charts(const Surface& surface, const std::vector<int>& group,
+                                                     double widest, std::vector<Cone>* cones) {
   const std::size_t n = surface.areas.size();
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
@@ -129,15 +131,15 @@ std::vector<std::vector<std::uint32_t>> grown_charts(const Surface& surface, con
   std::vector<bool> taken(n, false);
   std::vector<std::vector<std::uint32_t>> charts;
   for (std::uint32_t seed : order) {
-    if (taken[seed] || !(surface.areas[seed] > 0.0)) continue;
+    if (taken[seed] || group[seed] < 0 || !(surface.areas[seed] > 0.0)) continue;
     Cone cone{surface.normals[seed], 0.0};
     std::vector<std::uint32_t> members{seed};
     taken[seed] = true;
     for (std::size_t next = 0; next < members.size(); ++next)
       for (std::uint32_t neighbour : surface.neighbours[members[next]]) {
-        if (taken[neighbour] || round[neighbour] != round[seed]) continue;
+        if (taken[neighbour] || group[neighbour] != group[seed]) continue;
         const Cone wider = enclosing(cone, Cone{surface.normals[neighbour], 0.0});
-        if (wider.angle > kWidestCone) continue;
+        if (wider.angle > widest) continue;
         taken[neighbour] = true;
         members.push_back(neighbour);
         cone = wider;
@@ -195,22 +197,10 @@ glm::dvec2 long_side(const std::vector<glm::dvec2>& points) {
   return best;
 }
 
-// `members` laid flat in the plane perpendicular to unit `axis`, turned in
-// that plane so that the least-area rectangle around them lies along their
-// box, long side first: boxes then hold as little empty space as they can.
-FlatChart laid_flat(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-                    const std::vector<std::uint32_t>& members, const glm::dvec3& axis) {
-  glm::dvec3 u, v;
-  plane_axes(axis, &u, &v);
-  std::vector<glm::dvec2> corners;
-  corners.reserve(3 * members.size());
-  for (std::uint32_t i : members) {
-    const glm::uvec3 t = mesh.triangles[triangles[i]];
-    for (int k = 0; k < 3; ++k) {
-      const glm::dvec3 p(mesh.positions[t[k]]);
-      corners.emplace_back(glm::dot(p, u), glm::dot(p, v));
-    }
-  }
+// A chart's corners in its plane turned so that the least-area rectangle
+// around them lies along their box, long side first (boxes then hold as
+// little empty space as they can), and measured from the box's low corner.
+FlatChart turned_flat(std::vector<glm::dvec2> corners) {
   const glm::dvec2 along = long_side(corners);
   glm::dvec2 lo(INFINITY), hi(-INFINITY);
   for (glm::dvec2& q : corners) {
@@ -220,6 +210,34 @@ FlatChart laid_flat(const TriangleMesh& mesh, const std::vector<std::uint32_t>& 
   }
   for (glm::dvec2& q : corners) q -= lo;
   return FlatChart{std::move(corners), hi - lo};
+}
+
+// `members` projected onto the plane perpendicular to unit `axis`, turned.
+FlatChart projected_flat(const Surface& surface, const std::vector<std::uint32_t>& members, const glm::dvec3& axis) {
+  glm::dvec3 u, v;
+  plane_axes(axis, &u, &v);
+  std::vector<glm::dvec2> corners;
+  corners.reserve(3 * members.size());
+  for (std::uint32_t i : members)
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3& p = surface.corners[3 * i + k];
+      corners.emplace_back(glm::dot(p, u), glm::dot(p, v));
+    }
+  return turned_flat(std::move(corners));
+}
+
+// The corners of `piece`, some of a chart's `members`, from its `flat`, turned anew.
+FlatChart piece_flat(const std::vector<std::uint32_t>& members, const FlatChart& flat,
+                     const std::vector<std::uint32_t>& piece) {
+  std::unordered_map<std::uint32_t, std::size_t> position;
+  for (std::size_t m = 0; m < members.size(); ++m) position.emplace(members[m], m);
+  std::vector<glm::dvec2> corners;
+  corners.reserve(3 * piece.size());
+  for (std::uint32_t i : piece) {
+    const std::size_t m = position.at(i);
+    corners.insert(corners.end(), flat.corners.begin() + 3 * m, flat.corners.begin() + 3 * m + 3);
+  }
+  return turned_flat(std::move(corners));
 }
 
 double box_area(const FlatChart& chart) { return chart.size.x * chart.size.y; }
@@ -305,41 +323,114 @@ std::vector<std::vector<std::uint32_t>> connected_parts(const std::vector<std::v
   return parts;
 }
 
-// The charts of a round as grown, each laid flat in the plane perpendicular to its cone's axis.
+// The charts of a round as grown, each laid flat.
 struct GrownCharts {
   std::vector<std::vector<std::uint32_t>> members;
   std::vector<FlatChart> flat;
-  std::vector<glm::dvec3> axes;
+  double worst_stretch = 1.0;  // the largest factor by which a chart lengthens or shortens a direction in a triangle
   CutLengths cut_lengths;
 };
 
-GrownCharts grow_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
-                        const std::vector<int>& round, int width, int height, int padding, double* worst_stretch) {
-  std::vector<Cone> cones;
+// The lengths at which the charts are cut, from the texel at which their boxes would fill the texture.
+void set_cut_lengths(GrownCharts* grown, int width, int height, int padding) {
+  const double texel = 1.0 / filling_density(grown->flat, width, height), side = std::min(width, height) * texel;
+  grown->cut_lengths = {kStripShare * side, kHollowPaddings * std::max(padding, 1) * texel, kLargeShare * side};
+}
+
+// Charts grown within a cone of half-angle acos(kChartCosine), each projected
+// onto the plane perpendicular to its axis: no triangle's area shrinks by more
+// than 1 / kChartCosine.
+GrownCharts projected_charts(const Surface& surface, const std::vector<int>& round, int width, int height,
+                             int padding) {
   GrownCharts grown;
-  grown.members = grown_charts(surface, round, &cones);
-  *worst_stretch = 1.0;
+  std::vector<Cone> cones;
+  grown.members = grown_charts(surface, round, std::acos(kChartCosine), &cones);
   for (std::size_t c = 0; c < grown.members.size(); ++c) {
-    grown.axes.push_back(glm::normalize(cones[c].axis));
+    const glm::dvec3 axis = glm::normalize(cones[c].axis);
     for (std::uint32_t i : grown.members[c])
-      *worst_stretch = std::max(*worst_stretch, 1.0 / glm::dot(surface.normals[i], grown.axes[c]));
-    grown.flat.push_back(laid_flat(mesh, triangles, grown.members[c], grown.axes[c]));
+      grown.worst_stretch = std::max(grown.worst_stretch, 1.0 / glm::dot(surface.normals[i], axis));
+    grown.flat.push_back(projected_flat(surface, grown.members[c], axis));
   }
-  const double texel = 1.0 / filling_density(grown.flat, width, height), side = std::min(width, height) * texel;
-  grown.cut_lengths = {kStripShare * side, kHollowPaddings * std::max(padding, 1) * texel, kLargeShare * side};
+  set_cut_lengths(&grown, width, height, padding);
+  return grown;
+}
+
+// Halves of a chart's triangles, cut at the median of their centroids along the axis they spread most along.
+std::vector<std::vector<std::uint32_t>> halves(const Surface& surface, const std::vector<std::uint32_t>& members) {
+  std::vector<glm::dvec3> centroids;
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (std::uint32_t i : members) {
+    centroids.push_back((surface.corners[3 * i] + surface.corners[3 * i + 1] + surface.corners[3 * i + 2]) / 3.0);
+    lo = glm::min(lo, centroids.back());
+    hi = glm::max(hi, centroids.back());
+  }
+  const glm::dvec3 extent = hi - lo;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+  std::vector<std::size_t> order(members.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return centroids[a][axis] < centroids[b][axis]; });
+  std::vector<std::vector<std::uint32_t>> two(2);
+  for (std::size_t k = 0; k < order.size(); ++k) two[2 * k < order.size() ? 0 : 1].push_back(members[order[k]]);
+  return two;
+}
+
+// Lays `members`, which join across edges, flat by a conformal map; where that
+// stretches a triangle by more than 1 / kChartCosine (or turns one over) their
+// halves' connected parts are laid flat instead, and so on (one triangle
+// always lies flat). Triangles that overlap others of their chart in the map
+// are taken out and laid flat the same way among themselves.
+void lay_conformal(const Surface& surface, const std::vector<std::uint32_t>& members, GrownCharts* grown) {
+  std::vector<glm::dvec3> corners;
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t i : members) {
+    corners.insert(corners.end(), surface.corners.begin() + 3 * i, surface.corners.begin() + 3 * i + 3);
+    ids.insert(ids.end(), surface.corner_ids.begin() + 3 * i, surface.corner_ids.begin() + 3 * i + 3);
+  }
+  std::optional<ConformalChart> conformal = conformal_map(corners, ids, 1.0 / kChartCosine);
+  if (!conformal) {
+    for (const std::vector<std::uint32_t>& part : connected_parts(halves(surface, members), surface))
+      lay_conformal(surface, part, grown);
+    return;
+  }
+  grown->worst_stretch = std::max(grown->worst_stretch, conformal->stretch);
+  std::vector<std::uint32_t> kept, overlapping;
+  std::vector<glm::dvec2> kept_corners;
+  for (std::size_t m = 0, next = 0; m < members.size(); ++m) {
+    if (next < conformal->overlapping.size() && conformal->overlapping[next] == m) {
+      ++next;
+      overlapping.push_back(members[m]);
+      continue;
+    }
+    kept.push_back(members[m]);
+    kept_corners.insert(kept_corners.end(), conformal->corners.begin() + 3 * m, conformal->corners.begin() + 3 * m + 3);
+  }
+  grown->flat.push_back(turned_flat(std::move(kept_corners)));
+  grown->members.push_back(std::move(kept));
+  for (const std::vector<std::uint32_t>& part : connected_parts({overlapping}, surface))
+    lay_conformal(surface, part, grown);
+}
+
+// Each connected part of the round's triangles laid flat by conformal maps, cut in halves where they stretch.
+GrownCharts conformal_charts(const Surface& surface, const std::vector<int>& round, int width, int height,
+                             int padding) {
+  GrownCharts grown;
+  std::vector<Cone> cones;  // any cone: the parts that join across edges
+  for (const std::vector<std::uint32_t>& part : grown_charts(surface, round, M_PI, &cones))
+    lay_conformal(surface, part, &grown);
+  set_cut_lengths(&grown, width, height, padding);
   return grown;
 }
 
 // A chart's triangles and how they lie flat, as charts: while worth cutting,
 // cut across into pieces no longer than a strip may be (two at least) and
-// those into connected parts, each laid flat anew (it may turn).
+// those into connected parts, each turned anew.
 class Cutter {
  public:
-  Cutter(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
-         const CutLengths& lengths, bool cut_large)
-      : mesh_(mesh), triangles_(triangles), surface_(surface), lengths_(lengths), cut_large_(cut_large) {}
+  Cutter(const Surface& surface, const CutLengths& lengths, bool cut_large)
+      : surface_(surface), lengths_(lengths), cut_large_(cut_large) {}
 
-  void add(std::vector<std::uint32_t> members, FlatChart flat, const glm::dvec3& axis, Charts* charts) const {
+  void add(std::vector<std::uint32_t> members, FlatChart flat, Charts* charts) const {
     std::vector<std::vector<std::uint32_t>> pieces;
     if (worth_cutting(flat, lengths_, cut_large_)) {
       const auto count = std::max<std::size_t>(2, std::size_t(std::ceil(flat.size.x / lengths_.strip)));
@@ -351,25 +442,21 @@ class Cutter {
       return;
     }
     for (std::vector<std::uint32_t>& piece : pieces) {
-      FlatChart laid = laid_flat(mesh_, triangles_, piece, axis);
-      add(std::move(piece), std::move(laid), axis, charts);
+      FlatChart laid = piece_flat(members, flat, piece);
+      add(std::move(piece), std::move(laid), charts);
     }
   }
 
  private:
-  const TriangleMesh& mesh_;
-  const std::vector<std::uint32_t>& triangles_;
   const Surface& surface_;
   CutLengths lengths_;
   bool cut_large_;
 };
 
-Charts cut_charts(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
-                  const GrownCharts& grown, bool cut_large) {
-  const Cutter cutter(mesh, triangles, surface, grown.cut_lengths, cut_large);
+Charts cut_charts(const Surface& surface, const GrownCharts& grown, bool cut_large) {
+  const Cutter cutter(surface, grown.cut_lengths, cut_large);
   Charts charts;
-  for (std::size_t c = 0; c < grown.members.size(); ++c)
-    cutter.add(grown.members[c], grown.flat[c], grown.axes[c], &charts);
+  for (std::size_t c = 0; c < grown.members.size(); ++c) cutter.add(grown.members[c], grown.flat[c], &charts);
   return charts;
 }
 
@@ -397,13 +484,11 @@ bool fit_at_all(const std::vector<FlatChart>& charts, int width, int height, int
   return packed_charts(charts, largest_first(charts), kLeastDensity, width, height, padding).has_value();
 }
 
-// The largest padding up to `padding` at which the charts fit at all.
-int fitting_padding(const std::vector<FlatChart>& charts, int width, int height, int padding) {
+// The largest padding up to `padding` at which the charts fit at all, if any.
+std::optional<int> fitting_padding(const std::vector<FlatChart>& charts, int width, int height, int padding) {
   for (int p = padding; p >= 0; --p)
     if (fit_at_all(charts, width, height, p)) return p;
-  throw std::invalid_argument("generated UVs: " + std::to_string(charts.size()) + " charts do not fit " +
-                              std::to_string(width) + " x " + std::to_string(height) +
-                              " texels even at a texel each and touching; raise the resolution");
+  return std::nullopt;
 }
 
 // The texture size, `width` x `height` times the least power of two, at which
@@ -468,28 +553,50 @@ struct Packing {
   std::optional<glm::ivec2> size_keeping_padding;
   double density = 0.0;
   std::vector<Placement> placed;
+  double worst_stretch = 1.0;  // the charts' (GrownCharts)
 };
 
-Packing packing(Charts charts, int width, int height, int padding) {
+std::optional<Packing> packing(Charts charts, int width, int height, int padding) {
+  const std::optional<int> fitting = fitting_padding(charts.flat, width, height, padding);
+  if (!fitting) return std::nullopt;
   Packing packing;
-  packing.padding = fitting_padding(charts.flat, width, height, padding);
+  packing.padding = *fitting;
   if (packing.padding < padding) packing.size_keeping_padding = size_keeping(charts.flat, width, height, padding);
   packing.density = densest_packing(charts.flat, width, height, packing.padding, &packing.placed);
   packing.charts = std::move(charts);
   return packing;
 }
 
-bool better(const Packing& a, const Packing& b) {
-  return a.padding > b.padding || (a.padding == b.padding && a.density > b.density);
+// Whichever of two packings fits at the larger padding, then density; `a` where they tie.
+std::optional<Packing> better_of(std::optional<Packing> a, std::optional<Packing> b) {
+  if (!a || !b) return a ? std::move(a) : std::move(b);
+  const bool b_better = b->padding > a->padding || (b->padding == a->padding && b->density > a->density);
+  return b_better ? std::move(b) : std::move(a);
 }
 
-// The round's charts packed, those with large charts cut or not, whichever packs better.
-Packing best_packing(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, const Surface& surface,
-                     const GrownCharts& grown, int width, int height, int padding) {
-  Packing whole = packing(cut_charts(mesh, triangles, surface, grown, false), width, height, padding);
-  if (!has_large(whole.charts, grown.cut_lengths)) return whole;
-  Packing cut = packing(cut_charts(mesh, triangles, surface, grown, true), width, height, padding);
-  return better(cut, whole) ? cut : whole;
+// The round's charts packed, with large charts cut or not, whichever packs better.
+std::optional<Packing> best_packing(const Surface& surface, const GrownCharts& grown, int width, int height,
+                                    int padding) {
+  Charts whole = cut_charts(surface, grown, false);
+  const bool large = has_large(whole, grown.cut_lengths);
+  std::optional<Packing> packed = packing(std::move(whole), width, height, padding);
+  if (large) packed = better_of(std::move(packed), packing(cut_charts(surface, grown, true), width, height, padding));
+  if (packed) packed->worst_stretch = grown.worst_stretch;
+  return packed;
+}
+
+// The round's charts grown in cones and projected, or laid flat by conformal
+// maps, whichever packs better (the projected where they tie).
+Packing round_packing(const Surface& surface, const std::vector<int>& round, int width, int height, int padding) {
+  const GrownCharts projected = projected_charts(surface, round, width, height, padding);
+  std::optional<Packing> packed = better_of(
+      best_packing(surface, projected, width, height, padding),
+      best_packing(surface, conformal_charts(surface, round, width, height, padding), width, height, padding));
+  if (!packed)
+    throw std::invalid_argument("generated UVs: " + std::to_string(projected.members.size()) + " charts do not fit " +
+                                std::to_string(width) + " x " + std::to_string(height) +
+                                " texels even at a texel each and touching; raise the resolution");
+  return std::move(*packed);
 }
 
 // Rounds of charts before giving up: each takes the triangles that overlapped
@@ -505,9 +612,8 @@ LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<st
   std::vector<int> round(triangles.size(), 0);
   for (int r = 0; r < kMaxRounds; ++r) {
     LightmapUvs result;
-    const GrownCharts grown =
-        grow_charts(mesh, triangles, surface, round, width, height, padding, &result.worst_stretch);
-    const Packing packed = best_packing(mesh, triangles, surface, grown, width, height, padding);
+    const Packing packed = round_packing(surface, round, width, height, padding);
+    result.worst_stretch = packed.worst_stretch;
     result.padding = packed.padding;
     result.size_keeping_padding = packed.size_keeping_padding;
     result.texels_per_unit = packed.density;

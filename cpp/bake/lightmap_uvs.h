@@ -1,7 +1,9 @@
 // A new UV set for a bake (texcoord="generate", SPEC 6.3): charts of connected
 // triangles whose normals fit a narrow cone, each projected onto the plane
-// perpendicular to its axis (long strips cut across), packed into the texture
-// by their outlines (bake/chart_packing.h) at one texel density.
+// perpendicular to its axis, or charts laid flat by conformal maps
+// (bake/conformal_map.h), whichever pack better (long strips cut across),
+// packed into the texture by their outlines (bake/chart_packing.h) at one
+// texel density.
 #pragma once
 
 #include <cstdint>
@@ -19,8 +21,9 @@ namespace mbao {
 struct LightmapUvs {
   std::vector<glm::vec2> corner_uvs;  // three per triangle asked for, in its corners' order
   std::size_t charts = 0;
-  // The largest ratio of a triangle's area to its area in the chart's plane:
-  // 1 / the cosine of its tilt from the plane, at most 1 / kChartCosine.
+  // The largest factor by which a chart lengthens or shortens a direction in
+  // one of its triangles: 1 / the cosine of its tilt from a projected chart's
+  // plane; at most 1 / kChartCosine.
   double worst_stretch = 1.0;
   double texels_per_unit = 0.0;  // the density: texels along a world unit of a chart's plane
   // Texels between charts: the padding asked for, or the largest smaller one
@@ -32,9 +35,10 @@ struct LightmapUvs {
   std::optional<TexelLayout> layout;  // of corner_uvs in the texture (REPEAT), which nothing claims twice
 };
 
-// Triangles join a chart while their normals fit a cone of half-angle
-// acos(kChartCosine), about 37 degrees, around the axis it is projected along,
-// so none is stretched by more than 1.25 in area.
+// Triangles join a projected chart while their normals fit a cone of
+// half-angle acos(kChartCosine), about 37 degrees, around the axis it is
+// projected along, so none is stretched by more than 1.25; a conformal chart
+// is cut until none is.
 constexpr double kChartCosine = 0.8;
 
 // Charts for `triangles` of `mesh` (neighbours: triangles sharing an edge

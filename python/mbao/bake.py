@@ -125,9 +125,10 @@ def bake(
         occlusionTexture's texCoord where it has one, else TEXCOORD_1 where all
         its triangles have it, else TEXCOORD_0; an mbao.Mesh's texcoords are set 0.
         "generate": a new UV set per material, charts of neighbouring triangles
-        of similar normal packed at one texel density with `padding` texels
-        between them (the texture's stats say charts, worst_stretch,
-        texels_per_unit and texels_used).
+        laid flat (projected, or by conformal maps, whichever packs better)
+        and packed at one texel density with `padding` texels between them
+        (the texture's stats say charts, worst_stretch, texels_per_unit and
+        texels_used).
     resolution: texture only: the texture's size, an int or (width, height), each in [1, 16384].
     wrap: texture only: how UVs outside [0, 1] map, "repeat", "mirrored-repeat"
         or "clamp-to-edge", or a pair of them (along u, along v); None: the
