@@ -327,6 +327,7 @@ std::vector<std::vector<std::uint32_t>> connected_parts(const std::vector<std::v
 struct GrownCharts {
   std::vector<std::vector<std::uint32_t>> members;
   std::vector<FlatChart> flat;
+  std::vector<std::optional<glm::dvec3>> axes;  // a projected chart's; none where a conformal map laid it flat
   double worst_stretch = 1.0;  // the largest factor by which a chart lengthens or shortens a direction in a triangle
   CutLengths cut_lengths;
 };
@@ -350,6 +351,7 @@ GrownCharts projected_charts(const Surface& surface, const std::vector<int>& rou
     for (std::uint32_t i : grown.members[c])
       grown.worst_stretch = std::max(grown.worst_stretch, 1.0 / glm::dot(surface.normals[i], axis));
     grown.flat.push_back(projected_flat(surface, grown.members[c], axis));
+    grown.axes.push_back(axis);
   }
   set_cut_lengths(&grown, width, height, padding);
   return grown;
@@ -377,10 +379,16 @@ std::vector<std::vector<std::uint32_t>> halves(const Surface& surface, const std
 
 // Lays `members`, which join across edges, flat by a conformal map; where that
 // stretches a triangle by more than 1 / kChartCosine (or turns one over) their
-// halves' connected parts are laid flat instead, and so on (one triangle
-// always lies flat). Triangles that overlap others of their chart in the map
-// are taken out and laid flat the same way among themselves.
+// halves' connected parts are laid flat instead, and so on. Triangles that
+// overlap others of their chart in the map are taken out and laid flat the
+// same way among themselves.
 void lay_conformal(const Surface& surface, const std::vector<std::uint32_t>& members, GrownCharts* grown) {
+  if (members.size() == 1) {  // in its own plane, without stretch, however thin it is
+    grown->flat.push_back(projected_flat(surface, members, surface.normals[members[0]]));
+    grown->members.push_back(members);
+    grown->axes.emplace_back();
+    return;
+  }
   std::vector<glm::dvec3> corners;
   std::vector<std::uint32_t> ids;
   for (std::uint32_t i : members) {
@@ -407,6 +415,7 @@ void lay_conformal(const Surface& surface, const std::vector<std::uint32_t>& mem
   }
   grown->flat.push_back(turned_flat(std::move(kept_corners)));
   grown->members.push_back(std::move(kept));
+  grown->axes.emplace_back();
   for (const std::vector<std::uint32_t>& part : connected_parts({overlapping}, surface))
     lay_conformal(surface, part, grown);
 }
@@ -424,13 +433,15 @@ GrownCharts conformal_charts(const Surface& surface, const std::vector<int>& rou
 
 // A chart's triangles and how they lie flat, as charts: while worth cutting,
 // cut across into pieces no longer than a strip may be (two at least) and
-// those into connected parts, each turned anew.
+// those into connected parts, each projected anew along a projected chart's
+// axis (it may turn), or where the chart's conformal map laid it, turned anew.
 class Cutter {
  public:
   Cutter(const Surface& surface, const CutLengths& lengths, bool cut_large)
       : surface_(surface), lengths_(lengths), cut_large_(cut_large) {}
 
-  void add(std::vector<std::uint32_t> members, FlatChart flat, Charts* charts) const {
+  void add(std::vector<std::uint32_t> members, FlatChart flat, const std::optional<glm::dvec3>& axis,
+           Charts* charts) const {
     std::vector<std::vector<std::uint32_t>> pieces;
     if (worth_cutting(flat, lengths_, cut_large_)) {
       const auto count = std::max<std::size_t>(2, std::size_t(std::ceil(flat.size.x / lengths_.strip)));
@@ -442,8 +453,8 @@ class Cutter {
       return;
     }
     for (std::vector<std::uint32_t>& piece : pieces) {
-      FlatChart laid = piece_flat(members, flat, piece);
-      add(std::move(piece), std::move(laid), charts);
+      FlatChart laid = axis ? projected_flat(surface_, piece, *axis) : piece_flat(members, flat, piece);
+      add(std::move(piece), std::move(laid), axis, charts);
     }
   }
 
@@ -456,7 +467,8 @@ class Cutter {
 Charts cut_charts(const Surface& surface, const GrownCharts& grown, bool cut_large) {
   const Cutter cutter(surface, grown.cut_lengths, cut_large);
   Charts charts;
-  for (std::size_t c = 0; c < grown.members.size(); ++c) cutter.add(grown.members[c], grown.flat[c], &charts);
+  for (std::size_t c = 0; c < grown.members.size(); ++c)
+    cutter.add(grown.members[c], grown.flat[c], grown.axes[c], &charts);
   return charts;
 }
 
@@ -567,10 +579,19 @@ std::optional<Packing> packing(Charts charts, int width, int height, int padding
   return packing;
 }
 
-// Whichever of two packings fits at the larger padding, then density; `a` where they tie.
+// The texels a packing's triangles cover, near enough: their area in the texture.
+double texel_area(const Packing& packing) {
+  double area = 0.0;
+  for (const FlatChart& chart : packing.charts.flat) area += triangles_area(chart);
+  return area * packing.density * packing.density;
+}
+
+// Whichever of two packings fits at the larger padding, then covers more
+// texels (charts laid flat differently differ in area at one density); `a`
+// where they tie.
 std::optional<Packing> better_of(std::optional<Packing> a, std::optional<Packing> b) {
   if (!a || !b) return a ? std::move(a) : std::move(b);
-  const bool b_better = b->padding > a->padding || (b->padding == a->padding && b->density > a->density);
+  const bool b_better = b->padding > a->padding || (b->padding == a->padding && texel_area(*b) > texel_area(*a));
   return b_better ? std::move(b) : std::move(a);
 }
 
