@@ -120,8 +120,8 @@ Cone enclosing(const Cone& a, const Cone& b) {
 // while the normals of its triangles fit a cone no wider than `widest` (its
 // axis turning as it grows, which gives a third fewer charts on the helmet
 // than a cone around the seed's normal); a triangle joins only charts of its
-// own group, and none where its group is negative.
-std::vector<std::vector<std::uint32_t>> grown_charts(const Surface& surface, const std::vector<int>& group,
+// own round (those that overlapped in a round start anew in the next).
+std::vector<std::vector<std::uint32_t>> grown_charts(const Surface& surface, const std::vector<int>& round,
                                                      double widest, std::vector<Cone>* cones) {
   const std::size_t n = surface.areas.size();
   std::vector<std::uint32_t> order(n);
@@ -131,13 +131,13 @@ std::vector<std::vector<std::uint32_t>> grown_charts(const Surface& surface, con
   std::vector<bool> taken(n, false);
   std::vector<std::vector<std::uint32_t>> charts;
   for (std::uint32_t seed : order) {
-    if (taken[seed] || group[seed] < 0 || !(surface.areas[seed] > 0.0)) continue;
+    if (taken[seed] || !(surface.areas[seed] > 0.0)) continue;
     Cone cone{surface.normals[seed], 0.0};
     std::vector<std::uint32_t> members{seed};
     taken[seed] = true;
     for (std::size_t next = 0; next < members.size(); ++next)
       for (std::uint32_t neighbour : surface.neighbours[members[next]]) {
-        if (taken[neighbour] || group[neighbour] != group[seed]) continue;
+        if (taken[neighbour] || round[neighbour] != round[seed]) continue;
         const Cone wider = enclosing(cone, Cone{surface.normals[neighbour], 0.0});
         if (wider.angle > widest) continue;
         taken[neighbour] = true;
