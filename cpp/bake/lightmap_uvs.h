@@ -1,9 +1,7 @@
-// A new UV set for a bake (texcoord="generate", SPEC 6.3): charts of connected
-// triangles whose normals fit a narrow cone, each projected onto the plane
-// perpendicular to its axis, or charts laid flat by conformal maps
-// (bake/conformal_map.h), whichever pack better (long strips cut across),
-// packed into the texture by their outlines (bake/chart_packing.h) at one
-// texel density.
+// A new UV set for a bake (texcoord="generate", SPEC 6.3): charts laid flat
+// (bake/uv_charts.h), projected or by conformal maps, whichever pack better,
+// long strips cut across, packed into the texture by their outlines
+// (bake/chart_packing.h) at one texel density.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +12,7 @@
 #include <optional>
 
 #include "bake/texel_layout.h"
+#include "bake/uv_charts.h"
 #include "scene/triangle_mesh.h"
 
 namespace mbao {
@@ -34,12 +33,6 @@ struct LightmapUvs {
   std::optional<glm::ivec2> size_keeping_padding;
   std::optional<TexelLayout> layout;  // of corner_uvs in the texture (REPEAT), which nothing claims twice
 };
-
-// Triangles join a projected chart while their normals fit a cone of
-// half-angle acos(kChartCosine), about 37 degrees, around the axis it is
-// projected along, so none is stretched by more than 1.25; a conformal chart
-// is cut until none is.
-constexpr double kChartCosine = 0.8;
 
 // Charts for `triangles` of `mesh` (neighbours: triangles sharing an edge
 // between equal positions), packed into width x height texels with `padding`
