@@ -200,7 +200,6 @@ FlatChart turned_flat(std::vector<glm::dvec2> corners) {
 
 }  // namespace
 
-// `members` projected onto the plane perpendicular to unit `axis`, turned.
 FlatChart projected_flat(const ChartSurface& surface, const std::vector<std::uint32_t>& members,
                          const glm::dvec3& axis) {
   glm::dvec3 u, v;
@@ -215,7 +214,6 @@ FlatChart projected_flat(const ChartSurface& surface, const std::vector<std::uin
   return turned_flat(std::move(corners));
 }
 
-// The corners of `piece`, some of a chart's `members`, from its `flat`, turned anew.
 FlatChart piece_flat(const std::vector<std::uint32_t>& members, const FlatChart& flat,
                      const std::vector<std::uint32_t>& piece) {
   std::unordered_map<std::uint32_t, std::size_t> position;
@@ -229,8 +227,6 @@ FlatChart piece_flat(const std::vector<std::uint32_t>& members, const FlatChart&
   return turned_flat(std::move(corners));
 }
 
-// Each piece split where its triangles do not join across edges: a ring cut
-// across leaves two arcs in a piece.
 std::vector<std::vector<std::uint32_t>> connected_parts(const std::vector<std::vector<std::uint32_t>>& pieces,
                                                         const ChartSurface& surface) {
   std::vector<int> piece_of(surface.areas.size(), -1);
@@ -253,9 +249,6 @@ std::vector<std::vector<std::uint32_t>> connected_parts(const std::vector<std::v
   return parts;
 }
 
-// Charts grown within a cone of half-angle acos(kChartCosine), each projected
-// onto the plane perpendicular to its axis: no triangle's area shrinks by more
-// than 1 / kChartCosine.
 LaidCharts projected_charts(const ChartSurface& surface, const std::vector<int>& round) {
   LaidCharts grown;
   std::vector<Cone> cones;
@@ -337,7 +330,6 @@ void lay_conformal(const ChartSurface& surface, const std::vector<std::uint32_t>
 
 }  // namespace
 
-// Each connected part of the round's triangles laid flat by conformal maps, cut in halves where they stretch.
 LaidCharts conformal_charts(const ChartSurface& surface, const std::vector<int>& round) {
   LaidCharts grown;
   std::vector<Cone> cones;  // any cone: the parts that join across edges
