@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 #include <numeric>
+#include <set>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -285,31 +286,40 @@ std::vector<std::vector<std::uint32_t>> halves(const ChartSurface& surface, cons
   return two;
 }
 
-// Lays `members`, which join across edges, flat by a conformal map; where that
-// stretches a triangle by more than 1 / kChartCosine (or turns one over) their
-// halves' connected parts are laid flat instead, and so on. Triangles that
-// overlap others of their chart in the map are taken out and laid flat the
-// same way among themselves.
-void lay_conformal(const ChartSurface& surface, const std::vector<std::uint32_t>& members, LaidCharts* grown) {
-  if (members.size() == 1) {  // in its own plane, without stretch, however thin it is
-    grown->flat.push_back(projected_flat(surface, members, surface.normals[members[0]]));
-    grown->members.push_back(members);
-    grown->axes.emplace_back();
-    return;
-  }
+// A chart laid flat by a conformal map, or a triangle alone in its own plane.
+struct ConformalPiece {
+  std::vector<std::uint32_t> members;
+  FlatChart flat;
+  double stretch = 1.0;
+};
+
+std::optional<ConformalChart> conformal_map_of(const ChartSurface& surface, const std::vector<std::uint32_t>& members) {
   std::vector<glm::dvec3> corners;
   std::vector<std::uint32_t> ids;
   for (std::uint32_t i : members) {
     corners.insert(corners.end(), surface.corners.begin() + 3 * i, surface.corners.begin() + 3 * i + 3);
     ids.insert(ids.end(), surface.corner_ids.begin() + 3 * i, surface.corner_ids.begin() + 3 * i + 3);
   }
-  std::optional<ConformalChart> conformal = conformal_map(corners, ids, 1.0 / kChartCosine);
-  if (!conformal) {
-    for (const std::vector<std::uint32_t>& part : connected_parts(halves(surface, members), surface))
-      lay_conformal(surface, part, grown);
+  return conformal_map(corners, ids, 1.0 / kChartCosine);
+}
+
+// Lays `members`, which join across edges, flat by a conformal map; where that
+// stretches a triangle by more than 1 / kChartCosine (or turns one over) their
+// halves' connected parts are laid flat instead, and so on. Triangles that
+// overlap others of their chart in the map are taken out and laid flat the
+// same way among themselves.
+void lay_conformal(const ChartSurface& surface, const std::vector<std::uint32_t>& members,
+                   std::vector<ConformalPiece>* pieces) {
+  if (members.size() == 1) {  // in its own plane, without stretch, however thin it is
+    pieces->push_back({members, projected_flat(surface, members, surface.normals[members[0]])});
     return;
   }
-  grown->worst_stretch = std::max(grown->worst_stretch, conformal->stretch);
+  const std::optional<ConformalChart> conformal = conformal_map_of(surface, members);
+  if (!conformal) {
+    for (const std::vector<std::uint32_t>& part : connected_parts(halves(surface, members), surface))
+      lay_conformal(surface, part, pieces);
+    return;
+  }
   std::vector<std::uint32_t> kept, overlapping;
   std::vector<glm::dvec2> kept_corners;
   for (std::size_t m = 0, next = 0; m < members.size(); ++m) {
@@ -321,21 +331,156 @@ void lay_conformal(const ChartSurface& surface, const std::vector<std::uint32_t>
     kept.push_back(members[m]);
     kept_corners.insert(kept_corners.end(), conformal->corners.begin() + 3 * m, conformal->corners.begin() + 3 * m + 3);
   }
-  grown->flat.push_back(turned_flat(std::move(kept_corners)));
-  grown->members.push_back(std::move(kept));
-  grown->axes.emplace_back();
+  pieces->push_back({std::move(kept), turned_flat(std::move(kept_corners)), conformal->stretch});
   for (const std::vector<std::uint32_t>& part : connected_parts({overlapping}, surface))
-    lay_conformal(surface, part, grown);
+    lay_conformal(surface, part, pieces);
 }
+
+// The length of the edge that triangles i and j share.
+double shared_edge_length(const ChartSurface& surface, std::uint32_t i, std::uint32_t j) {
+  const std::uint32_t* of_j = &surface.corner_ids[3 * j];
+  std::vector<glm::dvec3> shared;
+  for (int k = 0; k < 3; ++k)
+    if (std::find(of_j, of_j + 3, surface.corner_ids[3 * i + k]) != of_j + 3)
+      shared.push_back(surface.corners[3 * i + k]);
+  return shared.size() == 2 ? glm::distance(shared[0], shared[1]) : 0.0;
+}
+
+// The pieces beside piece p (by `piece_of` each triangle's, -1 for none) and
+// the length of boundary p shares with each, the longest first.
+std::vector<std::pair<std::size_t, double>> neighbours_by_boundary(const ChartSurface& surface,
+                                                                   const std::vector<std::uint32_t>& members,
+                                                                   const std::vector<std::ptrdiff_t>& piece_of,
+                                                                   std::size_t p) {
+  std::map<std::size_t, double> boundary;
+  for (std::uint32_t i : members)
+    for (std::uint32_t j : surface.neighbours[i])
+      if (piece_of[j] >= 0 && std::size_t(piece_of[j]) != p)
+        boundary[std::size_t(piece_of[j])] += shared_edge_length(surface, i, j);
+  std::vector<std::pair<std::size_t, double>> longest(boundary.begin(), boundary.end());
+  std::stable_sort(longest.begin(), longest.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  return longest;
+}
+
+// The length of the edges of p's triangles that no other triangle of p shares.
+double perimeter(const ChartSurface& surface, const std::vector<std::uint32_t>& members,
+                 const std::vector<std::ptrdiff_t>& piece_of, std::size_t p) {
+  double length = 0.0;
+  for (std::uint32_t i : members) {
+    for (int k = 0; k < 3; ++k)
+      length += glm::distance(surface.corners[3 * i + k], surface.corners[3 * i + (k + 1) % 3]);
+    for (std::uint32_t j : surface.neighbours[i])
+      if (piece_of[j] == std::ptrdiff_t(p)) length -= shared_edge_length(surface, i, j);
+  }
+  return length;
+}
+
+// Pieces merged two at a time while a conformal map lays the two flat as one
+// within the stretch bound, turning none over and overlapping none (after
+// Sander et al. 2001's chart merging): each merge takes a seam, and the
+// padding along it, out of the texture. The smallest piece goes first, into
+// the neighbour it shares the longest boundary with that it can join. A merge
+// must also leave the chart no less compact (perimeter squared over area, on
+// the surface) than the geometric mean of the two's: taking every merge the
+// map allows left ragged outlines that packed worse on a smooth model (the
+// bunny), and a stricter bound (no less compact than the more compact of the
+// two) kept too many of a hard-surface model's (the helmet's) pieces apart.
+class PieceMerger {
+ public:
+  PieceMerger(const ChartSurface& surface, std::vector<ConformalPiece> pieces)
+      : surface_(surface), pieces_(std::move(pieces)), piece_of_(surface.areas.size(), -1) {
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      for (std::uint32_t i : pieces_[p].members) piece_of_[i] = std::ptrdiff_t(p);
+    for (std::size_t p = 0; p < pieces_.size(); ++p) {
+      area_.push_back(0.0);
+      for (std::uint32_t i : pieces_[p].members) area_[p] += surface.areas[i];
+      perimeter_.push_back(perimeter(surface, pieces_[p].members, piece_of_, p));
+    }
+    alive_.assign(pieces_.size(), true);
+  }
+
+  std::vector<ConformalPiece> merged() && {
+    while (merge_pass()) {
+    }
+    std::vector<ConformalPiece> kept;
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      if (alive_[p]) kept.push_back(std::move(pieces_[p]));
+    return kept;
+  }
+
+ private:
+  // Each piece, smallest first, merged into a neighbour where it can be; whether any was.
+  bool merge_pass() {
+    std::vector<std::size_t> smallest_first;
+    for (std::size_t p = 0; p < pieces_.size(); ++p)
+      if (alive_[p]) smallest_first.push_back(p);
+    std::stable_sort(smallest_first.begin(), smallest_first.end(),
+                     [&](std::size_t a, std::size_t b) { return area_[a] < area_[b]; });
+    bool any = false;
+    for (std::size_t p : smallest_first)
+      if (alive_[p])  // not merged earlier in the pass
+        for (const auto& [q, shared] : neighbours_by_boundary(surface_, pieces_[p].members, piece_of_, p))
+          if (try_merge(p, q, shared)) {
+            any = true;
+            break;
+          }
+    return any;
+  }
+
+  static double compactness(double perimeter, double area) { return perimeter * perimeter / area; }
+
+  bool try_merge(std::size_t p, std::size_t q, double shared) {
+    const std::pair<std::size_t, std::size_t> pair(std::min(p, q), std::max(p, q));
+    if (refused_.count(pair)) return false;
+    const double perimeter = perimeter_[p] + perimeter_[q] - 2.0 * shared, area = area_[p] + area_[q];
+    std::optional<ConformalChart> conformal;
+    if (compactness(perimeter, area) <=
+        std::sqrt(compactness(perimeter_[p], area_[p]) * compactness(perimeter_[q], area_[q]))) {
+      std::vector<std::uint32_t> both = pieces_[p].members;
+      both.insert(both.end(), pieces_[q].members.begin(), pieces_[q].members.end());
+      conformal = conformal_map_of(surface_, both);
+      if (conformal && conformal->overlapping.empty()) {
+        replace(p, q, {std::move(both), turned_flat(conformal->corners), conformal->stretch}, area, perimeter);
+        return true;
+      }
+    }
+    refused_.insert(pair);
+    return false;
+  }
+
+  void replace(std::size_t p, std::size_t q, ConformalPiece both, double area, double perimeter) {
+    for (std::uint32_t i : both.members) piece_of_[i] = std::ptrdiff_t(pieces_.size());
+    pieces_[p] = pieces_[q] = ConformalPiece{};
+    alive_[p] = alive_[q] = false;
+    pieces_.push_back(std::move(both));
+    area_.push_back(area);
+    perimeter_.push_back(perimeter);
+    alive_.push_back(true);
+  }
+
+  const ChartSurface& surface_;
+  std::vector<ConformalPiece> pieces_;  // those merged away left empty
+  std::vector<std::ptrdiff_t> piece_of_;
+  std::vector<double> area_, perimeter_;
+  std::vector<bool> alive_;
+  std::set<std::pair<std::size_t, std::size_t>> refused_;  // pairs that cannot merge, as they are
+};
 
 }  // namespace
 
 LaidCharts conformal_charts(const ChartSurface& surface, const std::vector<int>& round) {
-  LaidCharts grown;
+  std::vector<ConformalPiece> pieces;
   std::vector<Cone> cones;  // any cone: the parts that join across edges
   for (const std::vector<std::uint32_t>& part : grown_charts(surface, round, M_PI, &cones))
-    lay_conformal(surface, part, &grown);
-  return grown;
+    lay_conformal(surface, part, &pieces);
+  LaidCharts laid;
+  for (ConformalPiece& piece : PieceMerger(surface, std::move(pieces)).merged()) {
+    laid.members.push_back(std::move(piece.members));
+    laid.flat.push_back(std::move(piece.flat));
+    laid.axes.emplace_back();
+    laid.worst_stretch = std::max(laid.worst_stretch, piece.stretch);
+  }
+  return laid;
 }
 
 }  // namespace mbao

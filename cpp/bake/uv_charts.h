@@ -44,7 +44,8 @@ struct LaidCharts {
 LaidCharts projected_charts(const ChartSurface& surface, const std::vector<int>& round);
 
 // Each connected part of the round's triangles laid flat by a conformal map,
-// cut in halves while it stretches a triangle by more than 1 / kChartCosine.
+// cut in halves while it stretches a triangle by more than 1 / kChartCosine,
+// and the pieces then merged in pairs where one conformal map still holds both.
 LaidCharts conformal_charts(const ChartSurface& surface, const std::vector<int>& round);
 
 // `members` projected onto the plane perpendicular to unit `axis`, turned.
