@@ -293,6 +293,7 @@ struct ConformalPiece {
   double stretch = 1.0;
 };
 
+// `members` laid flat by conformal_map within the stretch bound, if it can be.
 std::optional<ConformalChart> conformal_map_of(const ChartSurface& surface, const std::vector<std::uint32_t>& members) {
   std::vector<glm::dvec3> corners;
   std::vector<std::uint32_t> ids;
@@ -339,11 +340,12 @@ void lay_conformal(const ChartSurface& surface, const std::vector<std::uint32_t>
 // The length of the edge that triangles i and j share.
 double shared_edge_length(const ChartSurface& surface, std::uint32_t i, std::uint32_t j) {
   const std::uint32_t* of_j = &surface.corner_ids[3 * j];
-  std::vector<glm::dvec3> shared;
+  glm::dvec3 shared[3];
+  int count = 0;
   for (int k = 0; k < 3; ++k)
     if (std::find(of_j, of_j + 3, surface.corner_ids[3 * i + k]) != of_j + 3)
-      shared.push_back(surface.corners[3 * i + k]);
-  return shared.size() == 2 ? glm::distance(shared[0], shared[1]) : 0.0;
+      shared[count++] = surface.corners[3 * i + k];
+  return count == 2 ? glm::distance(shared[0], shared[1]) : 0.0;
 }
 
 // The pieces beside piece p (by `piece_of` each triangle's, -1 for none) and
@@ -433,12 +435,11 @@ class PieceMerger {
     const std::pair<std::size_t, std::size_t> pair(std::min(p, q), std::max(p, q));
     if (refused_.count(pair)) return false;
     const double perimeter = perimeter_[p] + perimeter_[q] - 2.0 * shared, area = area_[p] + area_[q];
-    std::optional<ConformalChart> conformal;
     if (compactness(perimeter, area) <=
         std::sqrt(compactness(perimeter_[p], area_[p]) * compactness(perimeter_[q], area_[q]))) {
       std::vector<std::uint32_t> both = pieces_[p].members;
       both.insert(both.end(), pieces_[q].members.begin(), pieces_[q].members.end());
-      conformal = conformal_map_of(surface_, both);
+      const std::optional<ConformalChart> conformal = conformal_map_of(surface_, both);
       if (conformal && conformal->overlapping.empty()) {
         replace(p, q, {std::move(both), turned_flat(conformal->corners), conformal->stretch}, area, perimeter);
         return true;
