@@ -153,7 +153,7 @@ def test_charts_that_cannot_fit_even_touching_are_refused():
 
 
 def test_the_damaged_helmet_bakes_into_generated_uvs_at_64_texels_with_a_warning():
-    """Its 300-odd charts fit 64 x 64 only closer than 4 texels apart (issue 60)."""
+    """Its nearly 500 charts fit 64 x 64 only closer than 4 texels apart (issue 60)."""
     path = shared_scene("damaged_helmet") / "scene.glb"
     with pytest.warns(UserWarning, match=r"resolution=\d+ keeps them 4 apart"):
         bake = mbao.bake(path, target="texture", texcoord="generate", resolution=64, samples=2, progress=False)
