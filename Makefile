@@ -120,7 +120,7 @@ build: deps $(VENV)/bin/python notebook-kernel
 	echo "$(CURDIR)/python" > "$$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/mbao-dev.pth"
 
 # The C++ tests and the fuzzers, built by clang with AddressSanitizer and UBSan
-# (tinygltf too: sanitize/), without the Python module and the benchmark. At
+# (tinygltf too, which mbao compiles from its header), without the Python module and the benchmark. At
 # -O1 with line tables only, as the sanitizers' documentation advises: reports
 # still name files and lines, and the build is shorter than with full debug info.
 sanitize-build: APT_PACKAGES += $(SANITIZE_PACKAGES)

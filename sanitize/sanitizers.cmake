@@ -6,15 +6,6 @@ set(sanitizer_flags -fsanitize=address,undefined -fno-sanitize-recover=undefined
 add_compile_options(${sanitizer_flags})
 add_link_options(${sanitizer_flags})
 
-# tinygltf from its header, instrumented like the rest (see tinygltf.cpp); the
-# alias stands where find_package(TinyGLTF) would have put the shared library.
-find_path(STB_IMAGE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)
-find_library(STB_LIBRARY stb REQUIRED)
-add_library(tinygltf_instrumented STATIC "${CMAKE_CURRENT_LIST_DIR}/tinygltf.cpp")
-target_include_directories(tinygltf_instrumented PRIVATE "${STB_IMAGE_DIR}")
-target_link_libraries(tinygltf_instrumented PRIVATE nlohmann_json::nlohmann_json "${STB_LIBRARY}")
-add_library(TinyGLTF::TinyGLTF ALIAS tinygltf_instrumented)
-
 # The runtimes' options, compiled into each test and fuzzer binary (default_options.cpp says which and why).
 add_library(mbao_sanitizer_options OBJECT "${CMAKE_CURRENT_LIST_DIR}/default_options.cpp")
 target_compile_definitions(mbao_sanitizer_options PRIVATE MBAO_LSAN_SUPPRESSIONS="${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
