@@ -21,8 +21,8 @@ struct LightmapUvs {
   std::vector<glm::vec2> corner_uvs;  // three per triangle asked for, in its corners' order
   std::size_t charts = 0;
   // The largest factor by which a chart lengthens or shortens a direction in
-  // one of its triangles: 1 / the cosine of its tilt from a projected chart's
-  // plane; at most 1 / kChartCosine.
+  // one of its triangles (LaidCharts::worst_stretch of the charts kept): at
+  // most 1 / kChartCosine.
   double worst_stretch = 1.0;
   double texels_per_unit = 0.0;  // the density: texels along a world unit of a chart's plane
   // Texels between charts: the padding asked for, or the largest smaller one
