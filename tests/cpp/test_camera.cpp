@@ -12,12 +12,20 @@
 namespace mbao {
 namespace {
 
-// `name` with this process's id before it: CTest runs this file's tests at once, each in a process.
-std::string write_temp(const std::string& name, const std::string& text) {
-  const std::string path = testing::TempDir() + std::to_string(::getpid()) + "_" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+// A file holding `text` while it lives, named `name` with this process's id
+// before it: CTest runs this file's tests at once, each in a process.
+class TempFile {
+ public:
+  TempFile(const std::string& name, const std::string& text)
+      : path_(testing::TempDir() + std::to_string(::getpid()) + "_" + name) {
+    std::ofstream(path_) << text;
+  }
+  ~TempFile() { std::remove(path_.c_str()); }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
 
 TEST(Camera, BasisFollowsSpec31) {
   Camera camera;
@@ -64,22 +72,24 @@ TEST(Camera, ExtremeScalesKeepTheirFrame) {
 }
 
 TEST(Camera, LoadsCameraJsonWithOptionalMaxDistance) {
-  const Camera c = Camera::load(write_temp(
-      "cam.json", R"({"eye": [1, 2, 3], "target": [1, 2, 0], "up": [0, 1, 0], "vfov_deg": 45, "max_distance": 7.5})"));
+  const Camera c = Camera::load(
+      TempFile("cam.json",
+               R"({"eye": [1, 2, 3], "target": [1, 2, 0], "up": [0, 1, 0], "vfov_deg": 45, "max_distance": 7.5})")
+          .path());
   EXPECT_EQ(c.eye, glm::vec3(1, 2, 3));
   EXPECT_EQ(c.target, glm::vec3(1, 2, 0));
   EXPECT_EQ(c.vfov_deg, 45.0f);
   ASSERT_TRUE(c.max_distance.has_value());
   EXPECT_EQ(*c.max_distance, 7.5f);
   const Camera d = Camera::load(
-      write_temp("cam2.json", R"({"eye": [1, 2, 3], "target": [1, 2, 0], "up": [0, 1, 0], "vfov_deg": 45})"));
+      TempFile("cam2.json", R"({"eye": [1, 2, 3], "target": [1, 2, 0], "up": [0, 1, 0], "vfov_deg": 45})").path());
   EXPECT_FALSE(d.max_distance.has_value());
 }
 
 // The LoadError message for a camera file with this text, or "".
 std::string load_error(const std::string& text) {
   try {
-    Camera::load(write_temp("bad.json", text));
+    Camera::load(TempFile("bad.json", text).path());
   } catch (const LoadError& e) {
     return e.what();
   }
