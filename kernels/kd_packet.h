@@ -99,8 +99,7 @@ static inline uint packet_intersect(const SceneView* scene, const PacketFrames* 
 // The lanes of `hits` whose hit on the triangle of leaf entry `entry` its alpha
 // mask does not cut away.
 static inline uint packet_solid_hits(const SceneView* scene, uint entry, uint hits, const PacketHits* h) {
-#if MBAO_ALPHA_MASKS
-  if (!hits || !kd_entry_masked(entry)) return hits;
+  if (!MBAO_ALPHA_MASKS || !hits || !kd_entry_masked(entry)) return hits;
   const uint triangle = kd_entry_triangle(entry);
   float b1[MBAO_LANES], b2[MBAO_LANES];
   vstore16(h->b1, 0, b1);
@@ -109,7 +108,6 @@ static inline uint packet_solid_hits(const SceneView* scene, uint entry, uint hi
     const uint k = lowest_lane(lanes);
     if (!hit_is_solid(scene, triangle, b1[k], b2[k])) hits &= ~(1u << k);
   }
-#endif
   return hits;
 }
 

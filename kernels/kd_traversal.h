@@ -135,40 +135,35 @@ typedef struct FarStack {
 } FarStack;
 
 static inline void far_stack_push_if(FarStack* stack, uint push, uint node, float t_hi) {
-#if MBAO_FULL_STACK
-  // It holds at most one entry per tree level, so top never passes the spare slot.
-  const uint slot = stack->top;
-  stack->top += push;
-#elif MBAO_STACK_SIZE > 0
-  const uint slot = push ? stack->top : MBAO_STACK_SIZE;
-  stack->top = (stack->top + push) & (MBAO_STACK_SIZE - 1);
-  stack->count = min(stack->count + push, (uint)MBAO_STACK_SIZE);
-#endif
-#if MBAO_STACK_SIZE > 0
+  if (MBAO_STACK_SIZE == 0) return;
+  uint slot;
+  if (MBAO_FULL_STACK) {
+    // It holds at most one entry per tree level, so top never passes the spare slot.
+    slot = stack->top;
+    stack->top += push;
+  } else {
+    slot = push ? stack->top : MBAO_STACK_SIZE;
+    stack->top = (stack->top + push) & (MBAO_STACK_SIZE - 1);
+    stack->count = min(stack->count + push, (uint)MBAO_STACK_SIZE);
+  }
   stack->entries[slot] = (uint2)(node, as_uint(t_hi));
-#endif
 }
 
 // Without a stack (restart, push-down) it is always empty, and the compiler
 // drops the pops.
 static inline int far_stack_is_empty(const FarStack* stack) {
-#if MBAO_FULL_STACK
-  return stack->top == 0;
-#elif MBAO_STACK_SIZE > 0
-  return stack->count == 0;
-#else
-  return 1;
-#endif
+  if (MBAO_STACK_SIZE == 0) return 1;
+  return (MBAO_FULL_STACK ? stack->top : stack->count) == 0;
 }
 
 static inline int far_stack_pop(FarStack* stack, uint* node, float* t_hi) {
   if (far_stack_is_empty(stack)) return 0;
-#if MBAO_FULL_STACK
-  --stack->top;
-#elif MBAO_STACK_SIZE > 0
-  stack->top = (stack->top - 1) & (MBAO_STACK_SIZE - 1);
-  --stack->count;
-#endif
+  if (MBAO_FULL_STACK) {
+    --stack->top;
+  } else {
+    stack->top = (stack->top - 1) & (MBAO_STACK_SIZE - 1);
+    --stack->count;
+  }
   const uint2 entry = stack->entries[stack->top];
   *node = entry.x;
   *t_hi = as_float(entry.y);
@@ -208,9 +203,7 @@ static inline uint descent_step(const float2* axis_ray, KdNode node, uint index,
   d->t_hi = both ? t_split : d->t_hi;
   d->whole_interval_inside &= !both;
   const uint next = far_only ? far : near;
-#if MBAO_PUSH_DOWN
-  d->start_node = d->whole_interval_inside ? next : d->start_node;
-#endif
+  if (MBAO_PUSH_DOWN) d->start_node = d->whole_interval_inside ? next : d->start_node;
   return next;
 }
 

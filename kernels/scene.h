@@ -72,14 +72,11 @@ static inline float3 triangle_corner(const SceneView* scene, uint triangle, int 
 // Whether a hit at barycentrics (b1, b2) of `triangle` is solid: false where an
 // alpha mask cuts the surface away (for every kind of ray).
 static inline int hit_is_solid(const SceneView* scene, uint triangle, float b1, float b2) {
-#if MBAO_ALPHA_MASKS
+  if (!MBAO_ALPHA_MASKS) return 1;
   const uint slot = scene->triangle_masks[triangle];
   if (slot == MBAO_NOT_MASKED) return 1;
   const MaskedTriangle masked = scene->masked_triangles[slot];
   return mask_is_opaque(masked, scene->mask_textures[masked.texture], scene->mask_texels, b1, b2);
-#else
-  return 1;
-#endif
 }
 
 #endif
