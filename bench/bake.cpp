@@ -23,6 +23,9 @@ std::int64_t vertex_samples(const mbao::Scene& scene) {
 constexpr std::int64_t kTexelSamples = 2;  // the fewest that give a standard error
 constexpr int kTextureSide = 2048;
 constexpr int kPadding = 4;
+// Smaller textures at which generated UVs' coverage is reported too: there
+// padding takes more of the texture.
+constexpr int kSmallerSides[] = {512, 1024};
 
 // The scene again with its UV sets' materials, which a texture bake groups triangles by.
 std::shared_ptr<mbao::Scene> with_materials(const BenchScene& s) {
@@ -42,6 +45,26 @@ std::map<int, std::vector<std::uint32_t>> triangles_by_material(const mbao::Scen
 
 json rays_json(double frame_ms, std::uint64_t rays) {
   return {{"frame_ms", frame_ms}, {"rays", rays}, {"mrays_per_s", double(rays) / frame_ms / 1e3}};
+}
+
+double covered_fraction(const mbao::TexelLayout& layout) {
+  return double(layout.covered_count()) / (double(layout.width()) * layout.height());
+}
+
+// Generated UVs of every material in side x side texels, without a bake: the
+// mean over materials of the fraction of texels covered, the charts and the time.
+json uv_coverage(const mbao::Scene& scene, int side) {
+  double covered = 0.0, uv_ms = 0.0;
+  std::size_t charts = 0, materials = 0;
+  for (const auto& [material, triangles] : triangles_by_material(scene)) {
+    mbao::Stopwatch clock;
+    const mbao::LightmapUvs uvs = mbao::generate_lightmap_uvs(scene.mesh(), triangles, side, side, kPadding);
+    uv_ms += clock.elapsed_ms();
+    covered += covered_fraction(*uvs.layout);
+    charts += uvs.charts;
+    ++materials;
+  }
+  return {{"side", side}, {"texels_covered", covered / double(materials)}, {"charts", charts}, {"uv_ms", uv_ms}};
 }
 
 // A per-vertex bake: the second of two, the first having built the kernels.
@@ -76,9 +99,10 @@ json texture_bake(mbao::Renderer& renderer, const std::shared_ptr<mbao::Scene>& 
     mbao::dilate(layout.covered(), kTextureSide, kTextureSide, kPadding, {&bake.values, &bake.standard_error});
     dilation_ms += clock.elapsed_ms();
     charts += uvs.charts;
-    covered += double(layout.covered_count()) / (double(kTextureSide) * kTextureSide);
+    covered += covered_fraction(layout);
   }
   json result = rays_json(trace_ms, rays);
+  result["side"] = kTextureSide;
   result["materials"] = materials;
   result["charts"] = charts;
   result["texels_covered"] = covered / double(materials);  // the mean over materials of their textures' fraction
@@ -123,6 +147,7 @@ json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, cons
       if (estimator == mbao::Estimator::Path) {
         const json texture = texture_bake(renderer, scene, settings);
         row["texture_bake"] = texture;
+        for (const int side : kSmallerSides) row["uv_coverage"].push_back(uv_coverage(*scene, side));
         std::cout << fixed(texture["mrays_per_s"], 1) << " | " << fixed(render_rate / double(vertex["mrays_per_s"]), 2)
                   << " | " << fixed(render_rate / double(texture["mrays_per_s"]), 2) << " | "
                   << fixed(double(texture["total_ms"]) / 1e3, 1) << " (" << fixed(double(texture["uv_ms"]) / 1e3, 1)
@@ -142,7 +167,8 @@ json bakes(mbao::Renderer& renderer, const std::vector<BenchScene>& scenes, cons
             << "small meshes (2^20 in all). Texture bake: every material into generated UVs at " << kTextureSide << "x"
             << kTextureSide << ", padding " << kPadding << ", " << kTexelSamples
             << " estimates per texel; its Mrays/s over the tracing alone; texels covered: the mean over "
-            << "materials of the fraction of their texture's texels a triangle covers.\n\n";
+            << "materials of the fraction of their texture's texels a triangle covers (in the JSON also at "
+            << "smaller sides, UVs alone).\n\n";
   return rows;
 }
 

@@ -339,6 +339,19 @@ def bake(run):
     return table(header, rows)
 
 
+def uv_coverage(run):
+    """Generated UVs by texture side, padding 4: the mean over materials of the fraction of texels covered, and charts."""
+    rows = []
+    for row in run["bake"]:
+        t = row.get("texture_bake")
+        if t is None or "uv_coverage" not in row:  # runs before smaller sides were measured
+            continue
+        sides = row["uv_coverage"] + [{"side": t["side"], "texels_covered": t["texels_covered"], "charts": t["charts"]}]
+        rows.append([row["scene"]] + [f"{s['texels_covered']:.2f} ({s['charts']})" for s in sides])
+    sides = [s["side"] for s in sides] if rows else []
+    return table(["scene"] + [f"{side}²: texels covered (charts)" for side in sides], rows)
+
+
 def scale(run):
     """mbao_bench --sections scale: build, frame and peak memory as the generated scene grows, beside Embree."""
     header = [
@@ -556,6 +569,7 @@ TABLES = {
     "profile": profile,
     "organisation": organisation,
     "bake": bake,
+    "uv-coverage": uv_coverage,
     "denoise": denoise,
     "denoise-summary": denoise_summary,
     "scale": scale,
