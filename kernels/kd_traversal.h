@@ -340,18 +340,18 @@ static inline int trace_ray_from(const SceneView* scene, const RayOrigin* origin
     while (!kd_is_leaf(node)) {
       const uint below = index + 1, above = kd_above_child(node);  // read only with MBAO_LOAD_BOTH_CHILDREN
       index = descent_step(axis_ray, node, index, &d, &stack);
-#if MBAO_LOAD_BOTH_CHILDREN
-      // volatile: otherwise the compiler turns the choice between two loaded
-      // nodes back into one load of the chosen node. As words, not as KdNode:
-      // a volatile struct is copied through memory.
-      volatile __global const uint2* node_words = (volatile __global const uint2*)scene->nodes;
-      const uint2 below_words = node_words[below], above_words = node_words[above];
-      const uint2 words = index == below ? below_words : above_words;
-      node.header = words.x;
-      node.payload = words.y;
-#else
-      node = scene->nodes[index];
-#endif
+      if (MBAO_LOAD_BOTH_CHILDREN) {
+        // volatile: otherwise the compiler turns the choice between two loaded
+        // nodes back into one load of the chosen node. As words, not as KdNode:
+        // a volatile struct is copied through memory.
+        volatile __global const uint2* node_words = (volatile __global const uint2*)scene->nodes;
+        const uint2 below_words = node_words[below], above_words = node_words[above];
+        const uint2 words = index == below ? below_words : above_words;
+        node.header = words.x;
+        node.payload = words.y;
+      } else {
+        node = scene->nodes[index];
+      }
       MBAO_COUNT(counts, nodes, 1);
     }
 
