@@ -106,6 +106,18 @@ def test_a_long_strip_is_cut_so_that_it_does_not_set_the_density():
     assert texture.stats["texels_per_unit"] > 2 * (resolution - 2 * padding - 1) / 32
 
 
+def test_a_strip_whose_triangles_span_it_is_not_cut():
+    """Four quads apart, each 32 units long and 1 wide, of two triangles that
+    both span its length (a chain's links): cut across, each would only part
+    into its two triangles, as long as the quad and padded apart, so each
+    stays one chart."""
+    quad = np.array([[0.0, 0.0, 0.0], [32.0, 0.0, 0.0], [32.0, 0.0, -1.0], [0.0, 0.0, -1.0]])
+    vertices = np.concatenate([quad + [0.0, 0.0, 3.0 * k] for k in range(4)])
+    indices = np.concatenate([np.array([[0, 1, 2], [0, 2, 3]]) + 4 * k for k in range(4)])
+    texture = generated(vertices, indices, resolution=64, padding=2)
+    assert texture.stats["charts"] == 4 and texture.stats["claimed_twice"] == 0
+
+
 def test_duplicated_triangles_and_folds_get_charts_of_their_own():
     """Two copies of one floor (the same positions, the same winding) would
     project onto one another in one chart: the second copy is taken out into

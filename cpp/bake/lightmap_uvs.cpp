@@ -70,17 +70,28 @@ double triangles_area(const FlatChart& chart) {
   return sum;
 }
 
-// Whether a chart packs better cut across its length: a long strip (a
-// moulding, a rim) would set the density for every chart, and a hollow one (a
-// rose window, a column's capital) holds its box's middle empty, where it is
-// long against the padding that cutting adds. A large one (a room's wall) is
-// cut where `cut_large`: a few of them tile a square badly, but one alone
-// tiles it well.
-bool worth_cutting(const FlatChart& flat, const CutLengths& lengths, bool cut_large) {
+// A long strip (a moulding, a rim) would set the density for every chart.
+bool is_strip(const FlatChart& flat, const CutLengths& lengths) {
+  return flat.size.x > lengths.strip && flat.size.x > 2.0 * flat.size.y;
+}
+
+// A hollow chart (a rose window, a column's capital) holds its box's middle
+// empty, where it is long against the padding that cutting adds. A large one
+// (a room's wall) is cut where `cut_large`: a few of them tile a square badly,
+// but one alone tiles it well. Either packs better in pieces, however long.
+bool hollow_or_large(const FlatChart& flat, const CutLengths& lengths, bool cut_large) {
   const double length = flat.size.x;
-  return (length > lengths.strip && length > 2.0 * flat.size.y) ||
-         (length > lengths.hollow && triangles_area(flat) < kHollowFill * box_area(flat)) ||
+  return (length > lengths.hollow && triangles_area(flat) < kHollowFill * box_area(flat)) ||
          (cut_large && length > lengths.large);
+}
+
+// A strip's pieces must be shorter than this share of it: a piece whose
+// triangles span the strip (a long quad's two) shortens nothing.
+constexpr double kShorterPiece = 0.9;
+
+bool pieces_shorter(const std::vector<FlatChart>& pieces, const FlatChart& flat) {
+  return std::all_of(pieces.begin(), pieces.end(),
+                     [&](const FlatChart& piece) { return piece.size.x < kShorterPiece * flat.size.x; });
 }
 
 // A chart's triangles and how they lie flat, as charts: while worth cutting,
@@ -94,20 +105,22 @@ class Cutter {
 
   void add(std::vector<std::uint32_t> members, FlatChart flat, const std::optional<glm::dvec3>& axis,
            Charts* charts) const {
+    const bool in_pieces_however_long = hollow_or_large(flat, lengths_, cut_large_);
     std::vector<std::vector<std::uint32_t>> pieces;
-    if (worth_cutting(flat, lengths_, cut_large_)) {
+    std::vector<FlatChart> laid;
+    if (in_pieces_however_long || is_strip(flat, lengths_)) {
       const auto count = std::max<std::size_t>(2, std::size_t(std::ceil(flat.size.x / lengths_.strip)));
       pieces = connected_parts(cut_across(members, flat, count), surface_);
+      for (const std::vector<std::uint32_t>& piece : pieces)
+        laid.push_back(axis ? projected_flat(surface_, piece, *axis) : piece_flat(members, flat, piece));
     }
-    if (pieces.size() < 2) {  // not worth it, or one triangle spans its length
+    // Not worth cutting; or one piece, where a triangle spans the length; or a strip's pieces no shorter.
+    if (pieces.size() < 2 || !(in_pieces_however_long || pieces_shorter(laid, flat))) {
       charts->members.push_back(std::move(members));
       charts->flat.push_back(std::move(flat));
       return;
     }
-    for (std::vector<std::uint32_t>& piece : pieces) {
-      FlatChart laid = axis ? projected_flat(surface_, piece, *axis) : piece_flat(members, flat, piece);
-      add(std::move(piece), std::move(laid), axis, charts);
-    }
+    for (std::size_t p = 0; p < pieces.size(); ++p) add(std::move(pieces[p]), std::move(laid[p]), axis, charts);
   }
 
  private:
