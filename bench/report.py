@@ -341,15 +341,15 @@ def bake(run):
 
 def uv_coverage(run):
     """Generated UVs by texture side, padding 4: the mean over materials of the fraction of texels covered, and charts."""
-    rows = []
+    header, rows = ["scene"], []
     for row in run["bake"]:
         t = row.get("texture_bake")
         if t is None or "uv_coverage" not in row:  # runs before smaller sides were measured
             continue
         sides = row["uv_coverage"] + [{"side": t["side"], "texels_covered": t["texels_covered"], "charts": t["charts"]}]
+        header = ["scene"] + [f"{s['side']}²: texels covered (charts)" for s in sides]
         rows.append([row["scene"]] + [f"{s['texels_covered']:.2f} ({s['charts']})" for s in sides])
-    sides = [s["side"] for s in sides] if rows else []
-    return table(["scene"] + [f"{side}²: texels covered (charts)" for side in sides], rows)
+    return table(header, rows)
 
 
 def scale(run):
