@@ -36,6 +36,7 @@ import os
 import pathlib
 import random
 import sys
+import tempfile
 
 import numpy as np
 from PIL import Image
@@ -64,16 +65,25 @@ FRAME_TIMEOUT_S = 60
 INPUT_TIMEOUT_S = 5
 
 
+@contextlib.contextmanager
 def chromium():
-    """Headless Chromium, without its sandbox (which refuses to start as root)."""
+    """Headless Chromium, without its sandbox (which refuses to start as root), quit on leaving. Its
+    temporary files go in a folder of its own, removed after: Chromium leaves its singleton-lock folders."""
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
 
-    options = webdriver.ChromeOptions()
-    options.binary_location = "/usr/bin/chromium"
-    for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1200,900"):
-        options.add_argument(argument)
-    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+    with tempfile.TemporaryDirectory(prefix="mbao-chromium-") as folder:
+        options = webdriver.ChromeOptions()
+        options.binary_location = "/usr/bin/chromium"
+        for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1200,900"):
+            options.add_argument(argument)
+        driver = webdriver.Chrome(
+            service=Service("/usr/bin/chromedriver", env={**os.environ, "TMPDIR": folder}), options=options
+        )
+        try:
+            yield driver
+        finally:
+            driver.quit()
 
 
 @contextlib.contextmanager
@@ -214,16 +224,13 @@ def main():
     converged = reference(
         "cornell_box", mbao.cornell_box(), None, STILL["bounces"], None, args.target_error, args.cache
     )
-    driver = chromium()
-    try:
+    with chromium() as driver:
         scenes = [
             motion(driver, CORNELL, None, None, MOTION),
             motion(driver, "sponza", str(sponza / "scene.glb"), str(sponza / "camera.json"), MOTION),
         ]
         settled = still(driver, converged)
         browser = f"Chromium {driver.capabilities['browserVersion']}, headless"
-    finally:
-        driver.quit()
     device = mbao.render(mbao.cornell_box(), width=1, height=1).stats["device"]  # as mbao_bench names it
     version = next(d.version for d in mbao.devices() if device.endswith(d.name))
     protocol = dict(drag=DRAG, inputs=INPUTS, step_px=STEP_PX, pauses_s=PAUSES_S, still_seconds=STILL_SECONDS)

@@ -24,11 +24,8 @@ with served(
     denoise=True,
     frames=16,
 ) as viewer:
-    browser = chromium()
-    try:
+    with chromium() as browser:
         browser.set_window_size(960, 740)
         browser.get(viewer.url)
         wait_still(browser)
         browser.save_screenshot(str(here / "viewer.png"))
-    finally:
-        browser.quit()

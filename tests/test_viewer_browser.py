@@ -14,9 +14,8 @@ from viewer_client import served
 
 @pytest.fixture(scope="module")
 def browser():
-    driver = chromium()
-    yield driver
-    driver.quit()
+    with chromium() as driver:
+        yield driver
 
 
 @pytest.fixture(scope="module")

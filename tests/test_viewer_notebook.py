@@ -79,9 +79,8 @@ def _wait_until_serving(url, server):
 
 @pytest.fixture
 def browser():
-    driver = chromium()
-    yield driver
-    driver.quit()
+    with chromium() as driver:
+        yield driver
 
 
 def run_cell(driver, source):

@@ -3,7 +3,10 @@ Selenium, for the viewer's tests: a page's state and image as a user's
 browser has them."""
 
 import base64
+import contextlib
 import io
+import os
+import tempfile
 import time
 
 import numpy as np
@@ -14,16 +17,24 @@ from selenium.webdriver.chrome.service import Service
 from viewer_client import FRAME_TIMEOUT_S
 
 
+@contextlib.contextmanager
 def chromium():
-    options = webdriver.ChromeOptions()
-    options.binary_location = "/usr/bin/chromium"
-    # No sandbox: tests run as root in CI, where Chromium's sandbox refuses to start.
-    for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1200,900"):
-        options.add_argument(argument)
-    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
-    driver.set_script_timeout(FRAME_TIMEOUT_S)
-    return driver
+    """The browser, quit on leaving. Its temporary files go in a folder of its
+    own, removed after: Chromium leaves its singleton-lock folders behind."""
+    with tempfile.TemporaryDirectory(prefix="mbao-chromium-") as folder:
+        options = webdriver.ChromeOptions()
+        options.binary_location = "/usr/bin/chromium"
+        # No sandbox: tests run as root in CI, where Chromium's sandbox refuses to start.
+        for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1200,900"):
+            options.add_argument(argument)
+        options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+        service = Service("/usr/bin/chromedriver", env={**os.environ, "TMPDIR": folder})
+        driver = webdriver.Chrome(service=service, options=options)
+        try:
+            driver.set_script_timeout(FRAME_TIMEOUT_S)
+            yield driver
+        finally:
+            driver.quit()
 
 
 def state(driver):
