@@ -182,7 +182,7 @@ def test_from_the_ui_it_bakes_beside_it_and_esc_cancels(blender_home, tmp_path):
             "--python",
             str(script),
         ],
-        env=blender_home,
+        env={**blender_home, "TMPDIR": str(tmp_path)},  # where Blender saves quit.blend as it quits
         cwd=tmp_path,
         capture_output=True,
         text=True,
