@@ -227,6 +227,18 @@ def test_thin_triangles_nest_in_pairs_one_half_turned():
     assert texture.stats["texels_per_unit"] > (resolution - 2 * padding - 1) / 6
 
 
+def test_a_chart_that_fits_no_other_way_is_packed_a_quarter_turned():
+    """A quad 32 units long and 1 wide, of two triangles that span it (not
+    cut), in a texture 16 texels wide and 64 high: lying along x it would fit
+    at no more than (16 - 2 * padding - 1) / 32 texels per unit; standing
+    along y it fits at more."""
+    width, height, padding = 16, 64, 1
+    vertices = np.array([[0.0, 0.0, 0.0], [32.0, 0.0, 0.0], [32.0, 0.0, -1.0], [0.0, 0.0, -1.0]])
+    texture = generated(vertices, np.array([[0, 1, 2], [0, 2, 3]]), resolution=(width, height), padding=padding)
+    assert texture.stats["charts"] == 1 and texture.stats["claimed_twice"] == 0
+    assert texture.stats["texels_per_unit"] > 2 * (width - 2 * padding - 1) / 32
+
+
 def test_a_few_large_charts_are_cut_where_that_packs_denser():
     """Five equal square floors, 2 units a side, apart: no five squares of
     side a fit a square of side less than (2 + 1 / sqrt(2)) a (Goebel, 1979),

@@ -257,10 +257,13 @@ class Atlas {
 
 }  // namespace
 
-FlatChart half_turned(const FlatChart& chart) {
-  FlatChart turned = chart;
-  for (glm::dvec2& q : turned.corners) q = chart.size - q;
-  return turned;
+FlatChart turned(const FlatChart& chart, int quarter_turns) {
+  FlatChart result = chart;
+  for (int k = 0; k < quarter_turns % 4; ++k) {
+    for (glm::dvec2& q : result.corners) q = glm::dvec2(result.size.y - q.y, q.x);
+    result.size = glm::dvec2(result.size.y, result.size.x);
+  }
+  return result;
 }
 
 // Whether corner a lies higher up than b, or as high and further left.
@@ -273,13 +276,17 @@ std::optional<std::vector<Placement>> packed_charts(const std::vector<FlatChart>
   Atlas atlas(width, height);
   for (std::size_t c : order) {
     std::optional<ChartTexels> best;
-    for (const bool half_turn : {false, true}) {
-      ChartTexels texels = chart_texels(half_turn ? half_turned(charts[c]) : charts[c], density, padding);
-      const int last_row = best ? placed[c].corner.y : height;  // the half turn is tried no lower
+    // Quarter turns only where a chart fits neither as it is nor half turned:
+    // tried for every chart, they took the UVs 3.5 times as long for a point
+    // or two more of the texture covered.
+    for (const int quarter_turns : {0, 2, 1, 3}) {
+      if (quarter_turns == 1 && best) break;
+      ChartTexels texels = chart_texels(turned(charts[c], quarter_turns), density, padding);
+      const int last_row = best ? placed[c].corner.y : height;  // a turn is tried no lower
       const std::optional<glm::ivec2> corner = atlas.first_fit(texels, padding, last_row);
       if (corner && (!best || before(*corner, placed[c].corner))) {
         best = std::move(texels);
-        placed[c] = Placement{*corner, half_turn};
+        placed[c] = Placement{*corner, quarter_turns};
       }
     }
     if (!best) return std::nullopt;

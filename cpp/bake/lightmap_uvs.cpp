@@ -213,7 +213,7 @@ std::vector<glm::vec2> chart_uvs(const Charts& charts, const std::vector<Placeme
   for (std::size_t c = 0; c < charts.members.size(); ++c) {
     // Half a texel in from the box's corner: the box is a texel larger than the chart.
     const glm::dvec2 origin = glm::dvec2(placed[c].corner) + 0.5;
-    const FlatChart flat = placed[c].half_turned ? half_turned(charts.flat[c]) : charts.flat[c];
+    const FlatChart flat = turned(charts.flat[c], placed[c].quarter_turns);
     for (std::size_t m = 0; m < charts.members[c].size(); ++m)
       for (std::size_t k = 0; k < 3; ++k) {
         const glm::dvec2 q = flat.corners[3 * m + k] * density + origin;
