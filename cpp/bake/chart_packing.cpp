@@ -277,8 +277,8 @@ std::optional<std::vector<Placement>> packed_charts(const std::vector<FlatChart>
   for (std::size_t c : order) {
     std::optional<ChartTexels> best;
     // Quarter turns only where a chart fits neither as it is nor half turned:
-    // tried for every chart, they took the UVs 3.5 times as long for a point
-    // or two more of the texture covered.
+    // tried for every chart, they cost several times the packing's time for
+    // little more of the texture covered (docs/limits.md).
     for (const int quarter_turns : {0, 2, 1, 3}) {
       if (quarter_turns == 1 && best) break;
       ChartTexels texels = chart_texels(turned(charts[c], quarter_turns), density, padding);
