@@ -110,7 +110,7 @@ class Cutter {
     std::vector<FlatChart> laid;
     if (in_pieces_however_long || is_strip(flat, lengths_)) {
       const auto count = std::max<std::size_t>(2, std::size_t(std::ceil(flat.size.x / lengths_.strip)));
-      pieces = connected_parts(cut_across(members, flat, count), surface_);
+      pieces = connected_parts(shortened_cuts(cut_across(members, flat, count), surface_), surface_);
       for (const std::vector<std::uint32_t>& piece : pieces)
         laid.push_back(axis ? projected_flat(surface_, piece, *axis) : piece_flat(members, flat, piece));
     }

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -228,6 +229,66 @@ FlatChart piece_flat(const std::vector<std::uint32_t>& members, const FlatChart&
   return turned_flat(std::move(corners));
 }
 
+namespace {
+
+// The length of the edge that triangles i and j share.
+double shared_edge_length(const ChartSurface& surface, std::uint32_t i, std::uint32_t j) {
+  const std::uint32_t* of_j = &surface.corner_ids[3 * j];
+  glm::dvec3 shared[3];
+  int count = 0;
+  for (int k = 0; k < 3; ++k)
+    if (std::find(of_j, of_j + 3, surface.corner_ids[3 * i + k]) != of_j + 3)
+      shared[count++] = surface.corners[3 * i + k];
+  return count == 2 ? glm::distance(shared[0], shared[1]) : 0.0;
+}
+
+// Where a triangle shares a boundary longer by this factor with another
+// piece, the cut gets shorter by more than the lengths' rounding.
+constexpr double kLongerBoundary = 1.0 + 1e-9;
+
+// The piece (other than its own, `piece_of[i]`) that triangle i shares the
+// longest boundary with, where that is longer than the one it shares with its own.
+std::optional<int> piece_sharing_more(const ChartSurface& surface, const std::vector<int>& piece_of, std::uint32_t i) {
+  std::map<int, double> shared;
+  for (std::uint32_t j : surface.neighbours[i])
+    if (piece_of[j] >= 0) shared[piece_of[j]] += shared_edge_length(surface, i, j);
+  const double own = shared[piece_of[i]];
+  std::optional<int> best;
+  for (const auto& [piece, length] : shared)
+    if (length > kLongerBoundary * own && (!best || length > shared[*best])) best = piece;
+  return best;
+}
+
+}  // namespace
+
+std::vector<std::vector<std::uint32_t>> shortened_cuts(const std::vector<std::vector<std::uint32_t>>& pieces,
+                                                       const ChartSurface& surface) {
+  std::vector<int> piece_of(surface.areas.size(), -1);
+  std::vector<std::size_t> sizes;
+  std::vector<std::uint32_t> members;
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    for (std::uint32_t i : pieces[p]) piece_of[i] = int(p);
+    sizes.push_back(pieces[p].size());
+    members.insert(members.end(), pieces[p].begin(), pieces[p].end());
+  }
+  for (bool moved = true; moved;) {
+    moved = false;
+    for (std::uint32_t i : members) {
+      const int own = piece_of[i];
+      if (sizes[std::size_t(own)] == 1) continue;
+      if (const std::optional<int> other = piece_sharing_more(surface, piece_of, i)) {
+        --sizes[std::size_t(own)];
+        ++sizes[std::size_t(*other)];
+        piece_of[i] = *other;
+        moved = true;
+      }
+    }
+  }
+  std::vector<std::vector<std::uint32_t>> shortened(pieces.size());
+  for (std::uint32_t i : members) shortened[std::size_t(piece_of[i])].push_back(i);
+  return shortened;
+}
+
 std::vector<std::vector<std::uint32_t>> connected_parts(const std::vector<std::vector<std::uint32_t>>& pieces,
                                                         const ChartSurface& surface) {
   std::vector<int> piece_of(surface.areas.size(), -1);
@@ -317,7 +378,8 @@ void lay_conformal(const ChartSurface& surface, const std::vector<std::uint32_t>
   }
   const std::optional<ConformalChart> conformal = conformal_map_of(surface, members);
   if (!conformal) {
-    for (const std::vector<std::uint32_t>& part : connected_parts(halves(surface, members), surface))
+    for (const std::vector<std::uint32_t>& part :
+         connected_parts(shortened_cuts(halves(surface, members), surface), surface))
       lay_conformal(surface, part, pieces);
     return;
   }
@@ -335,17 +397,6 @@ void lay_conformal(const ChartSurface& surface, const std::vector<std::uint32_t>
   pieces->push_back({std::move(kept), turned_flat(std::move(kept_corners)), conformal->stretch});
   for (const std::vector<std::uint32_t>& part : connected_parts({overlapping}, surface))
     lay_conformal(surface, part, pieces);
-}
-
-// The length of the edge that triangles i and j share.
-double shared_edge_length(const ChartSurface& surface, std::uint32_t i, std::uint32_t j) {
-  const std::uint32_t* of_j = &surface.corner_ids[3 * j];
-  glm::dvec3 shared[3];
-  int count = 0;
-  for (int k = 0; k < 3; ++k)
-    if (std::find(of_j, of_j + 3, surface.corner_ids[3 * i + k]) != of_j + 3)
-      shared[count++] = surface.corners[3 * i + k];
-  return count == 2 ? glm::distance(shared[0], shared[1]) : 0.0;
 }
 
 // The pieces beside piece p (by `piece_of` each triangle's, -1 for none) and

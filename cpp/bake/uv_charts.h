@@ -56,6 +56,15 @@ FlatChart projected_flat(const ChartSurface& surface, const std::vector<std::uin
 FlatChart piece_flat(const std::vector<std::uint32_t>& members, const FlatChart& flat,
                      const std::vector<std::uint32_t>& piece);
 
+// Pieces of a chart, cut apart by the triangles' centroids, with each
+// triangle moved to the piece it shares the longest boundary with (by the
+// length of the edges it shares), where that is longer than the one it shares
+// with its own and its own keeps another triangle, until none moves. Each move
+// shortens the cut: a straight cut through a fan of long thin triangles
+// otherwise leaves spikes, whose gaps the packing cannot fill.
+std::vector<std::vector<std::uint32_t>> shortened_cuts(const std::vector<std::vector<std::uint32_t>>& pieces,
+                                                       const ChartSurface& surface);
+
 // Each piece split where its triangles do not join across edges: a ring cut
 // across leaves two arcs in a piece.
 std::vector<std::vector<std::uint32_t>> connected_parts(const std::vector<std::vector<std::uint32_t>>& pieces,
