@@ -210,31 +210,40 @@ double bisected_density(const std::vector<FlatChart>& charts, const std::vector<
   return lo;
 }
 
-// The largest density at which the charts fit `padding` apart in any of the
-// packing orders (they must fit at kLeastDensity), and where each goes: in
-// the first order, halving from twice the density at which their boxes' area
-// alone would fill the texture until they fit, then by bisection; in each
-// other order, by bisection from that density where they fit denser.
-double densest_packing(const std::vector<FlatChart>& charts, int width, int height, int padding,
-                       std::vector<Placement>* placed) {
-  const std::vector<std::vector<std::size_t>> orders = packing_orders(charts);
-  const double most = 2.0 * filling_density(charts, width, height);
+// The largest density at which the charts fit `padding` apart in the first
+// packing order (they must fit at kLeastDensity), and where each goes:
+// halving from `most` until they fit, then by bisection.
+double densest_in_order(const std::vector<FlatChart>& charts, const std::vector<std::size_t>& order, double most,
+                        int width, int height, int padding, std::vector<Placement>* placed) {
   double hi = most, lo = 0.5 * hi;
   std::optional<std::vector<Placement>> fits;
-  for (; lo > kLeastDensity && !(fits = packed_charts(charts, orders[0], lo, width, height, padding)); lo *= 0.5)
-    hi = lo;
+  for (; lo > kLeastDensity && !(fits = packed_charts(charts, order, lo, width, height, padding)); lo *= 0.5) hi = lo;
   if (!fits) {
     lo = kLeastDensity;
-    fits = packed_charts(charts, orders[0], lo, width, height, padding);
+    fits = packed_charts(charts, order, lo, width, height, padding);
   }
   *placed = std::move(*fits);
-  double density = bisected_density(charts, orders[0], lo, hi, width, height, padding, placed);
-  for (std::size_t k = 1; k < orders.size(); ++k) {
-    const double denser = kDensityPrecision * density;
-    if ((fits = packed_charts(charts, orders[k], denser, width, height, padding))) {
+  return bisected_density(charts, order, lo, hi, width, height, padding, placed);
+}
+
+// The largest density above `to_beat` (none: any) at which the charts fit
+// `padding` apart in any of the packing orders, and where each goes; none
+// where no order fits them denser. An order is searched only from a density
+// above the best so far, so that one which cannot beat it costs one packing.
+std::optional<double> densest_packing(const std::vector<FlatChart>& charts, int width, int height, int padding,
+                                      std::optional<double> to_beat, std::vector<Placement>* placed) {
+  const double most = 2.0 * filling_density(charts, width, height);
+  std::optional<double> density;
+  for (const std::vector<std::size_t>& order : packing_orders(charts)) {
+    const std::optional<double> best = density ? density : to_beat;
+    if (!best) {
+      density = densest_in_order(charts, order, most, width, height, padding, placed);
+      continue;
+    }
+    const double denser = kDensityPrecision * *best;
+    if (std::optional<std::vector<Placement>> fits = packed_charts(charts, order, denser, width, height, padding)) {
       *placed = std::move(*fits);
-      density =
-          bisected_density(charts, orders[k], denser, std::max(most, 2.0 * denser), width, height, padding, placed);
+      density = bisected_density(charts, order, denser, std::max(most, 2.0 * denser), width, height, padding, placed);
     }
   }
   return density;
@@ -266,42 +275,54 @@ struct Packing {
   double worst_stretch = 1.0;  // the charts' (LaidCharts)
 };
 
-std::optional<Packing> packing(Charts charts, int width, int height, int padding) {
-  const std::optional<int> fitting = fitting_padding(charts.flat, width, height, padding);
-  if (!fitting) return std::nullopt;
-  Packing packing;
-  packing.padding = *fitting;
-  if (packing.padding < padding) packing.size_keeping_padding = size_keeping(charts.flat, width, height, padding);
-  packing.density = densest_packing(charts.flat, width, height, packing.padding, &packing.placed);
-  packing.charts = std::move(charts);
-  return packing;
+// The area of the charts' triangles, in world units.
+double triangles_area(const std::vector<FlatChart>& charts) {
+  double area = 0.0;
+  for (const FlatChart& chart : charts) area += triangles_area(chart);
+  return area;
 }
 
 // The texels a packing's triangles cover, near enough: their area in the texture.
 double texel_area(const Packing& packing) {
-  double area = 0.0;
-  for (const FlatChart& chart : packing.charts.flat) area += triangles_area(chart);
-  return area * packing.density * packing.density;
+  return triangles_area(packing.charts.flat) * packing.density * packing.density;
 }
 
-// Whichever of two packings fits at the larger padding, then covers more
-// texels (charts laid flat differently differ in area at one density); `a`
-// where they tie.
-std::optional<Packing> better_of(std::optional<Packing> a, std::optional<Packing> b) {
-  if (!a || !b) return a ? std::move(a) : std::move(b);
-  const bool b_better = b->padding > a->padding || (b->padding == a->padding && texel_area(*b) > texel_area(*a));
-  return b_better ? std::move(b) : std::move(a);
+// The charts packed, where they pack better than `rival`: at a larger
+// padding, or at the same one covering more texels (charts laid flat
+// differently differ in area at one density); none where they do not, or do
+// not fit even touching.
+std::optional<Packing> packing(Charts charts, int width, int height, int padding, const std::optional<Packing>& rival) {
+  const std::optional<int> fitting = fitting_padding(charts.flat, width, height, padding);
+  if (!fitting || (rival && *fitting < rival->padding)) return std::nullopt;
+  std::optional<double> to_beat;  // the density at which they would cover the rival's texels
+  if (rival && *fitting == rival->padding) {
+    const double area = triangles_area(charts.flat), rival_texels = texel_area(*rival);
+    if (area == 0.0) return std::nullopt;  // they cover no texel, so not more
+    if (rival_texels > 0.0) to_beat = std::sqrt(rival_texels / area);
+  }
+  Packing packing;
+  packing.padding = *fitting;
+  const std::optional<double> density =
+      densest_packing(charts.flat, width, height, packing.padding, to_beat, &packing.placed);
+  if (!density) return std::nullopt;
+  packing.density = *density;
+  if (packing.padding < padding) packing.size_keeping_padding = size_keeping(charts.flat, width, height, padding);
+  packing.charts = std::move(charts);
+  return packing;
 }
 
-// The round's charts packed, with large charts cut or not, whichever packs better.
+// The round's charts packed, with large charts cut or not, whichever packs
+// better (uncut where they tie), where that is better than `rival`.
 std::optional<Packing> best_packing(const ChartSurface& surface, const LaidCharts& laid, int width, int height,
-                                    int padding) {
+                                    int padding, const std::optional<Packing>& rival) {
   const CutLengths lengths = cut_lengths(laid.flat, width, height, padding);
   Charts whole = cut_charts(surface, laid, lengths, false);
   const bool large = has_large(whole, lengths);
-  std::optional<Packing> packed = packing(std::move(whole), width, height, padding);
+  std::optional<Packing> packed = packing(std::move(whole), width, height, padding, rival);
   if (large)
-    packed = better_of(std::move(packed), packing(cut_charts(surface, laid, lengths, true), width, height, padding));
+    if (std::optional<Packing> cut =
+            packing(cut_charts(surface, laid, lengths, true), width, height, padding, packed ? packed : rival))
+      packed = std::move(cut);
   if (packed) packed->worst_stretch = laid.worst_stretch;
   return packed;
 }
@@ -310,9 +331,10 @@ std::optional<Packing> best_packing(const ChartSurface& surface, const LaidChart
 // maps, whichever packs better (the projected where they tie).
 Packing round_packing(const ChartSurface& surface, const std::vector<int>& round, int width, int height, int padding) {
   const LaidCharts projected = projected_charts(surface, round);
-  std::optional<Packing> packed =
-      better_of(best_packing(surface, projected, width, height, padding),
-                best_packing(surface, conformal_charts(surface, round), width, height, padding));
+  std::optional<Packing> packed = best_packing(surface, projected, width, height, padding, std::nullopt);
+  if (std::optional<Packing> conformal =
+          best_packing(surface, conformal_charts(surface, round), width, height, padding, packed))
+    packed = std::move(conformal);
   if (!packed)
     throw std::invalid_argument("generated UVs: " + std::to_string(projected.members.size()) + " charts do not fit " +
                                 std::to_string(width) + " x " + std::to_string(height) +
