@@ -26,6 +26,20 @@ def test_a_plane_is_one_chart_without_stretch_and_bakes_to_one():
     np.testing.assert_array_equal(texture.image, 1.0)
 
 
+@pytest.mark.parametrize("padding", [3, 4])
+def test_a_chart_lies_half_the_padding_from_the_border(padding):
+    """Generated UVs wrap with REPEAT: a chart at one edge and one at the other
+    lie `padding` apart across it where each lies half of it (rounded up) from
+    the border. A 2 x 2 plane's box, a texel more than its chart, then takes
+    32 - 2 * 2 texels of 32: 27 texels per 2 units, to the density's 0.1%."""
+    resolution, border = 32, (padding + 1) // 2
+    texture = generated(*plane(1.0, divisions=2), resolution=resolution, padding=padding)
+    assert texture.stats["charts"] == 1 and texture.stats["chart_padding"] == padding
+    assert 27 / 2 / 1.001 <= texture.stats["texels_per_unit"] <= 27 / 2
+    texels = texture.texcoords.reshape(-1, 2) * resolution
+    assert texels.min() >= border + 0.5 - 1e-4 and texels.max() <= resolution - border + 1e-4
+
+
 def stretches(texture, vertices, indices, resolution):
     """Per triangle, the two factors (largest first) by which its map onto the texture lengthens a direction
     in it, in texels per unit: the singular values of the map from the triangle's plane to its UVs."""

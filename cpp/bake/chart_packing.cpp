@@ -166,23 +166,25 @@ class Atlas {
         longest_free_(std::size_t(height), width) {}
 
   // Where `chart`'s box's corner goes: the highest row up to `last_row`, then
-  // the leftmost column, `padding` from the border, at which its kept-clear
-  // texels meet no claimed texel; none where it fits nowhere. Only rows where
+  // the leftmost column, half `padding` (rounded up) from the border, at which
+  // its kept-clear texels meet no claimed texel; none where it fits nowhere. Only rows where
   // each of its rows' runs could lie in a free run, and there only columns
   // where its longest run does, are tried.
   std::optional<glm::ivec2> first_fit(const ChartTexels& chart, int padding, int last_row) const {
     const int w = chart.touched.width(), h = chart.touched.height();
-    const int reach = padding - padding / 2;  // of the kept-clear texels beyond the touched
+    // Of the kept-clear texels beyond the touched, and so of the box from the
+    // border: under REPEAT, charts at opposite edges lie `padding` apart.
+    const int reach = padding - padding / 2;
     const int key_length = chart.clear_runs[std::size_t(chart.key_row)];
-    const int last_x = claimed_.width() - padding - w;  // the last corner column in the texture
+    const int last_x = claimed_.width() - reach - w;  // the last corner column in the texture
     int meeting_row = 0;
-    for (int y = padding; y + h + padding <= claimed_.height() && y <= last_row; ++y) {
+    for (int y = reach; y + h + reach <= claimed_.height() && y <= last_row; ++y) {
       if (!rows_can_hold(chart, y - reach)) continue;
       for (const FreeRun& run : free_runs_[std::size_t(y - reach + chart.key_row)]) {
         if (run.end - run.start < key_length) continue;
         // Corners at which the key run lies in the free run.
         const int last = std::min(last_x, run.end - key_length - chart.key_start + reach);
-        for (int x = std::max(padding, run.start - chart.key_start + reach); x <= last;) {
+        for (int x = std::max(reach, run.start - chart.key_start + reach); x <= last;) {
           const int next = first_clear_of_meetings(chart, x - reach, y - reach, meeting_row) + reach;
           if (next == x) return glm::ivec2(x, y);
           x = next;

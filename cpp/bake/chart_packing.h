@@ -29,10 +29,11 @@ struct Placement {
 
 // Where each chart goes at `density` texels per world unit, turned or not:
 // the texel of its box's low corner, where its corner (0, 0) lies half a
-// texel in from that texel's low corner. Each box (ceil(size * density) + 1
-// texels each way) lies `padding` texels from the border, and the texels each
-// chart's triangles touch lie more than `padding` texels (in x or y) from
-// those of every other. Charts go in `order`, each as high up and then as far
+// texel in from that texel's low corner. The texels each chart's triangles
+// touch lie more than `padding` texels (in x or y) from those of every other,
+// and each box (ceil(size * density) + 1 texels each way) half `padding`
+// (rounded up) from the border, so that under REPEAT charts at opposite edges
+// lie `padding` apart across it. Charts go in `order`, each as high up and then as far
 // left as it fits, as it is or half turned, as it is where both fit at one
 // place (first fit, into any gap the charts before it left; a half turn lets
 // two triangles, or two concave charts, nest). A chart that fits neither way

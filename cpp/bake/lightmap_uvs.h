@@ -36,8 +36,8 @@ struct LightmapUvs {
 
 // Charts for `triangles` of `mesh` (neighbours: triangles sharing an edge
 // between equal positions), packed into width x height texels with `padding`
-// texels between the texels they touch and around the border (fewer where
-// they fit only so),
+// texels between the texels they touch and half that around the border
+// (fewer where they fit only so),
 // at the largest density that fits. Triangles of zero area get UVs of zero
 // area. Throws std::invalid_argument where the charts cannot fit even a texel
 // each and touching.
