@@ -167,9 +167,9 @@ class Atlas {
 
   // Where `chart`'s box's corner goes: the highest row up to `last_row`, then
   // the leftmost column, half `padding` (rounded up) from the border, at which
-  // its kept-clear texels meet no claimed texel; none where it fits nowhere. Only rows where
-  // each of its rows' runs could lie in a free run, and there only columns
-  // where its longest run does, are tried.
+  // its kept-clear texels meet no claimed texel; none where it fits nowhere.
+  // Only rows where each of its rows' runs could lie in a free run, and there
+  // only columns where its longest run does, are tried.
   std::optional<glm::ivec2> first_fit(const ChartTexels& chart, int padding, int last_row) const {
     const int w = chart.touched.width(), h = chart.touched.height();
     // Of the kept-clear texels beyond the touched, and so of the box from the

@@ -33,10 +33,10 @@ struct Placement {
 // touch lie more than `padding` texels (in x or y) from those of every other,
 // and each box (ceil(size * density) + 1 texels each way) half `padding`
 // (rounded up) from the border, so that under REPEAT charts at opposite edges
-// lie `padding` apart across it. Charts go in `order`, each as high up and then as far
-// left as it fits, as it is or half turned, as it is where both fit at one
-// place (first fit, into any gap the charts before it left; a half turn lets
-// two triangles, or two concave charts, nest). A chart that fits neither way
+// lie `padding` apart across it. Charts go in `order`, each as high up and
+// then as far left as it fits, as it is or half turned, as it is where both
+// fit at one place (first fit, into any gap the charts before it left; a half
+// turn lets two triangles, or two concave charts, nest). A chart that fits neither way
 // is tried a quarter turn either way, the same way: its long side, which lies
 // along x, then stands along y. None where they do not fit.
 std::optional<std::vector<Placement>> packed_charts(const std::vector<FlatChart>& charts,

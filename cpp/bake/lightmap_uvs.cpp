@@ -158,8 +158,8 @@ std::vector<std::size_t> largest_box_first(const std::vector<FlatChart>& charts)
 }
 
 // The orders the charts are packed in: by box area, by long side (its x), by
-// half perimeter. Which packs densest depends on the charts' shapes: none
-// packed best on every scene, the best of the three packs denser than any.
+// half perimeter. Which packs densest depends on the charts' shapes, and none
+// did on every scene.
 std::vector<std::vector<std::size_t>> packing_orders(const std::vector<FlatChart>& charts) {
   return {largest_box_first(charts), largest_first(charts, [](const FlatChart& c) { return c.size.x; }),
           largest_first(charts, [](const FlatChart& c) { return c.size.x + c.size.y; })};

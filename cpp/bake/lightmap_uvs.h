@@ -37,10 +37,9 @@ struct LightmapUvs {
 // Charts for `triangles` of `mesh` (neighbours: triangles sharing an edge
 // between equal positions), packed into width x height texels with `padding`
 // texels between the texels they touch and half that around the border
-// (fewer where they fit only so),
-// at the largest density that fits. Triangles of zero area get UVs of zero
-// area. Throws std::invalid_argument where the charts cannot fit even a texel
-// each and touching.
+// (fewer where they fit only so), at the largest density that fits.
+// Triangles of zero area get UVs of zero area. Throws std::invalid_argument
+// where the charts cannot fit even a texel each and touching.
 LightmapUvs generate_lightmap_uvs(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles, int width,
                                   int height, int padding);
 
