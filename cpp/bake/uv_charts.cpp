@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -271,18 +272,28 @@ std::vector<std::vector<std::uint32_t>> shortened_cuts(const std::vector<std::ve
     sizes.push_back(pieces[p].size());
     members.insert(members.end(), pieces[p].begin(), pieces[p].end());
   }
-  for (bool moved = true; moved;) {
-    moved = false;
-    for (std::uint32_t i : members) {
-      const int own = piece_of[i];
-      if (sizes[std::size_t(own)] == 1) continue;
-      if (const std::optional<int> other = piece_sharing_more(surface, piece_of, i)) {
-        --sizes[std::size_t(own)];
-        ++sizes[std::size_t(*other)];
-        piece_of[i] = *other;
-        moved = true;
+  // Triangles to look at, first all in order, then the neighbours of each
+  // that moved: a long cut may creep a triangle a move, and passes over all
+  // of them would take as many passes.
+  std::deque<std::uint32_t> waiting(members.begin(), members.end());
+  std::vector<bool> is_waiting(surface.areas.size(), false);
+  for (std::uint32_t i : members) is_waiting[i] = true;
+  while (!waiting.empty()) {
+    const std::uint32_t i = waiting.front();
+    waiting.pop_front();
+    is_waiting[i] = false;
+    const int own = piece_of[i];
+    const std::optional<int> other =
+        sizes[std::size_t(own)] > 1 ? piece_sharing_more(surface, piece_of, i) : std::nullopt;
+    if (!other) continue;
+    --sizes[std::size_t(own)];
+    ++sizes[std::size_t(*other)];
+    piece_of[i] = *other;
+    for (std::uint32_t j : surface.neighbours[i])
+      if (piece_of[j] >= 0 && !is_waiting[j]) {
+        is_waiting[j] = true;
+        waiting.push_back(j);
       }
-    }
   }
   std::vector<std::vector<std::uint32_t>> shortened(pieces.size());
   for (std::uint32_t i : members) shortened[std::size_t(piece_of[i])].push_back(i);

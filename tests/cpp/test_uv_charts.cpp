@@ -88,4 +88,30 @@ TEST(UvCharts, ShorteningACutLeavesEveryPieceATriangle) {
   EXPECT_EQ(mbao::shortened_cuts(pieces, surface), pieces);
 }
 
+TEST(UvCharts, ACutCreepsAlongARibbonUntilTheRibbonStopsNarrowing) {
+  // A ribbon of triangles, alternately up and down, between a straight bottom
+  // edge and a top one whose height is 1 up to x = 5.3 and rises by 1 a step
+  // after it; neighbours share a rung from bottom to top. Cut far to the
+  // right, the cut moves a triangle at a time, each move onto a shorter rung,
+  // until the ribbon stops narrowing: the rungs on either side of triangle 9,
+  // from bottom vertex 5, are 1.22 and 1.04 long.
+  const int steps = 12;
+  mbao::TriangleMesh mesh;
+  for (int k = 0; k <= steps; ++k) {
+    mesh.positions.emplace_back(k, 0, 0);                               // vertex 2k, bottom
+    mesh.positions.emplace_back(k + 0.3, 1.0 + std::max(0, k - 5), 0);  // vertex 2k + 1, top
+  }
+  for (std::uint32_t k = 0; k < steps; ++k) {
+    mesh.triangles.emplace_back(2 * k, 2 * k + 2, 2 * k + 1);      // triangle 2k, up
+    mesh.triangles.emplace_back(2 * k + 2, 2 * k + 3, 2 * k + 1);  // triangle 2k + 1, down
+  }
+  const mbao::ChartSurface surface = mbao::chart_surface(mesh, mesh.all_triangles());
+  std::vector<std::vector<std::uint32_t>> far_right(2), where_it_stops_narrowing(2);
+  for (std::uint32_t t = 0; t < 2 * steps; ++t) {
+    far_right[t < 20 ? 0 : 1].push_back(t);
+    where_it_stops_narrowing[t <= 9 ? 0 : 1].push_back(t);
+  }
+  EXPECT_EQ(sorted(mbao::shortened_cuts(far_right, surface)), where_it_stops_narrowing);
+}
+
 }  // namespace
