@@ -97,8 +97,11 @@ notebook: build
 # user's Jupyter data directory ($$JUPYTER_DATA_DIR where set), for any Jupyter
 # on the machine. It needs only ipykernel, not the notebook server, and works as
 # root. `build` runs it, so the two commands leave the notebooks runnable.
+# ipykernel install writes the spec into a folder it makes with mkdtemp and
+# leaves that folder behind, empty: it gets a temporary folder of its own.
 notebook-kernel: $(VENV)/bin/python
-	$(VENV)/bin/python -m ipykernel install --user --name mbao --display-name "Python 3 (mbao)"
+	scratch=$$(mktemp -d) && trap 'rm -rf "$$scratch"' EXIT && \
+	  TMPDIR="$$scratch" $(VENV)/bin/python -m ipykernel install --user --name mbao --display-name "Python 3 (mbao)"
 
 deps:
 	@missing=$$(for p in $(APT_PACKAGES); do \

@@ -25,12 +25,23 @@ def make(*arguments, env=None, timeout=300):
 
 
 @pytest.fixture(scope="module")
-def jupyter_data_dir(tmp_path_factory):
-    """A scratch Jupyter data directory in which `make notebook-kernel` registered the kernel "mbao"."""
-    folder = tmp_path_factory.mktemp("jupyter")
-    done = make("notebook-kernel", env=dict(os.environ, JUPYTER_DATA_DIR=str(folder)))
+def kernel_install(tmp_path_factory):
+    """`make notebook-kernel` run with a scratch Jupyter data directory and temporary folder: those two."""
+    data, temporary = tmp_path_factory.mktemp("jupyter"), tmp_path_factory.mktemp("tmp")
+    done = make("notebook-kernel", env=dict(os.environ, JUPYTER_DATA_DIR=str(data), TMPDIR=str(temporary)))
     assert done.returncode == 0, done.stderr
-    return folder
+    return data, temporary
+
+
+@pytest.fixture(scope="module")
+def jupyter_data_dir(kernel_install):
+    """A scratch Jupyter data directory in which `make notebook-kernel` registered the kernel "mbao"."""
+    return kernel_install[0]
+
+
+def test_make_notebook_kernel_leaves_nothing_in_the_temporary_folder(kernel_install):
+    """ipykernel leaves the folder it wrote the spec in; every `make build` runs it."""
+    assert list(kernel_install[1].iterdir()) == []
 
 
 def test_there_are_notebooks():
