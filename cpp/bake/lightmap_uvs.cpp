@@ -210,9 +210,9 @@ double bisected_density(const std::vector<FlatChart>& charts, const std::vector<
   return lo;
 }
 
-// The largest density at which the charts fit `padding` apart in the first
-// packing order (they must fit at kLeastDensity), and where each goes:
-// halving from `most` until they fit, then by bisection.
+// The largest density at which the charts fit `padding` apart in `order`
+// (they must fit at kLeastDensity), and where each goes: halving from `most`
+// until they fit, then by bisection.
 double densest_in_order(const std::vector<FlatChart>& charts, const std::vector<std::size_t>& order, double most,
                         int width, int height, int padding, std::vector<Placement>* placed) {
   double hi = most, lo = 0.5 * hi;
